@@ -1,0 +1,15 @@
+#pragma once
+// Small geometric queries used by level-of-detail criteria.
+
+#include "rgbmesh/vec3.hpp"
+
+namespace rgbmesh {
+
+// The point of triangle (a, b, c) closest to p (Voronoi regions of vertices, edges, face).
+Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+inline double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  return distance(p, closest_point_on_triangle(p, a, b, c));
+}
+
+}  // namespace rgbmesh

@@ -1,0 +1,371 @@
+#pragma once
+// RGB triangulations (Puppo & Panozzo, "RGB Subdivision", IEEE TVCG 2009).
+//
+// The mesh is the incidence structure of section VII kept as struct-of-arrays with integer
+// handles and free lists: triangle -> 3 edges (counter-clockwise, edge i runs from corner i to
+// corner i+1), edge -> 2 vertices + 2 triangles (the second invalid on the boundary),
+// vertex -> one incident edge. Colors and levels live in one byte per edge and per triangle.
+//
+// Combinatorial rules (section IV-A):
+//  * a triangle's level is the lowest level of its edges; it is green when its three edges
+//    have the same level, red when one edge is one level finer, blue when two are;
+//  * a green edge of level l has l = the highest insertion level of its endpoints; a red edge
+//    of level l bisects a parent triangle of level l, from the midpoint (level l+1) of one of
+//    its edges to the opposite corner;
+//  * every vertex of level l > 0 is the midpoint of a green edge of level l-1 whose endpoints
+//    (its "parents") it remembers (Fig. 12).
+//
+// The eleven local operators of section IV are public, named, and check their preconditions
+// (throwing PreconditionError): four splits, four merges and three swaps, plus the boundary
+// forms of splits and merges. split_edge() and remove_vertex() compose them as in section V.
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "rgbmesh/handles.hpp"
+#include "rgbmesh/snapshot.hpp"
+#include "rgbmesh/vec3.hpp"
+
+namespace rgbmesh {
+
+// Levels are stored in 6 bits of the triangle byte; 30 is far beyond any practical use
+// (a level-30 uniform refinement of one triangle has 4^30 triangles).
+inline constexpr int kMaxLevel = 30;
+
+// A local operator was called where it does not apply.
+class PreconditionError : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+
+// The split variants of Fig. 5, named after the colors of the triangles incident at the edge.
+enum class SplitKind : std::uint8_t {
+  not_refinable,
+  gg,          // two green triangles
+  rg,          // one green, one red
+  rr1,         // two red, diamond boundary red-green-red-green
+  rr2,         // two red, diamond boundary red-red-green-green
+  g_boundary,  // boundary edge of a green triangle
+  r_boundary,  // boundary edge of a red triangle
+};
+
+// The merge variants (inverses of the splits), named after the star of the vertex.
+enum class MergeKind : std::uint8_t {
+  not_mergeable,
+  r4,           // inverts GG-split: four red triangles
+  r2gb,         // inverts RG-split
+  gbgb,         // inverts RR1-split
+  g2b2,         // inverts RR2-split
+  r2_boundary,  // inverts a boundary split of a green triangle
+  gb_boundary,  // inverts a boundary split of a red triangle
+};
+
+const char* to_string(SplitKind k);
+const char* to_string(MergeKind k);
+
+// Counters of the operations performed since construction (or reset_counters()).
+struct OperationCounters {
+  std::uint64_t splits = 0;    // vertex insertions (all split variants, forced ones included)
+  std::uint64_t removals = 0;  // vertex removals (all merge variants)
+  std::uint64_t swaps_bb = 0;
+  std::uint64_t swaps_gg = 0;
+  std::uint64_t swaps_rb = 0;
+};
+
+// The star of a vertex in counter-clockwise order. neighbors[i] is the far end of edges[i];
+// triangles[i] lies between edges[i] and edges[i+1] (cyclically for an interior vertex).
+// For a boundary vertex, edges.front() and edges.back() are the boundary edges and there is
+// one triangle fewer than edges.
+struct VertexStar {
+  std::vector<EdgeHandle> edges;
+  std::vector<VertexHandle> neighbors;
+  std::vector<TriangleHandle> triangles;
+  bool boundary = false;
+};
+
+// Per-vertex user data that follows the mesh's vertex slots (see RgbMesh::add_vertex_property).
+class PropertyArrayBase {
+ public:
+  virtual ~PropertyArrayBase() = default;
+  virtual void resize(std::size_t n) = 0;
+  virtual std::unique_ptr<PropertyArrayBase> clone() const = 0;
+};
+
+template <class T>
+class PropertyArray final : public PropertyArrayBase {
+ public:
+  explicit PropertyArray(T default_value) : default_(std::move(default_value)) {}
+  void resize(std::size_t n) override { data.resize(n, default_); }
+  std::unique_ptr<PropertyArrayBase> clone() const override {
+    return std::make_unique<PropertyArray<T>>(*this);
+  }
+  std::vector<T> data;
+
+ private:
+  T default_;
+};
+
+template <class T>
+class VertexProperty {
+ public:
+  VertexProperty() = default;
+  explicit VertexProperty(PropertyArray<T>* a) : array_(a) {}
+  T& operator[](VertexHandle v) { return array_->data[static_cast<std::size_t>(v.idx)]; }
+  const T& operator[](VertexHandle v) const { return array_->data[static_cast<std::size_t>(v.idx)]; }
+  bool valid() const { return array_ != nullptr; }
+
+ private:
+  PropertyArray<T>* array_ = nullptr;
+};
+
+class RgbMesh;
+
+// Iteration over the live slots of one element kind: `for (VertexHandle v : mesh.vertices())`.
+template <class H>
+class HandleRange {
+ public:
+  using AliveFn = bool (*)(const RgbMesh&, std::int32_t);
+  class iterator {
+   public:
+    iterator(const HandleRange* r, std::int32_t i) : r_(r), i_(i) { skip(); }
+    H operator*() const { return H(i_); }
+    iterator& operator++() { ++i_; skip(); return *this; }
+    bool operator!=(const iterator& o) const { return i_ != o.i_; }
+    bool operator==(const iterator& o) const { return i_ == o.i_; }
+
+   private:
+    void skip() { while (i_ < r_->end_ && !r_->alive_(*r_->mesh_, i_)) ++i_; }
+    const HandleRange* r_;
+    std::int32_t i_;
+  };
+  HandleRange(const RgbMesh& m, std::int32_t end, AliveFn alive) : mesh_(&m), end_(end), alive_(alive) {}
+  iterator begin() const { return iterator(this, 0); }
+  iterator end() const { return iterator(this, end_); }
+
+ private:
+  const RgbMesh* mesh_;
+  std::int32_t end_;
+  AliveFn alive_;
+};
+
+class RgbMesh {
+ public:
+  RgbMesh() = default;
+  RgbMesh(const RgbMesh& other);
+  RgbMesh& operator=(const RgbMesh& other);
+  RgbMesh(RgbMesh&&) noexcept = default;
+  RgbMesh& operator=(RgbMesh&&) noexcept = default;
+  ~RgbMesh() = default;
+
+  // Builds the base mesh Σ0 (all green, level 0). The input must be a clean, consistently
+  // oriented, edge- and vertex-manifold triangle mesh without unreferenced vertices (see
+  // prepare_triangle_mesh); anything else throws InputError.
+  static RgbMesh from_triangles(const std::vector<Vec3>& points,
+                                const std::vector<std::array<std::int32_t, 3>>& triangles);
+
+  // ---- sizes and iteration -------------------------------------------------------------
+  std::size_t num_vertices() const { return n_vertices_; }
+  std::size_t num_edges() const { return n_edges_; }
+  std::size_t num_triangles() const { return n_triangles_; }
+  std::int32_t vertex_slots() const { return static_cast<std::int32_t>(v_edge_.size()); }
+  std::int32_t edge_slots() const { return static_cast<std::int32_t>(e_vert_.size()); }
+  std::int32_t triangle_slots() const { return static_cast<std::int32_t>(t_edge_.size()); }
+  std::size_t num_base_vertices() const { return n_base_vertices_; }
+
+  bool alive(VertexHandle v) const { return in_range(v.idx, v_edge_.size()) && v_edge_[v.idx].valid(); }
+  bool alive(EdgeHandle e) const { return in_range(e.idx, e_vert_.size()) && e_vert_[e.idx][0].valid(); }
+  bool alive(TriangleHandle t) const { return in_range(t.idx, t_edge_.size()) && t_edge_[t.idx][0].valid(); }
+
+  HandleRange<VertexHandle> vertices() const;
+  HandleRange<EdgeHandle> edges() const;
+  HandleRange<TriangleHandle> triangles() const;
+
+  // ---- connectivity ---------------------------------------------------------------------
+  const std::array<VertexHandle, 2>& edge_vertices(EdgeHandle e) const { return e_vert_[e.idx]; }
+  const std::array<TriangleHandle, 2>& edge_triangles(EdgeHandle e) const { return e_tri_[e.idx]; }
+  const std::array<EdgeHandle, 3>& triangle_edges(TriangleHandle t) const { return t_edge_[t.idx]; }
+  std::array<VertexHandle, 3> triangle_vertices(TriangleHandle t) const;  // counter-clockwise
+  EdgeHandle vertex_edge(VertexHandle v) const { return v_edge_[v.idx]; }
+
+  bool is_boundary(EdgeHandle e) const { return !e_tri_[e.idx][1].valid(); }
+  bool is_boundary(VertexHandle v) const;
+  VertexHandle other_vertex(EdgeHandle e, VertexHandle v) const {
+    const auto& ev = e_vert_[e.idx];
+    return ev[0] == v ? ev[1] : ev[0];
+  }
+  TriangleHandle other_triangle(EdgeHandle e, TriangleHandle t) const {
+    const auto& et = e_tri_[e.idx];
+    return et[0] == t ? et[1] : et[0];
+  }
+  VertexHandle opposite_vertex(TriangleHandle t, EdgeHandle e) const;
+  EdgeHandle find_edge(VertexHandle a, VertexHandle b) const;  // invalid if none
+  void star(VertexHandle v, VertexStar& out) const;
+  VertexStar star(VertexHandle v) const { VertexStar s; star(v, s); return s; }
+  int valence(VertexHandle v) const;
+
+  // ---- RGB attributes (section IV-A) ----------------------------------------------------
+  int level(VertexHandle v) const { return v_level_[v.idx]; }
+  int level(EdgeHandle e) const { return e_info_[e.idx] & 0x7f; }
+  int level(TriangleHandle t) const { return t_info_[t.idx] & 0x3f; }
+  bool is_red(EdgeHandle e) const { return (e_info_[e.idx] & 0x80) != 0; }
+  Color color(EdgeHandle e) const { return is_red(e) ? Color::red : Color::green; }
+  Color color(TriangleHandle t) const { return static_cast<Color>(t_info_[t.idx] >> 6); }
+  // Endpoints of the edge that v split (Fig. 12); both invalid for base vertices.
+  const std::array<VertexHandle, 2>& parents(VertexHandle v) const { return v_parents_[v.idx]; }
+  // Position of the vertex (for now the control point at insertion: the midpoint of its
+  // parents; the Loop rules of section VI replace it).
+  const Vec3& position(VertexHandle v) const { return v_point_[v.idx]; }
+  int max_level() const;
+
+  // ---- predicates -----------------------------------------------------------------------
+  // Green, and every incident triangle has the edge's level (section IV-A).
+  bool is_refinable(EdgeHandle e) const;
+  // Level > 0 and no neighbour has a higher level (section IV-D).
+  bool is_removable(VertexHandle v) const;
+  // No red edge shared by two blue triangles.
+  bool is_stable() const;
+  SplitKind split_kind(EdgeHandle e) const;
+  MergeKind merge_kind(VertexHandle v) const;
+  // The star of a removable vertex as one of the 28 configurations of Fig. 11, written as the
+  // colors of the triangles on each side of the split edge read counter-clockwise from a
+  // parent endpoint, e.g. "GBR|RR"; rotations give the same string. Empty if not removable.
+  std::string removal_configuration(VertexHandle v) const;
+
+  // ---- the eleven local operators (section IV) -------------------------------------------
+  // Edge splits: insert a vertex at level(e)+1 on a refinable edge; return it.
+  VertexHandle split_gg(EdgeHandle e);
+  VertexHandle split_rg(EdgeHandle e);
+  VertexHandle split_rr1(EdgeHandle e);
+  VertexHandle split_rr2(EdgeHandle e);
+  VertexHandle split_g_boundary(EdgeHandle e);
+  VertexHandle split_r_boundary(EdgeHandle e);
+  // Edge merges: remove a vertex of valence 4 (3 on the boundary); return the restored edge.
+  EdgeHandle merge_r4(VertexHandle v);
+  EdgeHandle merge_r2gb(VertexHandle v);
+  EdgeHandle merge_gbgb(VertexHandle v);
+  EdgeHandle merge_g2b2(VertexHandle v);
+  EdgeHandle merge_r2_boundary(VertexHandle v);
+  EdgeHandle merge_gb_boundary(VertexHandle v);
+  // Edge swaps; return the new edge (the slot of e is reused).
+  EdgeHandle swap_bb(EdgeHandle e);  // two blue triangles on a red edge -> two green
+  EdgeHandle swap_gg(EdgeHandle e);  // inverse of swap_bb
+  EdgeHandle swap_rb(EdgeHandle e);  // red+blue on a red edge -> the other red+blue pair
+
+  // Applies whichever split variant fits a refinable edge (no stabilising swap).
+  VertexHandle split_refinable(EdgeHandle e);
+  // Applies whichever merge variant fits v (no preparatory swaps).
+  EdgeHandle merge(VertexHandle v);
+
+  // ---- selective refinement primitives (section V) ----------------------------------------
+  // Splits a green edge, first forcing the splits of coarser neighbours that make it
+  // refinable, and BB-swapping any unstable pair created: the mesh stays stable.
+  VertexHandle split_edge(EdgeHandle e);
+  // Removes a removable vertex by the swap sequence of its configuration (Fig. 11) followed
+  // by a merge.
+  void remove_vertex(VertexHandle v);
+
+  // ---- observers --------------------------------------------------------------------------
+  // Called after a vertex is inserted: (new vertex, endpoints of the edge it split).
+  using InsertionCallback = std::function<void(VertexHandle, VertexHandle, VertexHandle)>;
+  // Called just before a vertex is removed (its handle and data are still valid).
+  using RemovalCallback = std::function<void(VertexHandle)>;
+  int add_insertion_observer(InsertionCallback cb);
+  int add_removal_observer(RemovalCallback cb);
+  void remove_observer(int id);
+
+  // ---- per-vertex properties --------------------------------------------------------------
+  // A value per vertex slot that grows with the mesh; new vertices get default_value.
+  // The returned view stays valid for the mesh's lifetime.
+  template <class T>
+  VertexProperty<T> add_vertex_property(T default_value = T()) {
+    auto arr = std::make_unique<PropertyArray<T>>(std::move(default_value));
+    arr->resize(v_edge_.size());
+    auto* raw = arr.get();
+    vertex_properties_.push_back(std::move(arr));
+    return VertexProperty<T>(raw);
+  }
+
+  // ---- checks, statistics, output ---------------------------------------------------------
+  // Checks every invariant: array and free-list consistency, incidence symmetry, conformity
+  // (no duplicate edges, each edge in one or two triangles that list it), manifold vertex
+  // stars, consistent orientation, the color/level rules of IV-A, parent references,
+  // Euler characteristic equal to the base mesh's, and stability when asked.
+  // Returns an empty string when all hold, else a description of the first violation.
+  std::string validate(bool require_stable = false) const;
+
+  const OperationCounters& counters() const { return counters_; }
+  void reset_counters() { counters_ = {}; }
+  long euler_characteristic() const {
+    return static_cast<long>(n_vertices_) - static_cast<long>(n_edges_) +
+           static_cast<long>(n_triangles_);
+  }
+  int boundary_loops() const;
+  MeshSnapshot snapshot() const;
+
+ private:
+  static bool in_range(std::int32_t i, std::size_t n) { return i >= 0 && static_cast<std::size_t>(i) < n; }
+
+  // Allocation with slot reuse.
+  VertexHandle new_vertex();
+  EdgeHandle new_edge(VertexHandle a, VertexHandle b, std::uint8_t info);
+  TriangleHandle new_triangle(const std::array<EdgeHandle, 3>& edges);
+  void free_vertex(VertexHandle v);
+  void free_edge(EdgeHandle e);
+  void free_triangle(TriangleHandle t);
+
+  // Topological primitives shared by the named operators.
+  VertexHandle bisect(EdgeHandle e);
+  void flip(EdgeHandle e, std::uint8_t new_info);
+  EdgeHandle unbisect(VertexHandle m);
+
+  static std::uint8_t edge_info(bool red, int level) {
+    return static_cast<std::uint8_t>((red ? 0x80 : 0) | level);
+  }
+  void update_triangle_info(TriangleHandle t);
+  int local_index(TriangleHandle t, EdgeHandle e) const;
+  void replace_edge_triangle(EdgeHandle e, TriangleHandle from, TriangleHandle to);
+
+  // Precondition helpers.
+  void require(bool ok, const char* op, const std::string& what) const;
+  std::string describe(EdgeHandle e) const;
+  std::string describe(VertexHandle v) const;
+  VertexHandle checked_split(EdgeHandle e, SplitKind kind, const char* op);
+  EdgeHandle checked_merge(VertexHandle v, MergeKind kind, const char* op);
+  void stabilize_around(VertexHandle m);
+  void notify_inserted(VertexHandle v);
+
+  // Vertices.
+  std::vector<EdgeHandle> v_edge_;  // invalid: free slot
+  std::vector<std::uint8_t> v_level_;
+  std::vector<std::array<VertexHandle, 2>> v_parents_;
+  std::vector<Vec3> v_point_;
+  std::vector<std::int32_t> v_free_;
+  // Edges.
+  std::vector<std::array<VertexHandle, 2>> e_vert_;  // [0] invalid: free slot
+  std::vector<std::array<TriangleHandle, 2>> e_tri_;
+  std::vector<std::uint8_t> e_info_;  // bit 7 red, bits 0-6 level
+  std::vector<std::int32_t> e_free_;
+  // Triangles.
+  std::vector<std::array<EdgeHandle, 3>> t_edge_;  // [0] invalid: free slot
+  std::vector<std::uint8_t> t_info_;  // bits 6-7 color, bits 0-5 level
+  std::vector<std::int32_t> t_free_;
+
+  std::size_t n_vertices_ = 0, n_edges_ = 0, n_triangles_ = 0;
+  std::size_t n_base_vertices_ = 0;
+  long base_euler_ = 0;
+  OperationCounters counters_;
+
+  std::vector<std::unique_ptr<PropertyArrayBase>> vertex_properties_;
+  struct InsertionObserver { int id; InsertionCallback cb; };
+  struct RemovalObserver { int id; RemovalCallback cb; };
+  std::vector<InsertionObserver> insertion_observers_;
+  std::vector<RemovalObserver> removal_observers_;
+  int next_observer_id_ = 1;
+};
+
+}  // namespace rgbmesh

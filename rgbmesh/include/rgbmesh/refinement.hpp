@@ -1,0 +1,147 @@
+#pragma once
+// Selective refinement (section V): a queue Qr of green edges to split and a queue Qc of
+// vertices to remove, driven by a level-of-detail criterion, after ROAM (Duchaineau et al.).
+//
+// A criterion says which elements are under-refined (edges to split, or triangles whose level
+// must rise) and which vertices are over-refined, each with a priority (larger first). Popped
+// entries whose edge or vertex no longer exists, or no longer qualifies, are skipped.
+// Splits go through RgbMesh::split_edge (forced splits of coarser neighbours, BB-swaps), so
+// the mesh stays conforming and stable; removals through RgbMesh::remove_vertex.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "rgbmesh/mesh.hpp"
+
+namespace rgbmesh {
+
+class LodCriterion {
+ public:
+  virtual ~LodCriterion() = default;
+  // > 0 when green edge e must be split; the value is its priority.
+  virtual double edge_priority(const RgbMesh& mesh, EdgeHandle e) const;
+  // > 0 when triangle t must rise one level; its lowest green edges (or, for a blue
+  // triangle, those of its red sibling) are then queued with this priority.
+  virtual double triangle_priority(const RgbMesh& mesh, TriangleHandle t) const;
+  // > 0 when removable vertex v is over-refined; the value is its priority.
+  virtual double vertex_priority(const RgbMesh& mesh, VertexHandle v) const;
+  // Stop refining once true (budgets).
+  virtual bool satisfied(const RgbMesh& mesh) const;
+  // Whether elements created by the run are tested too (false for marks computed once on
+  // the initial mesh, such as error indicators of a solution).
+  virtual bool tests_new_elements() const { return true; }
+};
+
+struct RefinementOptions {
+  // Splits that would create a vertex above this level are not performed.
+  int max_level = kMaxLevel;
+  // Called now and then with (operations done, queue size) for progress reports.
+  std::function<void(std::uint64_t, std::size_t)> progress;
+};
+
+struct RefinementResult {
+  std::uint64_t splits = 0;    // vertices inserted (forced splits included)
+  std::uint64_t removals = 0;  // vertices removed
+  std::uint64_t skipped = 0;   // stale queue entries
+};
+
+// Runs one stage: fills both queues from the whole mesh, removes over-refined vertices, then
+// splits under-refined edges, until both queues are empty or the criterion is satisfied.
+RefinementResult selective_refinement(RgbMesh& mesh, const LodCriterion& criterion,
+                                      const RefinementOptions& options = {});
+
+// The green edges whose split raises triangle t's level (its lowest-level green edges; for a
+// blue triangle, the lowest green edge of the red triangle across its red edge).
+void edges_raising(const RgbMesh& mesh, TriangleHandle t, std::vector<EdgeHandle>& out);
+
+// ---- built-in criteria --------------------------------------------------------------------
+
+// Every part of the mesh at exactly `level`: splits green edges below it, removes vertices
+// above it.
+class UniformLevel final : public LodCriterion {
+ public:
+  explicit UniformLevel(int level) : level_(level) {}
+  double edge_priority(const RgbMesh& m, EdgeHandle e) const override;
+  double vertex_priority(const RgbMesh& m, VertexHandle v) const override;
+
+ private:
+  int level_;
+};
+
+// At least `level` on every triangle that meets the ball (refines only).
+class BallLevel final : public LodCriterion {
+ public:
+  BallLevel(Vec3 center, double radius, int level) : center_(center), radius_(radius), level_(level) {}
+  double triangle_priority(const RgbMesh& m, TriangleHandle t) const override;
+
+ private:
+  Vec3 center_;
+  double radius_;
+  int level_;
+};
+
+// No edge longer than `length` (refines only; the longest first).
+class MaxEdgeLength final : public LodCriterion {
+ public:
+  explicit MaxEdgeLength(double length) : length_(length) {}
+  double triangle_priority(const RgbMesh& m, TriangleHandle t) const override;
+
+ private:
+  double length_;
+};
+
+// Splits the longest green edges until the mesh has at least `triangles` triangles.
+class TriangleBudget final : public LodCriterion {
+ public:
+  explicit TriangleBudget(std::size_t triangles) : triangles_(triangles) {}
+  double edge_priority(const RgbMesh& m, EdgeHandle e) const override;
+  bool satisfied(const RgbMesh& m) const override { return m.num_triangles() >= triangles_; }
+
+ private:
+  std::size_t triangles_;
+};
+
+// Removes every vertex that is not in the base mesh.
+class CoarsenAll final : public LodCriterion {
+ public:
+  double vertex_priority(const RgbMesh& m, VertexHandle v) const override;
+};
+
+// An external field, sampled once on the current mesh (e.g. a finite-element error
+// indicator): triangles whose value exceeds refine_above rise one level, removable vertices
+// whose value is below coarsen_below are removed. Values are indexed by handle slot; an
+// empty vector disables that half. New elements created by the run are not tested.
+class FieldCriterion final : public LodCriterion {
+ public:
+  FieldCriterion(std::vector<double> triangle_values, double refine_above,
+                 std::vector<double> vertex_values, double coarsen_below);
+  double triangle_priority(const RgbMesh& m, TriangleHandle t) const override;
+  double vertex_priority(const RgbMesh& m, VertexHandle v) const override;
+  bool tests_new_elements() const override { return false; }
+
+ private:
+  std::vector<double> triangle_values_;
+  double refine_above_;
+  std::vector<double> vertex_values_;
+  double coarsen_below_;
+};
+
+// ---- random operation sequences (a testing aid) -------------------------------------------
+
+struct RandomWalkOptions {
+  int max_level = 6;                // splits stay below this level
+  std::size_t max_triangles = 0;    // 0: 64 x the base mesh; above it, only removals
+  double split_probability = 0.5;   // chance that a step tries a split first
+  // Called after each step (tests validate the mesh here).
+  std::function<void(std::uint64_t step)> after_step;
+};
+
+// Performs `steps` random operations: a split_edge of a random green edge or a
+// remove_vertex of a random removable vertex, reproducibly from `seed`.
+RefinementResult random_walk(RgbMesh& mesh, std::uint64_t steps, std::uint64_t seed,
+                             const RandomWalkOptions& options = {});
+
+}  // namespace rgbmesh

@@ -1,0 +1,219 @@
+// RgbMesh::validate(): every structural and RGB invariant, checked from scratch.
+
+#include <sstream>
+#include <unordered_set>
+
+#include "rgbmesh/mesh.hpp"
+
+namespace rgbmesh {
+
+namespace {
+
+// Collects the first failure; later checks are skipped once one failed.
+class Checker {
+ public:
+  template <class... Args>
+  bool fail(const Args&... args) {
+    if (message_.empty()) {
+      std::ostringstream s;
+      (s << ... << args);
+      message_ = s.str();
+    }
+    return false;
+  }
+  bool ok() const { return message_.empty(); }
+  std::string message() const { return message_; }
+
+ private:
+  std::string message_;
+};
+
+template <class Free>
+bool check_free_list(Checker& c, const char* kind, const Free& free_list, std::int32_t slots,
+                     std::size_t alive_count, const std::vector<bool>& alive) {
+  std::vector<bool> in_free(static_cast<std::size_t>(slots), false);
+  for (std::int32_t i : free_list) {
+    if (i < 0 || i >= slots) return c.fail(kind, " free list holds out-of-range slot ", i);
+    if (in_free[i]) return c.fail(kind, " free list holds slot ", i, " twice");
+    if (alive[i]) return c.fail(kind, " free list holds live slot ", i);
+    in_free[i] = true;
+  }
+  std::size_t n_alive = 0;
+  for (std::int32_t i = 0; i < slots; ++i) {
+    if (alive[i]) ++n_alive;
+    else if (!in_free[i]) return c.fail(kind, " slot ", i, " is dead but not in the free list");
+  }
+  if (n_alive != alive_count)
+    return c.fail(kind, " count is ", alive_count, " but ", n_alive, " slots are alive");
+  return true;
+}
+
+}  // namespace
+
+std::string RgbMesh::validate(bool require_stable) const {
+  Checker c;
+  const std::int32_t nv = vertex_slots(), ne = edge_slots(), nt = triangle_slots();
+  if (v_level_.size() != v_edge_.size() || v_parents_.size() != v_edge_.size() ||
+      v_point_.size() != v_edge_.size())
+    return "vertex arrays have different sizes";
+  if (e_tri_.size() != e_vert_.size() || e_info_.size() != e_vert_.size())
+    return "edge arrays have different sizes";
+  if (t_info_.size() != t_edge_.size()) return "triangle arrays have different sizes";
+
+  std::vector<bool> v_alive(nv), e_alive(ne), t_alive(nt);
+  for (std::int32_t i = 0; i < nv; ++i) v_alive[i] = v_edge_[i].valid();
+  for (std::int32_t i = 0; i < ne; ++i) e_alive[i] = e_vert_[i][0].valid();
+  for (std::int32_t i = 0; i < nt; ++i) t_alive[i] = t_edge_[i][0].valid();
+  if (!check_free_list(c, "vertex", v_free_, nv, n_vertices_, v_alive) ||
+      !check_free_list(c, "edge", e_free_, ne, n_edges_, e_alive) ||
+      !check_free_list(c, "triangle", t_free_, nt, n_triangles_, t_alive))
+    return c.message();
+
+  auto v_ok = [&](VertexHandle v) { return v.idx >= 0 && v.idx < nv && v_alive[v.idx]; };
+  auto e_ok = [&](EdgeHandle e) { return e.idx >= 0 && e.idx < ne && e_alive[e.idx]; };
+  auto t_ok = [&](TriangleHandle t) { return t.idx >= 0 && t.idx < nt && t_alive[t.idx]; };
+
+  // Edges: live endpoints, distinct, no two edges on one vertex pair; one or two triangles
+  // that list the edge (conformity: an edge in a triangle is the whole side, no T-junction).
+  std::unordered_set<std::uint64_t> pairs;
+  pairs.reserve(n_edges_ * 2);
+  std::vector<int> degree(nv, 0);
+  for (std::int32_t i = 0; i < ne && c.ok(); ++i) {
+    if (!e_alive[i]) continue;
+    const EdgeHandle e(i);
+    const auto& ev = e_vert_[i];
+    if (!v_ok(ev[0]) || !v_ok(ev[1])) { c.fail(describe(e), " has a dead endpoint"); break; }
+    if (ev[0] == ev[1]) { c.fail(describe(e), " is a loop"); break; }
+    std::int32_t lo = std::min(ev[0].idx, ev[1].idx), hi = std::max(ev[0].idx, ev[1].idx);
+    if (!pairs.insert((static_cast<std::uint64_t>(lo) << 32) | static_cast<std::uint32_t>(hi)).second) {
+      c.fail("two edges join vertices ", lo, " and ", hi);
+      break;
+    }
+    ++degree[ev[0].idx];
+    ++degree[ev[1].idx];
+    const auto& et = e_tri_[i];
+    if (!t_ok(et[0])) { c.fail(describe(e), " has no first triangle"); break; }
+    if (et[1].valid() && !t_ok(et[1])) { c.fail(describe(e), " has a dead second triangle"); break; }
+    if (et[0] == et[1]) { c.fail(describe(e), " lists one triangle twice"); break; }
+    for (TriangleHandle t : et) {
+      if (t.valid() && local_index(t, e) < 0)
+        c.fail(describe(e), " lists triangle ", t.idx, " which does not contain it");
+    }
+    if (!c.ok()) break;
+    // Orientation: an interior edge is traversed in opposite directions by its triangles.
+    if (et[1].valid()) {
+      const auto c0 = triangle_vertices(et[0]), c1 = triangle_vertices(et[1]);
+      const int i0 = local_index(et[0], e), i1 = local_index(et[1], e);
+      if (c0[i0] != c1[(i1 + 1) % 3] || c0[(i0 + 1) % 3] != c1[i1])
+        c.fail(describe(e), ": triangles ", et[0].idx, " and ", et[1].idx, " are inconsistently oriented");
+    }
+    // Color and level of edges (section IV-A): a green edge of level l has l = the highest
+    // level of its endpoints; a red edge of level l joins a midpoint of level l+1 to a
+    // parent corner.
+    const int lv = std::max(v_level_[ev[0].idx], v_level_[ev[1].idx]);
+    const int le = level(e);
+    if (!is_red(e) && le != lv)
+      c.fail(describe(e), " is green but its highest endpoint level is ", lv);
+    if (is_red(e)) {
+      if (le != lv - 1) c.fail(describe(e), " is red but its highest endpoint level is ", lv);
+      if (!et[1].valid()) c.fail(describe(e), " is red and on the boundary");
+      for (TriangleHandle t : et) {
+        if (t.valid() && (level(t) != le || color(t) == Color::green))
+          c.fail(describe(e), " is red but triangle ", t.idx, " is not a red or blue one of its level");
+      }
+    }
+  }
+  if (!c.ok()) return c.message();
+
+  // Triangles: three distinct live edges chaining into a cycle; the cached color and level
+  // match the edges; the edge colors fit the triangle color.
+  for (std::int32_t i = 0; i < nt && c.ok(); ++i) {
+    if (!t_alive[i]) continue;
+    const TriangleHandle t(i);
+    const auto& te = t_edge_[i];
+    for (EdgeHandle e : te) {
+      if (!e_ok(e)) { c.fail("triangle ", i, " has a dead edge ", e.idx); break; }
+      if (e_tri_[e.idx][0] != t && e_tri_[e.idx][1] != t) {
+        c.fail("triangle ", i, " holds ", describe(e), " which does not list it");
+        break;
+      }
+    }
+    if (!c.ok()) break;
+    if (te[0] == te[1] || te[1] == te[2] || te[2] == te[0]) { c.fail("triangle ", i, " repeats an edge"); break; }
+    // Consecutive edges share exactly the corner between them.
+    for (int k = 0; k < 3; ++k) {
+      const auto& a = e_vert_[te[k].idx];
+      const auto& b = e_vert_[te[(k + 1) % 3].idx];
+      const int shared = (a[0] == b[0]) + (a[0] == b[1]) + (a[1] == b[0]) + (a[1] == b[1]);
+      if (shared != 1) c.fail("triangle ", i, ": edges ", te[k].idx, " and ", te[(k + 1) % 3].idx, " do not chain");
+    }
+    if (!c.ok()) break;
+    const auto cv = triangle_vertices(t);
+    for (int k = 0; k < 3; ++k) {
+      const auto& ev = e_vert_[te[k].idx];
+      const bool fits = (ev[0] == cv[k] && ev[1] == cv[(k + 1) % 3]) || (ev[1] == cv[k] && ev[0] == cv[(k + 1) % 3]);
+      if (!fits) c.fail("triangle ", i, ": edge ", te[k].idx, " is not between corners ", k, " and ", (k + 1) % 3);
+    }
+    if (cv[0] == cv[1] || cv[1] == cv[2] || cv[2] == cv[0]) c.fail("triangle ", i, " is degenerate");
+    if (!c.ok()) break;
+    const int lo = std::min({level(te[0]), level(te[1]), level(te[2])});
+    int finer = 0, red_edges = 0, red_at_lo = 0;
+    for (EdgeHandle e : te) {
+      const int d = level(e) - lo;
+      if (d > 1) c.fail("triangle ", i, ": edge levels differ by more than one");
+      finer += d;
+      if (is_red(e)) {
+        ++red_edges;
+        if (d == 0) ++red_at_lo;
+      }
+    }
+    if (level(t) != lo || static_cast<int>(color(t)) != finer)
+      c.fail("triangle ", i, ": cached color/level disagree with its edges");
+    // Green: three green edges. Red: {green l, red l, green l+1}. Blue: {red l, green l+1 x2}.
+    const bool edges_fit = (finer == 0 && red_edges == 0) || (finer == 1 && red_edges == 1 && red_at_lo == 1) ||
+                           (finer == 2 && red_edges == 1 && red_at_lo == 1);
+    if (!edges_fit) c.fail("triangle ", i, " (", "GRB"[finer], ", level ", lo, ") has edges of the wrong colors");
+  }
+  if (!c.ok()) return c.message();
+
+  // Vertices: the stored edge is incident; the star is one fan covering every incident edge
+  // (manifold); levels and parents follow the split rule.
+  VertexStar s;
+  for (std::int32_t i = 0; i < nv && c.ok(); ++i) {
+    if (!v_alive[i]) continue;
+    const VertexHandle v(i);
+    const EdgeHandle e = v_edge_[i];
+    if (!e_ok(e)) { c.fail(describe(v), " stores a dead edge"); break; }
+    if (e_vert_[e.idx][0] != v && e_vert_[e.idx][1] != v) { c.fail(describe(v), " stores a non-incident edge"); break; }
+    star(v, s);
+    if (static_cast<int>(s.edges.size()) != degree[i])
+      c.fail(describe(v), " is non-manifold: its fan has ", s.edges.size(), " of ", degree[i], " edges");
+    const auto& p = v_parents_[i];
+    if (v_level_[i] == 0) {
+      if (p[0].valid() || p[1].valid()) c.fail(describe(v), " is a base vertex with parents");
+    } else {
+      if (!v_ok(p[0]) || !v_ok(p[1])) {
+        c.fail(describe(v), " has a dead parent");
+      } else if (std::max(v_level_[p[0].idx], v_level_[p[1].idx]) != v_level_[i] - 1) {
+        c.fail(describe(v), ": its parents are not a green edge of level ", v_level_[i] - 1);
+      }
+    }
+    if (static_cast<std::size_t>(i) < n_base_vertices_ && v_level_[i] != 0)
+      c.fail(describe(v), " occupies a base slot but is not a base vertex");
+  }
+  if (!c.ok()) return c.message();
+
+  if (euler_characteristic() != base_euler_)
+    return "Euler characteristic changed from " + std::to_string(base_euler_) + " to " +
+           std::to_string(euler_characteristic());
+  if (require_stable && !is_stable()) {
+    for (EdgeHandle e : edges()) {
+      const auto& et = e_tri_[e.idx];
+      if (is_red(e) && et[1].valid() && color(et[0]) == Color::blue && color(et[1]) == Color::blue)
+        return "unstable: " + describe(e) + " is shared by two blue triangles";
+    }
+  }
+  return {};
+}
+
+}  // namespace rgbmesh

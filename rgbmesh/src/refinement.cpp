@@ -1,0 +1,305 @@
+// Selective refinement (section V) and random operation sequences.
+
+#include "rgbmesh/refinement.hpp"
+
+#include <algorithm>
+#include <queue>
+
+#include "rgbmesh/geometry.hpp"
+
+namespace rgbmesh {
+
+double LodCriterion::edge_priority(const RgbMesh&, EdgeHandle) const { return 0; }
+double LodCriterion::triangle_priority(const RgbMesh&, TriangleHandle) const { return 0; }
+double LodCriterion::vertex_priority(const RgbMesh&, VertexHandle) const { return 0; }
+bool LodCriterion::satisfied(const RgbMesh&) const { return false; }
+
+void edges_raising(const RgbMesh& mesh, TriangleHandle t, std::vector<EdgeHandle>& out) {
+  out.clear();
+  const int l = mesh.level(t);
+  TriangleHandle source = t;
+  if (mesh.color(t) == Color::blue) {
+    // A blue triangle rises when its red sibling splits its coarse edge and the pair is
+    // BB-swapped (section V-B).
+    for (EdgeHandle f : mesh.triangle_edges(t)) {
+      if (mesh.is_red(f)) source = mesh.other_triangle(f, t);
+    }
+    if (!source.valid() || mesh.color(source) != Color::red || mesh.level(source) != l) return;
+  }
+  for (EdgeHandle f : mesh.triangle_edges(source)) {
+    if (!mesh.is_red(f) && mesh.level(f) == l) out.push_back(f);
+  }
+}
+
+namespace {
+
+struct EdgeEntry {
+  double priority;
+  std::int32_t edge, a, b;
+  bool operator<(const EdgeEntry& o) const { return priority < o.priority; }
+};
+
+struct VertexEntry {
+  double priority;
+  std::int32_t vertex;
+  bool operator<(const VertexEntry& o) const { return priority < o.priority; }
+};
+
+// Unregisters an observer when the run ends, also on exceptions.
+class ObserverGuard {
+ public:
+  ObserverGuard(RgbMesh& m, int id) : mesh_(m), id_(id) {}
+  ~ObserverGuard() { mesh_.remove_observer(id_); }
+  ObserverGuard(const ObserverGuard&) = delete;
+  ObserverGuard& operator=(const ObserverGuard&) = delete;
+
+ private:
+  RgbMesh& mesh_;
+  int id_;
+};
+
+class Refiner {
+ public:
+  Refiner(RgbMesh& m, const LodCriterion& c, const RefinementOptions& o) : mesh_(m), crit_(c), opt_(o) {}
+
+  RefinementResult run() {
+    for (EdgeHandle e : mesh_.edges()) test_edge(e);
+    for (TriangleHandle t : mesh_.triangles()) test_triangle(t);
+    for (VertexHandle v : mesh_.vertices()) test_vertex(v);
+    coarsen();
+    refine();
+    return result_;
+  }
+
+ private:
+  void test_edge(EdgeHandle e) {
+    if (mesh_.is_red(e) || mesh_.level(e) >= opt_.max_level) return;
+    const double p = crit_.edge_priority(mesh_, e);
+    if (p > 0) push_edge(e, p);
+  }
+
+  void test_triangle(TriangleHandle t) {
+    if (mesh_.level(t) >= opt_.max_level) return;
+    const double p = crit_.triangle_priority(mesh_, t);
+    if (!(p > 0)) return;
+    edges_raising(mesh_, t, scratch_edges_);
+    for (EdgeHandle e : scratch_edges_) push_edge(e, p);
+  }
+
+  void test_vertex(VertexHandle v) {
+    if (!mesh_.is_removable(v)) return;
+    const double p = crit_.vertex_priority(mesh_, v);
+    if (p > 0) qc_.push({p, v.idx});
+  }
+
+  void push_edge(EdgeHandle e, double p) {
+    const auto& ev = mesh_.edge_vertices(e);
+    qr_.push({p, e.idx, ev[0].idx, ev[1].idx});
+  }
+
+  // Whether a popped edge still needs splitting: its own priority, or a triangle it raises.
+  bool still_wanted(EdgeHandle e) {
+    if (!crit_.tests_new_elements()) return true;
+    if (crit_.edge_priority(mesh_, e) > 0) return true;
+    const int l = mesh_.level(e);
+    for (TriangleHandle t : mesh_.edge_triangles(e)) {
+      if (!t.valid() || mesh_.level(t) != l) continue;
+      if (crit_.triangle_priority(mesh_, t) > 0) return true;
+      if (mesh_.color(t) != Color::red) continue;
+      for (EdgeHandle f : mesh_.triangle_edges(t)) {  // the blue sibling it would raise
+        if (!mesh_.is_red(f)) continue;
+        const TriangleHandle u = mesh_.other_triangle(f, t);
+        if (u.valid() && mesh_.color(u) == Color::blue && crit_.triangle_priority(mesh_, u) > 0)
+          return true;
+      }
+    }
+    return false;
+  }
+
+  void report() {
+    const std::uint64_t ops = result_.splits + result_.removals;
+    if (opt_.progress && ops >= next_report_) {
+      opt_.progress(ops, qr_.size() + qc_.size());
+      next_report_ = ops + (1u << 16);
+    }
+  }
+
+  void coarsen() {
+    VertexStar s;
+    std::vector<VertexHandle> neighbours;
+    while (!qc_.empty()) {
+      const VertexEntry top = qc_.top();
+      qc_.pop();
+      const VertexHandle v(top.vertex);
+      if (!mesh_.alive(v) || !mesh_.is_removable(v) || !(crit_.vertex_priority(mesh_, v) > 0)) {
+        ++result_.skipped;
+        continue;
+      }
+      mesh_.star(v, s);
+      neighbours = s.neighbors;
+      mesh_.remove_vertex(v);
+      ++result_.removals;
+      // Only neighbours can become removable by a removal (section V-A).
+      for (VertexHandle n : neighbours) {
+        if (mesh_.alive(n)) test_vertex(n);
+      }
+      report();
+    }
+  }
+
+  void refine() {
+    std::vector<VertexHandle> inserted;
+    const int id = mesh_.add_insertion_observer(
+        [&inserted](VertexHandle v, VertexHandle, VertexHandle) { inserted.push_back(v); });
+    ObserverGuard guard(mesh_, id);
+    VertexStar s;
+    while (!qr_.empty() && !crit_.satisfied(mesh_)) {
+      const EdgeEntry top = qr_.top();
+      qr_.pop();
+      const EdgeHandle e(top.edge);
+      // Slots are reused: the entry is current only if the slot still joins the same pair.
+      const bool current = mesh_.alive(e) && !mesh_.is_red(e) && mesh_.level(e) < opt_.max_level &&
+                           ((mesh_.edge_vertices(e)[0].idx == top.a && mesh_.edge_vertices(e)[1].idx == top.b) ||
+                            (mesh_.edge_vertices(e)[0].idx == top.b && mesh_.edge_vertices(e)[1].idx == top.a));
+      if (!current || !still_wanted(e)) {
+        ++result_.skipped;
+        continue;
+      }
+      inserted.clear();
+      mesh_.split_edge(e);
+      result_.splits += inserted.size();
+      if (crit_.tests_new_elements()) {
+        for (VertexHandle m : inserted) {
+          if (!mesh_.alive(m)) continue;
+          mesh_.star(m, s);
+          for (EdgeHandle f : s.edges) test_edge(f);
+          for (TriangleHandle t : s.triangles) test_triangle(t);
+        }
+      }
+      report();
+    }
+  }
+
+  RgbMesh& mesh_;
+  const LodCriterion& crit_;
+  const RefinementOptions& opt_;
+  std::priority_queue<EdgeEntry> qr_;
+  std::priority_queue<VertexEntry> qc_;
+  std::vector<EdgeHandle> scratch_edges_;
+  RefinementResult result_;
+  std::uint64_t next_report_ = 1u << 16;
+};
+
+}  // namespace
+
+RefinementResult selective_refinement(RgbMesh& mesh, const LodCriterion& criterion,
+                                      const RefinementOptions& options) {
+  return Refiner(mesh, criterion, options).run();
+}
+
+// ---- built-in criteria ----------------------------------------------------------------------
+
+namespace {
+
+double edge_length(const RgbMesh& m, EdgeHandle e) {
+  const auto& ev = m.edge_vertices(e);
+  return distance(m.position(ev[0]), m.position(ev[1]));
+}
+
+}  // namespace
+
+double UniformLevel::edge_priority(const RgbMesh& m, EdgeHandle e) const {
+  // Coarser edges first: their splits would be forced by the finer ones anyway.
+  return m.level(e) < level_ ? static_cast<double>(level_ - m.level(e)) : 0.0;
+}
+
+double UniformLevel::vertex_priority(const RgbMesh& m, VertexHandle v) const {
+  // Finest first: a vertex of the highest level is always removable.
+  return m.level(v) > level_ ? static_cast<double>(m.level(v)) : 0.0;
+}
+
+double BallLevel::triangle_priority(const RgbMesh& m, TriangleHandle t) const {
+  if (m.level(t) >= level_) return 0.0;
+  const auto c = m.triangle_vertices(t);
+  if (point_triangle_distance(center_, m.position(c[0]), m.position(c[1]), m.position(c[2])) > radius_)
+    return 0.0;
+  return static_cast<double>(level_ - m.level(t));
+}
+
+double MaxEdgeLength::triangle_priority(const RgbMesh& m, TriangleHandle t) const {
+  double longest = 0;
+  for (EdgeHandle e : m.triangle_edges(t)) longest = std::max(longest, edge_length(m, e));
+  return longest > length_ ? longest : 0.0;
+}
+
+double TriangleBudget::edge_priority(const RgbMesh& m, EdgeHandle e) const {
+  return edge_length(m, e);
+}
+
+double CoarsenAll::vertex_priority(const RgbMesh& m, VertexHandle v) const {
+  return static_cast<double>(m.level(v));
+}
+
+FieldCriterion::FieldCriterion(std::vector<double> triangle_values, double refine_above,
+                               std::vector<double> vertex_values, double coarsen_below)
+    : triangle_values_(std::move(triangle_values)), refine_above_(refine_above),
+      vertex_values_(std::move(vertex_values)), coarsen_below_(coarsen_below) {}
+
+double FieldCriterion::triangle_priority(const RgbMesh&, TriangleHandle t) const {
+  if (static_cast<std::size_t>(t.idx) >= triangle_values_.size()) return 0.0;
+  const double x = triangle_values_[t.idx];
+  return x > refine_above_ ? x : 0.0;
+}
+
+double FieldCriterion::vertex_priority(const RgbMesh&, VertexHandle v) const {
+  if (static_cast<std::size_t>(v.idx) >= vertex_values_.size()) return 0.0;
+  const double x = vertex_values_[v.idx];
+  // Smallest values first; the offset keeps the priority positive at x = coarsen_below - 0.
+  return x < coarsen_below_ ? (coarsen_below_ - x) + 1e-300 : 0.0;
+}
+
+// ---- random walk ------------------------------------------------------------------------------
+
+RefinementResult random_walk(RgbMesh& mesh, std::uint64_t steps, std::uint64_t seed,
+                             const RandomWalkOptions& options) {
+  // mt19937_64 with plain modulo reduction: the same sequence with every standard library.
+  std::mt19937_64 rng(seed);
+  auto pick = [&rng](std::int32_t n) { return static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(n)); };
+  const std::size_t cap = options.max_triangles ? options.max_triangles : 64 * mesh.num_triangles();
+  RefinementResult result;
+  constexpr int kAttempts = 64;
+
+  auto try_split = [&]() {
+    for (int k = 0; k < kAttempts; ++k) {
+      const EdgeHandle e(pick(mesh.edge_slots()));
+      if (!mesh.alive(e) || mesh.is_red(e) || mesh.level(e) >= options.max_level) continue;
+      const std::size_t before = mesh.num_vertices();
+      mesh.split_edge(e);
+      result.splits += mesh.num_vertices() - before;
+      return true;
+    }
+    return false;
+  };
+  auto try_remove = [&]() {
+    for (int k = 0; k < kAttempts; ++k) {
+      const VertexHandle v(pick(mesh.vertex_slots()));
+      if (!mesh.alive(v) || !mesh.is_removable(v)) continue;
+      mesh.remove_vertex(v);
+      ++result.removals;
+      return true;
+    }
+    return false;
+  };
+
+  for (std::uint64_t step = 0; step < steps; ++step) {
+    const bool split_first = mesh.num_triangles() < cap &&
+                             static_cast<double>(rng() >> 11) * 0x1.0p-53 < options.split_probability;
+    bool done = split_first ? try_split() : try_remove();
+    if (!done) done = split_first ? try_remove() : (mesh.num_triangles() < cap && try_split());
+    if (!done) ++result.skipped;
+    if (options.after_step) options.after_step(step);
+  }
+  return result;
+}
+
+}  // namespace rgbmesh

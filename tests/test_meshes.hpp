@@ -1,0 +1,39 @@
+#pragma once
+// Small base meshes for the tests, built from their definitions (no files).
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rgbmesh/mesh.hpp"
+
+namespace rgbmesh::testing {
+
+struct BaseMesh {
+  std::string name;
+  std::vector<Vec3> points;
+  std::vector<std::array<std::int32_t, 3>> triangles;
+  RgbMesh build() const { return RgbMesh::from_triangles(points, triangles); }
+};
+
+BaseMesh single_triangle();
+BaseMesh diamond();          // two triangles sharing one interior edge
+BaseMesh tetrahedron();      // closed, valence 3
+BaseMesh octahedron();       // closed, valence 4
+BaseMesh icosahedron();      // closed, valence 5
+BaseMesh cube();             // closed, valences 4, 5 and 6 (two triangles per face)
+BaseMesh bipyramid(int n);   // closed, two poles of valence n, equator valence 4
+BaseMesh torus(int rings, int sides);                // closed, genus 1
+BaseMesh grid_with_holes(int n, int holes);          // open, 1 + holes boundary loops
+BaseMesh fan_disk(int n);    // open disk, centre of valence n
+BaseMesh double_torus();     // closed, genus 2
+
+// Every mesh above, for parameterised tests.
+std::vector<BaseMesh> all_base_meshes();
+
+// The triangles as vertex triples rotated to start at the smallest index, sorted: two meshes
+// with the same vertices have the same triangulation iff these are equal.
+std::vector<std::array<std::int32_t, 3>> canonical_triangles(const RgbMesh& m);
+
+}  // namespace rgbmesh::testing
