@@ -1,1 +1,144 @@
-// placeholder
+// Selective refinement (section V) with the built-in criteria: each run ends in a stable,
+// valid mesh that satisfies its criterion, and does not refine where it need not.
+
+#include <gtest/gtest.h>
+
+#include "rgbmesh/geometry.hpp"
+#include "rgbmesh/mesh.hpp"
+#include "rgbmesh/refinement.hpp"
+#include "test_meshes.hpp"
+
+namespace rgbmesh {
+namespace {
+
+double longest_edge(const RgbMesh& m) {
+  double l = 0;
+  for (EdgeHandle e : m.edges()) {
+    const auto& v = m.edge_vertices(e);
+    l = std::max(l, distance(m.position(v[0]), m.position(v[1])));
+  }
+  return l;
+}
+
+TEST(Geometry, ClosestPointOnTriangleRegions) {
+  const Vec3 a{0, 0, 0}, b{2, 0, 0}, c{0, 2, 0};
+  EXPECT_EQ(closest_point_on_triangle({0.5, 0.5, 3}, a, b, c), (Vec3{0.5, 0.5, 0}));  // face
+  EXPECT_EQ(closest_point_on_triangle({-1, -1, 0}, a, b, c), a);                    // vertex
+  EXPECT_EQ(closest_point_on_triangle({3, -1, 1}, a, b, c), b);
+  EXPECT_EQ(closest_point_on_triangle({1, -5, 0}, a, b, c), (Vec3{1, 0, 0}));       // edge ab
+  EXPECT_EQ(closest_point_on_triangle({2, 2, 0}, a, b, c), (Vec3{1, 1, 0}));        // edge bc
+  EXPECT_DOUBLE_EQ(point_triangle_distance({-3, 1, 4}, a, b, c), 5.0);              // edge ca
+}
+
+TEST(Uniform, LevelKHasFourToTheKTrianglesAllGreen) {
+  for (const auto& base : testing::all_base_meshes()) {
+    RgbMesh m = base.build();
+    for (int k : {3, 1, 4, 0, 2}) {  // up and down
+      selective_refinement(m, UniformLevel(k));
+      ASSERT_EQ(m.validate(true), "") << base.name << " k=" << k;
+      EXPECT_EQ(m.num_triangles(), base.triangles.size() << (2 * k)) << base.name << " k=" << k;
+      for (TriangleHandle t : m.triangles()) {
+        ASSERT_EQ(m.color(t), Color::green);
+        ASSERT_EQ(m.level(t), k);
+      }
+    }
+  }
+}
+
+TEST(Ball, AtLeastLevelKOnTrianglesMeetingTheBallOnly) {
+  RgbMesh m = testing::icosahedron().build();
+  const Vec3 center{0, 1.618, 0.3};
+  const double radius = 0.6;
+  const int k = 4;
+  selective_refinement(m, BallLevel(center, radius, k));
+  ASSERT_EQ(m.validate(true), "");
+  int inside = 0, far_coarse = 0;
+  for (TriangleHandle t : m.triangles()) {
+    const auto c = m.triangle_vertices(t);
+    const double d = point_triangle_distance(center, m.position(c[0]), m.position(c[1]), m.position(c[2]));
+    if (d <= radius) {
+      ++inside;
+      EXPECT_GE(m.level(t), k);
+    }
+    if (d > 2.5) far_coarse += m.level(t) == 0;
+  }
+  EXPECT_GT(inside, 20);
+  EXPECT_GT(far_coarse, 0);  // far away the base triangles are untouched
+  EXPECT_EQ(m.max_level(), k);
+  // Refinement only: a second run changes nothing.
+  const std::size_t n = m.num_vertices();
+  const auto again = selective_refinement(m, BallLevel(center, radius, k));
+  EXPECT_EQ(again.splits, 0u);
+  EXPECT_EQ(m.num_vertices(), n);
+}
+
+TEST(MaxEdge, NoEdgeLongerThanTheLimit) {
+  for (const auto& base : {testing::cube(), testing::grid_with_holes(8, 3), testing::fan_disk(12)}) {
+    RgbMesh m = base.build();
+    const double limit = 0.3 * longest_edge(m);
+    selective_refinement(m, MaxEdgeLength(limit));
+    ASSERT_EQ(m.validate(true), "") << base.name;
+    EXPECT_LE(longest_edge(m), limit) << base.name;
+  }
+}
+
+TEST(MaxLevel, CapsTheRefinement) {
+  RgbMesh m = testing::octahedron().build();
+  RefinementOptions options;
+  options.max_level = 2;
+  selective_refinement(m, MaxEdgeLength(1e-3), options);
+  ASSERT_EQ(m.validate(true), "");
+  EXPECT_EQ(m.max_level(), 2);
+  EXPECT_EQ(m.num_triangles(), 8u * 16u);
+}
+
+TEST(Budget, LongestFirstUntilTheBudget) {
+  RgbMesh m = testing::grid_with_holes(8, 3).build();
+  const std::size_t budget = 5000;
+  selective_refinement(m, TriangleBudget(budget));
+  ASSERT_EQ(m.validate(true), "");
+  EXPECT_GE(m.num_triangles(), budget);
+  EXPECT_LT(m.num_triangles(), budget + 64);  // one split_edge adds a handful at most here
+  // Longest first makes the mesh uniform-ish: the longest edge is within a factor 2.5 of the
+  // shortest green edge length scale (levels differ by at most one or two).
+  int lo = 99, hi = 0;
+  for (TriangleHandle t : m.triangles()) {
+    lo = std::min(lo, m.level(t));
+    hi = std::max(hi, m.level(t));
+  }
+  EXPECT_LE(hi - lo, 2);
+}
+
+TEST(Field, RefinesMarkedTrianglesOnceAndCoarsensMarkedVertices) {
+  RgbMesh m = testing::torus(6, 5).build();
+  selective_refinement(m, UniformLevel(2));
+  // Mark the triangles with x > 1 for refinement and vertices with x < -1 for removal.
+  std::vector<double> tri(static_cast<std::size_t>(m.triangle_slots()), 0.0);
+  std::vector<double> ver(static_cast<std::size_t>(m.vertex_slots()), 1.0);
+  int marked = 0;
+  for (TriangleHandle t : m.triangles()) {
+    const auto c = m.triangle_vertices(t);
+    const double x = (m.position(c[0]).x + m.position(c[1]).x + m.position(c[2]).x) / 3;
+    if (x > 1) {
+      tri[t.idx] = 1.0 + x;
+      ++marked;
+    }
+  }
+  for (VertexHandle v : m.vertices())
+    if (m.position(v).x < -1) ver[v.idx] = 0.0;
+  ASSERT_GT(marked, 10);
+  const auto result = selective_refinement(m, FieldCriterion(tri, 0.5, ver, 0.5));
+  ASSERT_EQ(m.validate(true), "");
+  EXPECT_GT(result.splits, 0u);
+  EXPECT_GT(result.removals, 0u);
+  // Marked triangles rose one level (to 3), nothing went beyond.
+  EXPECT_EQ(m.max_level(), 3);
+  for (VertexHandle v : m.vertices()) {
+    if (m.position(v).x < -1.2) {
+      EXPECT_LE(m.level(v), 1);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rgbmesh

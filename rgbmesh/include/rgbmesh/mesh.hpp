@@ -22,6 +22,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <iterator>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -132,6 +133,11 @@ class HandleRange {
   using AliveFn = bool (*)(const RgbMesh&, std::int32_t);
   class iterator {
    public:
+    using iterator_category = std::forward_iterator_tag;
+    using value_type = H;
+    using difference_type = std::ptrdiff_t;
+    using pointer = const H*;
+    using reference = H;
     iterator(const HandleRange* r, std::int32_t i) : r_(r), i_(i) { skip(); }
     H operator*() const { return H(i_); }
     iterator& operator++() { ++i_; skip(); return *this; }
