@@ -1,1 +1,270 @@
-int main(){}
+// rgbmesh: the command-line tool.
+//
+//   rgbmesh                      the main job on an embedded default problem
+//   rgbmesh info MESH            statistics of a mesh
+//   rgbmesh convert IN OUT       format conversion (through the RGB mesh checks)
+//   rgbmesh refine IN OUT ...    selective refinement stages, in the order given
+//
+// Exit codes: 0 success, 1 failure to write or an internal error, 2 bad input or usage.
+
+#include <sys/resource.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+
+#include "default_problem.hpp"
+#include "json.hpp"
+#include "rgbmesh/mesh.hpp"
+#include "rgbmesh/soup.hpp"
+#include "rgbmesh/statistics.hpp"
+#include "rgbmesh/vtk_io.hpp"
+#include "stages.hpp"
+
+namespace fs = std::filesystem;
+using namespace rgbmesh;
+using namespace rgbmesh::cli;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+double peak_rss_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+}
+
+RgbMesh load_mesh(const std::string& path, bool triangulate) {
+  SoupOptions options;
+  options.triangulate = triangulate;
+  TriangleMeshData data = read_mesh(path, options);
+  for (const auto& note : data.notes) std::cerr << "rgbmesh: note: " << path << ": " << note << "\n";
+  try {
+    return RgbMesh::from_triangles(data.points, data.triangles);
+  } catch (const InputError& e) {
+    throw InputError(path + ": " + e.what());
+  }
+}
+
+// Rejects an output path before any work is done: unknown format or missing directory.
+void check_output_path(const std::string& out) {
+  if (out == "-") return;
+  std::string ext = fs::path(out).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  static const char* const known[] = {".obj", ".ply", ".off", ".stl", ".vtp", ".vtu"};
+  if (std::find(std::begin(known), std::end(known), ext) == std::end(known))
+    throw InputError(out + ": unknown output format '" + ext +
+                     "' (supported: " + supported_output_extensions() + ")");
+  const fs::path dir = fs::path(out).parent_path();
+  if (!dir.empty() && !fs::is_directory(dir))
+    throw InputError(out + ": the directory " + dir.string() + " does not exist");
+}
+
+void print_statistics(const std::string& name, const RgbMesh& mesh, bool json) {
+  const MeshStatistics s = compute_statistics(mesh);
+  if (json) {
+    auto histogram = [](const std::map<int, std::size_t>& h) {
+      JsonObject o;
+      for (const auto& [k, n] : h) o.add(std::to_string(k), static_cast<std::uint64_t>(n));
+      return o.str();
+    };
+    JsonObject levels;
+    for (const auto& [l, c] : s.triangles_per_level) {
+      levels.raw(std::to_string(l), JsonObject()
+                                        .add("green", static_cast<std::uint64_t>(c[0]))
+                                        .add("red", static_cast<std::uint64_t>(c[1]))
+                                        .add("blue", static_cast<std::uint64_t>(c[2]))
+                                        .str());
+    }
+    std::cout << JsonObject()
+                     .add("mesh", name)
+                     .add("vertices", static_cast<std::uint64_t>(s.vertices))
+                     .add("edges", static_cast<std::uint64_t>(s.edges))
+                     .add("triangles", static_cast<std::uint64_t>(s.triangles))
+                     .add("components", s.components)
+                     .add("boundary_loops", s.boundary_loops)
+                     .add("euler_characteristic", static_cast<std::int64_t>(s.euler_characteristic))
+                     .add("genus", s.genus)
+                     .add("max_level", s.max_level)
+                     .add("red_edges", static_cast<std::uint64_t>(s.red_edges))
+                     .add("shortest_edge", s.shortest_edge)
+                     .add("longest_edge", s.longest_edge)
+                     .raw("valence_histogram", histogram(s.valence_histogram))
+                     .raw("vertices_per_level", histogram(s.vertices_per_level))
+                     .raw("triangles_per_level", levels.str())
+                     .str()
+              << "\n";
+    return;
+  }
+  std::cout << "mesh:                 " << name << "\n"
+            << "vertices:             " << s.vertices << "\n"
+            << "edges:                " << s.edges << "\n"
+            << "triangles:            " << s.triangles << "\n"
+            << "components:           " << s.components << "\n"
+            << "boundary loops:       " << s.boundary_loops << "\n"
+            << "Euler characteristic: " << s.euler_characteristic << "\n"
+            << "genus:                " << s.genus << "\n"
+            << "edge length:          " << s.shortest_edge << " .. " << s.longest_edge << "\n"
+            << "valence histogram:   ";
+  for (const auto& [v, n] : s.valence_histogram) std::cout << " " << v << ":" << n;
+  std::cout << "\nvertices per level:  ";
+  for (const auto& [l, n] : s.vertices_per_level) std::cout << " " << l << ":" << n;
+  std::cout << "\ntriangles per level (green/red/blue):\n";
+  for (const auto& [l, c] : s.triangles_per_level)
+    std::cout << "  level " << std::setw(2) << l << ": " << c[0] << " / " << c[1] << " / " << c[2] << "\n";
+  std::cout << "red edges:            " << s.red_edges << "\n";
+}
+
+std::string stats_json(const RgbMesh& mesh, const StageTotals& t, double read_s, double write_s) {
+  const MeshStatistics s = compute_statistics(mesh);
+  const auto& c = mesh.counters();
+  return JsonObject()
+      .add("vertices", static_cast<std::uint64_t>(s.vertices))
+      .add("edges", static_cast<std::uint64_t>(s.edges))
+      .add("triangles", static_cast<std::uint64_t>(s.triangles))
+      .add("max_level", s.max_level)
+      .add("splits", t.splits)
+      .add("removals", t.removals)
+      .add("swaps", c.swaps_bb + c.swaps_gg + c.swaps_rb)
+      .add("refine_seconds", t.seconds)
+      .add("splits_per_second", t.seconds > 0 ? static_cast<double>(t.splits) / t.seconds : 0.0)
+      .add("removals_per_second", t.seconds > 0 ? static_cast<double>(t.removals) / t.seconds : 0.0)
+      .add("read_seconds", read_s)
+      .add("write_seconds", write_s)
+      .add("peak_rss_mb", peak_rss_mb())
+      .str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "rgbmesh: adaptive RGB subdivision meshes (Puppo & Panozzo, IEEE TVCG 2009),\n"
+      "conforming at every step, with the limit surface of Loop subdivision.\n"
+      "Without a subcommand, runs the default job (see `rgbmesh --help`)."};
+  app.require_subcommand(0, 1);
+  app.set_version_flag("--version", "rgbmesh 0.1.0");
+  std::string default_out = "out";
+  app.add_option("--out", default_out, "Output directory of the default job")->capture_default_str();
+
+  // info
+  auto* info = app.add_subcommand("info",
+                                  "Print the statistics of a mesh: counts, boundary loops, Euler "
+                                  "characteristic, genus, valences, levels and colors");
+  std::string info_path;
+  bool info_json = false, info_triangulate = false;
+  info->add_option("MESH", info_path, "Input mesh (" + supported_input_extensions() + ")")->required();
+  info->add_flag("--json", info_json, "Print one JSON object instead of text");
+  info->add_flag("--triangulate", info_triangulate, "Fan-split polygons with more than three vertices");
+
+  // convert
+  auto* convert = app.add_subcommand("convert", "Convert a mesh between formats (checked like any input)");
+  std::string convert_in, convert_out;
+  bool convert_triangulate = false;
+  convert->add_option("IN", convert_in, "Input mesh (" + supported_input_extensions() + ")")->required();
+  convert->add_option("OUT", convert_out, "Output mesh (" + supported_output_extensions() + ")")->required();
+  convert->add_flag("--triangulate", convert_triangulate, "Fan-split polygons with more than three vertices");
+
+  // refine
+  auto* refine =
+      app.add_subcommand("refine",
+                         "Selective refinement: apply the stages in the order given, then write OUT.\n"
+                         "Stages may repeat; --max-level caps the stages after it.");
+  std::string refine_in, refine_out;
+  bool refine_stats = false, refine_triangulate = false;
+  refine->add_option("IN", refine_in, "Input (base) mesh (" + supported_input_extensions() + ")")->required();
+  refine->add_option("OUT", refine_out, "Output mesh (" + supported_output_extensions() + "), or - for none")
+      ->required();
+  std::vector<std::string> uniform_v, ball_v, max_edge_v, budget_v, max_level_v, walk_v;
+  struct StageOption {
+    CLI::Option* option;
+    std::vector<std::string>* values;
+    Stage (*parse)(const std::string&);
+  };
+  const StageOption stage_options[] = {
+      {refine->add_option("--uniform", uniform_v, "Every part at exactly level K (refines and coarsens)")
+           ->type_name("K"),
+       &uniform_v, parse_uniform},
+      {refine->add_option("--ball", ball_v, "At least level K on the triangles that meet the ball")
+           ->type_name("X,Y,Z,R,K"),
+       &ball_v, parse_ball},
+      {refine->add_option("--max-edge", max_edge_v, "Split until no edge is longer than L")->type_name("L"),
+       &max_edge_v, parse_max_edge},
+      {refine->add_option("--budget", budget_v, "Split the longest edges first until N triangles")
+           ->type_name("N"),
+       &budget_v, parse_budget},
+      {refine->add_option("--max-level", max_level_v, "Cap the level of the stages after this one")
+           ->type_name("K"),
+       &max_level_v, parse_max_level},
+      {refine
+           ->add_option("--random-walk", walk_v,
+                        "N random split/remove operations, reproducible from SEED (a testing aid)")
+           ->type_name("N,SEED"),
+       &walk_v, parse_random_walk},
+  };
+  for (const auto& so : stage_options) so.option->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  auto* coarsen_all = refine->add_flag("--coarsen-all", "Remove every vertex not in the base mesh")
+                          ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  refine->add_flag("--stats", refine_stats,
+                   "Print one JSON object with counts, timings and peak memory as the last line");
+  refine->add_flag("--triangulate", refine_triangulate, "Fan-split polygons with more than three vertices");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+
+  try {
+    if (info->parsed()) {
+      print_statistics(info_path, load_mesh(info_path, info_triangulate), info_json);
+      return 0;
+    }
+    if (convert->parsed()) {
+      check_output_path(convert_out);
+      write_mesh(convert_out, load_mesh(convert_in, convert_triangulate).snapshot());
+      return 0;
+    }
+    if (refine->parsed()) {
+      check_output_path(refine_out);
+      // Stages in command-line order: walk CLI11's parse order, taking each option's values
+      // one by one.
+      std::vector<Stage> stages;
+      std::map<const CLI::Option*, std::size_t> used;
+      for (const CLI::Option* opt : refine->parse_order()) {
+        if (opt == coarsen_all) {
+          stages.push_back(parse_coarsen_all());
+          continue;
+        }
+        for (const auto& so : stage_options) {
+          if (so.option == opt) stages.push_back(so.parse((*so.values)[used[opt]++]));
+        }
+      }
+      auto t0 = std::chrono::steady_clock::now();
+      RgbMesh mesh = load_mesh(refine_in, refine_triangulate);
+      const double read_s = seconds_since(t0);
+      const StageTotals totals = run_stages(mesh, stages);
+      t0 = std::chrono::steady_clock::now();
+      if (refine_out != "-") write_mesh(refine_out, mesh.snapshot());
+      const double write_s = seconds_since(t0);
+      if (refine_stats) std::cout << stats_json(mesh, totals, read_s, write_s) << "\n";
+      return 0;
+    }
+    return run_default_job(default_out);
+  } catch (const InputError& e) {
+    std::cerr << "rgbmesh: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "rgbmesh: error: " << e.what() << "\n";
+    return 1;
+  }
+}

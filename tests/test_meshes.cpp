@@ -10,9 +10,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 }
 
-BaseMesh single_triangle() {
-  return {"single_triangle", {{0, 0, 0}, {1, 0, 0}, {0.5, 0.8, 0}}, {{0, 1, 2}}};
-}
+BaseMesh single_triangle() { return {"single_triangle", {{0, 0, 0}, {1, 0, 0}, {0.5, 0.8, 0}}, {{0, 1, 2}}}; }
 
 BaseMesh diamond() {
   return {"diamond", {{0, 0, 0}, {1, 0, 0}, {0.5, 0.8, 0}, {0.5, -0.8, 0}}, {{0, 1, 2}, {1, 0, 3}}};
@@ -33,11 +31,21 @@ BaseMesh octahedron() {
 BaseMesh icosahedron() {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   BaseMesh m{"icosahedron",
-             {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-              {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}},
-             {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-              {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-              {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}}};
+             {{-1, t, 0},
+              {1, t, 0},
+              {-1, -t, 0},
+              {1, -t, 0},
+              {0, -1, t},
+              {0, 1, t},
+              {0, -1, -t},
+              {0, 1, -t},
+              {t, 0, -1},
+              {t, 0, 1},
+              {-t, 0, -1},
+              {-t, 0, 1}},
+             {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+              {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+              {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}}};
   return m;
 }
 
@@ -45,7 +53,8 @@ BaseMesh cube() {
   BaseMesh m{"cube", {}, {}};
   for (int i = 0; i < 8; ++i) m.points.push_back({double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)});
   // Faces as quads (outward, counter-clockwise), each split along one diagonal.
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& q : quads) {
     m.triangles.push_back({q[0], q[1], q[2]});
     m.triangles.push_back({q[0], q[2], q[3]});
@@ -75,7 +84,8 @@ BaseMesh torus(int rings, int sides) {
   for (int i = 0; i < rings; ++i) {
     for (int j = 0; j < sides; ++j) {
       const double u = 2 * kPi * i / rings, v = 2 * kPi * j / sides;
-      m.points.push_back({(2 + 0.7 * std::cos(v)) * std::cos(u), (2 + 0.7 * std::cos(v)) * std::sin(u), 0.7 * std::sin(v)});
+      m.points.push_back(
+          {(2 + 0.7 * std::cos(v)) * std::cos(u), (2 + 0.7 * std::cos(v)) * std::sin(u), 0.7 * std::sin(v)});
     }
   }
   auto id = [&](int i, int j) { return ((i + rings) % rings) * sides + (j + sides) % sides; };
@@ -165,9 +175,9 @@ BaseMesh double_torus() {
 }
 
 std::vector<BaseMesh> all_base_meshes() {
-  return {single_triangle(), diamond(),   tetrahedron(), octahedron(), icosahedron(),
-          cube(),            bipyramid(3), bipyramid(12), torus(6, 5),  grid_with_holes(8, 3),
-          fan_disk(3),       fan_disk(12), double_torus()};
+  return {single_triangle(), diamond(),     tetrahedron(), octahedron(),          icosahedron(), cube(),
+          bipyramid(3),      bipyramid(12), torus(6, 5),   grid_with_holes(8, 3), fan_disk(3),   fan_disk(12),
+          double_torus()};
 }
 
 std::vector<std::array<std::int32_t, 3>> canonical_triangles(const RgbMesh& m) {

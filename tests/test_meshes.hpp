@@ -18,16 +18,16 @@ struct BaseMesh {
 };
 
 BaseMesh single_triangle();
-BaseMesh diamond();          // two triangles sharing one interior edge
-BaseMesh tetrahedron();      // closed, valence 3
-BaseMesh octahedron();       // closed, valence 4
-BaseMesh icosahedron();      // closed, valence 5
-BaseMesh cube();             // closed, valences 4, 5 and 6 (two triangles per face)
-BaseMesh bipyramid(int n);   // closed, two poles of valence n, equator valence 4
-BaseMesh torus(int rings, int sides);                // closed, genus 1
-BaseMesh grid_with_holes(int n, int holes);          // open, 1 + holes boundary loops
-BaseMesh fan_disk(int n);    // open disk, centre of valence n
-BaseMesh double_torus();     // closed, genus 2
+BaseMesh diamond();                          // two triangles sharing one interior edge
+BaseMesh tetrahedron();                      // closed, valence 3
+BaseMesh octahedron();                       // closed, valence 4
+BaseMesh icosahedron();                      // closed, valence 5
+BaseMesh cube();                             // closed, valences 4, 5 and 6 (two triangles per face)
+BaseMesh bipyramid(int n);                   // closed, two poles of valence n, equator valence 4
+BaseMesh torus(int rings, int sides);        // closed, genus 1
+BaseMesh grid_with_holes(int n, int holes);  // open, 1 + holes boundary loops
+BaseMesh fan_disk(int n);                    // open disk, centre of valence n
+BaseMesh double_torus();                     // closed, genus 2
 
 // Every mesh above, for parameterised tests.
 std::vector<BaseMesh> all_base_meshes();

@@ -2,7 +2,6 @@
 // as computed independently by OpenSubdiv's Far::TopologyRefiner.
 
 #include <gtest/gtest.h>
-
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
@@ -112,7 +111,9 @@ TEST_P(OpenSubdivTopology, UniformLevelsMatchLoopRefinement) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Meshes, OpenSubdivTopology, ::testing::ValuesIn(testing::all_base_meshes()),
-                         [](const ::testing::TestParamInfo<testing::BaseMesh>& param_info) { return param_info.param.name; });
+                         [](const ::testing::TestParamInfo<testing::BaseMesh>& param_info) {
+                           return param_info.param.name;
+                         });
 
 }  // namespace
 }  // namespace rgbmesh

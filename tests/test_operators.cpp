@@ -203,8 +203,8 @@ TEST_F(OperatorTest, PreconditionsRejectWrongConfigurations) {
   const EdgeHandle e = edge(diamond, 0, 1);
   EXPECT_THROW(diamond.split_rg(e), PreconditionError);
   EXPECT_THROW(diamond.split_g_boundary(e), PreconditionError);
-  EXPECT_THROW(diamond.swap_gg(e), PreconditionError);  // level 0
-  EXPECT_THROW(diamond.swap_bb(e), PreconditionError);  // green
+  EXPECT_THROW(diamond.swap_gg(e), PreconditionError);              // level 0
+  EXPECT_THROW(diamond.swap_bb(e), PreconditionError);              // green
   EXPECT_THROW(diamond.merge(VertexHandle(0)), PreconditionError);  // base vertex
   EXPECT_THROW(diamond.remove_vertex(VertexHandle(0)), PreconditionError);
   const VertexHandle m = diamond.split_gg(e);

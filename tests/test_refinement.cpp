@@ -23,11 +23,11 @@ double longest_edge(const RgbMesh& m) {
 TEST(Geometry, ClosestPointOnTriangleRegions) {
   const Vec3 a{0, 0, 0}, b{2, 0, 0}, c{0, 2, 0};
   EXPECT_EQ(closest_point_on_triangle({0.5, 0.5, 3}, a, b, c), (Vec3{0.5, 0.5, 0}));  // face
-  EXPECT_EQ(closest_point_on_triangle({-1, -1, 0}, a, b, c), a);                    // vertex
+  EXPECT_EQ(closest_point_on_triangle({-1, -1, 0}, a, b, c), a);                      // vertex
   EXPECT_EQ(closest_point_on_triangle({3, -1, 1}, a, b, c), b);
-  EXPECT_EQ(closest_point_on_triangle({1, -5, 0}, a, b, c), (Vec3{1, 0, 0}));       // edge ab
-  EXPECT_EQ(closest_point_on_triangle({2, 2, 0}, a, b, c), (Vec3{1, 1, 0}));        // edge bc
-  EXPECT_DOUBLE_EQ(point_triangle_distance({-3, 1, 4}, a, b, c), 5.0);              // edge ca
+  EXPECT_EQ(closest_point_on_triangle({1, -5, 0}, a, b, c), (Vec3{1, 0, 0}));  // edge ab
+  EXPECT_EQ(closest_point_on_triangle({2, 2, 0}, a, b, c), (Vec3{1, 1, 0}));   // edge bc
+  EXPECT_DOUBLE_EQ(point_triangle_distance({-3, 1, 4}, a, b, c), 5.0);         // edge ca
 }
 
 TEST(Uniform, LevelKHasFourToTheKTrianglesAllGreen) {

@@ -20,7 +20,7 @@ namespace rgbmesh {
 namespace {
 
 enum class Side { rr, first0, first1, after0, after1, all_stable, all_unstable };
-constexpr Side kSides[] = {Side::rr, Side::first0, Side::first1, Side::after0,
+constexpr Side kSides[] = {Side::rr,     Side::first0,     Side::first1,      Side::after0,
                            Side::after1, Side::all_stable, Side::all_unstable};
 
 // Swaps remove_vertex needs on one side.
@@ -30,10 +30,14 @@ struct Swaps {
 Swaps expected_swaps(Side s) {
   switch (s) {
     case Side::after0:
-    case Side::after1: return {0, 0, 1};
-    case Side::all_stable: return {0, 1, 0};
-    case Side::all_unstable: return {1, 1, 0};
-    default: return {};
+    case Side::after1:
+      return {0, 0, 1};
+    case Side::all_stable:
+      return {0, 1, 0};
+    case Side::all_unstable:
+      return {1, 1, 0};
+    default:
+      return {};
   }
 }
 

@@ -16,15 +16,17 @@ namespace {
 
 std::uint64_t pair_key(std::int32_t a, std::int32_t b) {
   if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
-         static_cast<std::uint32_t>(b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
 char color_letter(Color c) {
   switch (c) {
-    case Color::green: return 'G';
-    case Color::red: return 'R';
-    case Color::blue: return 'B';
+    case Color::green:
+      return 'G';
+    case Color::red:
+      return 'R';
+    case Color::blue:
+      return 'B';
   }
   return '?';
 }
@@ -33,26 +35,40 @@ char color_letter(Color c) {
 
 const char* to_string(SplitKind k) {
   switch (k) {
-    case SplitKind::not_refinable: return "not refinable";
-    case SplitKind::gg: return "GG-split";
-    case SplitKind::rg: return "RG-split";
-    case SplitKind::rr1: return "RR1-split";
-    case SplitKind::rr2: return "RR2-split";
-    case SplitKind::g_boundary: return "G-boundary-split";
-    case SplitKind::r_boundary: return "R-boundary-split";
+    case SplitKind::not_refinable:
+      return "not refinable";
+    case SplitKind::gg:
+      return "GG-split";
+    case SplitKind::rg:
+      return "RG-split";
+    case SplitKind::rr1:
+      return "RR1-split";
+    case SplitKind::rr2:
+      return "RR2-split";
+    case SplitKind::g_boundary:
+      return "G-boundary-split";
+    case SplitKind::r_boundary:
+      return "R-boundary-split";
   }
   return "?";
 }
 
 const char* to_string(MergeKind k) {
   switch (k) {
-    case MergeKind::not_mergeable: return "not mergeable";
-    case MergeKind::r4: return "R4-merge";
-    case MergeKind::r2gb: return "R2GB-merge";
-    case MergeKind::gbgb: return "GBGB-merge";
-    case MergeKind::g2b2: return "G2B2-merge";
-    case MergeKind::r2_boundary: return "R2-boundary-merge";
-    case MergeKind::gb_boundary: return "GB-boundary-merge";
+    case MergeKind::not_mergeable:
+      return "not mergeable";
+    case MergeKind::r4:
+      return "R4-merge";
+    case MergeKind::r2gb:
+      return "R2GB-merge";
+    case MergeKind::gbgb:
+      return "GBGB-merge";
+    case MergeKind::g2b2:
+      return "G2B2-merge";
+    case MergeKind::r2_boundary:
+      return "R2-boundary-merge";
+    case MergeKind::gb_boundary:
+      return "GB-boundary-merge";
   }
   return "?";
 }
@@ -61,11 +77,24 @@ const char* to_string(MergeKind k) {
 // Copying: topology, geometry and property values; observers belong to the original.
 
 RgbMesh::RgbMesh(const RgbMesh& o)
-    : v_edge_(o.v_edge_), v_level_(o.v_level_), v_parents_(o.v_parents_), v_point_(o.v_point_),
-      v_free_(o.v_free_), e_vert_(o.e_vert_), e_tri_(o.e_tri_), e_info_(o.e_info_),
-      e_free_(o.e_free_), t_edge_(o.t_edge_), t_info_(o.t_info_), t_free_(o.t_free_),
-      n_vertices_(o.n_vertices_), n_edges_(o.n_edges_), n_triangles_(o.n_triangles_),
-      n_base_vertices_(o.n_base_vertices_), base_euler_(o.base_euler_), counters_(o.counters_) {
+    : v_edge_(o.v_edge_),
+      v_level_(o.v_level_),
+      v_parents_(o.v_parents_),
+      v_point_(o.v_point_),
+      v_free_(o.v_free_),
+      e_vert_(o.e_vert_),
+      e_tri_(o.e_tri_),
+      e_info_(o.e_info_),
+      e_free_(o.e_free_),
+      t_edge_(o.t_edge_),
+      t_info_(o.t_info_),
+      t_free_(o.t_free_),
+      n_vertices_(o.n_vertices_),
+      n_edges_(o.n_edges_),
+      n_triangles_(o.n_triangles_),
+      n_base_vertices_(o.n_base_vertices_),
+      base_euler_(o.base_euler_),
+      counters_(o.counters_) {
   for (const auto& p : o.vertex_properties_) vertex_properties_.push_back(p->clone());
 }
 
@@ -100,8 +129,8 @@ RgbMesh RgbMesh::from_triangles(const std::vector<Vec3>& points,
     const auto& tri = triangles[ti];
     for (int k = 0; k < 3; ++k) {
       if (tri[k] < 0 || tri[k] >= nv)
-        throw InputError("triangle " + std::to_string(ti) + " references vertex " +
-                         std::to_string(tri[k]) + " out of range");
+        throw InputError("triangle " + std::to_string(ti) + " references vertex " + std::to_string(tri[k]) +
+                         " out of range");
     }
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0])
       throw InputError("triangle " + std::to_string(ti) + " is degenerate");
@@ -276,23 +305,36 @@ void RgbMesh::replace_edge_triangle(EdgeHandle e, TriangleHandle from, TriangleH
   }
 }
 
-// In a triangle with v at corner i, edge i leaves v and edge i+2 arrives at v; going
-// counter-clockwise around v, the leaving edge comes first. The next triangle
-// counter-clockwise is the one beyond the arriving edge, in which that edge leaves v.
+// Rotation around a vertex. In a triangle with v at corner i, edge i leaves v and edge i+2
+// arrives at v; going counter-clockwise around v, the leaving edge comes first, and the next
+// triangle counter-clockwise is the one beyond the arriving edge. Whether e leaves or arrives
+// at v in t is read off the neighbouring edge of t: no corner computation needed.
+
+// The triangle in which e leaves v, and that triangle's edge arriving at v.
+std::pair<TriangleHandle, EdgeHandle> RgbMesh::leaving_triangle(VertexHandle v, EdgeHandle e) const {
+  for (TriangleHandle t : e_tri_[e.idx]) {
+    if (!t.valid()) continue;
+    const auto& te = t_edge_[t.idx];
+    const int i = te[0] == e ? 0 : (te[1] == e ? 1 : 2);
+    const EdgeHandle prev = te[(i + 2) % 3];
+    if (e_vert_[prev.idx][0] == v || e_vert_[prev.idx][1] == v) return {t, prev};
+  }
+  return {TriangleHandle(), EdgeHandle()};
+}
+
+// The triangle in which e arrives at v, and that triangle's edge leaving v.
+std::pair<TriangleHandle, EdgeHandle> RgbMesh::arriving_triangle(VertexHandle v, EdgeHandle e) const {
+  for (TriangleHandle t : e_tri_[e.idx]) {
+    if (!t.valid()) continue;
+    const auto& te = t_edge_[t.idx];
+    const int i = te[0] == e ? 0 : (te[1] == e ? 1 : 2);
+    const EdgeHandle next = te[(i + 1) % 3];
+    if (e_vert_[next.idx][0] == v || e_vert_[next.idx][1] == v) return {t, next};
+  }
+  return {TriangleHandle(), EdgeHandle()};
+}
+
 void RgbMesh::star(VertexHandle v, VertexStar& out) const {
-  auto corner_of = [&](TriangleHandle t) {
-    const auto c = triangle_vertices(t);
-    return c[0] == v ? 0 : (c[1] == v ? 1 : 2);
-  };
-  // The triangle in which e leaves v (shift 0) or arrives at v (shift 2), and v's corner.
-  auto triangle_where = [&](EdgeHandle e, int shift) -> std::pair<TriangleHandle, int> {
-    for (TriangleHandle t : e_tri_[e.idx]) {
-      if (!t.valid()) continue;
-      const int i = corner_of(t);
-      if (t_edge_[t.idx][(i + shift) % 3] == e) return {t, i};
-    }
-    return {TriangleHandle(), -1};
-  };
   // A corrupted structure must not loop forever (validate() relies on this).
   const std::size_t guard = n_edges_ + 1;
   auto collect_from = [&](EdgeHandle first) {
@@ -303,10 +345,10 @@ void RgbMesh::star(VertexHandle v, VertexStar& out) const {
     for (std::size_t step = 0; step < guard; ++step) {
       out.edges.push_back(e);
       out.neighbors.push_back(other_vertex(e, v));
-      const auto [t, i] = triangle_where(e, 0);
+      const auto [t, next] = leaving_triangle(v, e);
       if (!t.valid()) return false;  // hit the boundary
       out.triangles.push_back(t);
-      e = t_edge_[t.idx][(i + 2) % 3];
+      e = next;
       if (e == first) return true;  // closed the cycle
     }
     return true;
@@ -318,32 +360,38 @@ void RgbMesh::star(VertexHandle v, VertexStar& out) const {
   out.boundary = true;
   EdgeHandle first = start;
   for (std::size_t step = 0; step < guard; ++step) {
-    const auto [t, i] = triangle_where(first, 2);
+    const auto [t, prev] = arriving_triangle(v, first);
     if (!t.valid()) break;
-    first = t_edge_[t.idx][i];
+    first = prev;
   }
   collect_from(first);
 }
 
 bool RgbMesh::is_boundary(VertexHandle v) const {
-  VertexStar s;
-  star(v, s);
-  return s.boundary;
+  bool boundary = false;
+  visit_edges(v, [&](EdgeHandle e) {
+    boundary = boundary || is_boundary(e);
+    return !boundary;
+  });
+  return boundary;
 }
 
 int RgbMesh::valence(VertexHandle v) const {
-  VertexStar s;
-  star(v, s);
-  return static_cast<int>(s.edges.size());
+  int n = 0;
+  visit_edges(v, [&](EdgeHandle) {
+    ++n;
+    return true;
+  });
+  return n;
 }
 
 EdgeHandle RgbMesh::find_edge(VertexHandle a, VertexHandle b) const {
-  VertexStar s;
-  star(a, s);
-  for (std::size_t i = 0; i < s.neighbors.size(); ++i) {
-    if (s.neighbors[i] == b) return s.edges[i];
-  }
-  return EdgeHandle();
+  EdgeHandle found;
+  visit_edges(a, [&](EdgeHandle e) {
+    if (other_vertex(e, a) == b) found = e;
+    return !found.valid();
+  });
+  return found;
 }
 
 int RgbMesh::max_level() const {
@@ -410,12 +458,12 @@ bool RgbMesh::is_refinable(EdgeHandle e) const {
 bool RgbMesh::is_removable(VertexHandle v) const {
   const int l = level(v);
   if (l == 0) return false;
-  VertexStar s;
-  star(v, s);
-  for (VertexHandle n : s.neighbors) {
-    if (level(n) > l) return false;
-  }
-  return true;
+  bool removable = true;
+  visit_edges(v, [&](EdgeHandle e) {
+    removable = level(other_vertex(e, v)) <= l;
+    return removable;
+  });
+  return removable;
 }
 
 bool RgbMesh::is_stable() const {
@@ -474,8 +522,8 @@ std::string RgbMesh::describe(VertexHandle v) const {
   return s.str();
 }
 
-void RgbMesh::require(bool ok, const char* op, const std::string& what) const {
-  if (!ok) throw PreconditionError(std::string(op) + ": " + what);
+void RgbMesh::fail(const char* op, const std::string& what) const {
+  throw PreconditionError(std::string(op) + ": " + what);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -502,8 +550,13 @@ VertexHandle RgbMesh::bisect(EdgeHandle e) {
     if (!t.valid()) continue;
     const int i = local_index(t, e);
     const auto c = triangle_vertices(t);
-    sides[n++] = Side{k, t, c[i], c[(i + 2) % 3], t_edge_[t.idx][(i + 1) % 3],
-                      t_edge_[t.idx][(i + 2) % 3], color(t) == Color::red};
+    sides[n++] = Side{k,
+                      t,
+                      c[i],
+                      c[(i + 2) % 3],
+                      t_edge_[t.idx][(i + 1) % 3],
+                      t_edge_[t.idx][(i + 2) % 3],
+                      color(t) == Color::red};
   }
 
   const VertexHandle m = new_vertex();
@@ -603,12 +656,12 @@ EdgeHandle RgbMesh::unbisect(VertexHandle m) {
 // Splits (Fig. 5)
 
 VertexHandle RgbMesh::checked_split(EdgeHandle e, SplitKind kind, const char* op) {
-  require(alive(e), op, describe(e) + " does not exist");
+  if (!alive(e)) fail(op, describe(e) + " does not exist");
   const SplitKind actual = split_kind(e);
-  require(actual == kind, op,
-          describe(e) + " is " + (actual == SplitKind::not_refinable
-                                      ? std::string("not refinable")
-                                      : std::string("a case for ") + to_string(actual)));
+  if (actual != kind)
+    fail(op, describe(e) + " is " +
+                 (actual == SplitKind::not_refinable ? std::string("not refinable")
+                                                     : std::string("a case for ") + to_string(actual)));
   const VertexHandle m = bisect(e);
   notify_inserted(m);
   return m;
@@ -626,9 +679,9 @@ VertexHandle RgbMesh::split_r_boundary(EdgeHandle e) {
 }
 
 VertexHandle RgbMesh::split_refinable(EdgeHandle e) {
-  require(alive(e), "split_refinable", describe(e) + " does not exist");
+  if (!alive(e)) fail("split_refinable", describe(e) + " does not exist");
   const SplitKind kind = split_kind(e);
-  require(kind != SplitKind::not_refinable, "split_refinable", describe(e) + " is not refinable");
+  if (kind == SplitKind::not_refinable) fail("split_refinable", describe(e) + " is not refinable");
   return checked_split(e, kind, "split_refinable");
 }
 
@@ -664,14 +717,17 @@ MergeKind RgbMesh::merge_kind(VertexHandle v) const {
   // G-form (two red triangles on a red edge of level l: the side was a green triangle) or
   // R-form (green + blue on a green edge of level l+1: the side was a red triangle).
   enum SideForm { bad, g_form, r_form };
-  struct SideInfo { SideForm form; VertexHandle green_end; };
+  struct SideInfo {
+    SideForm form;
+    VertexHandle green_end;
+  };
   auto side = [&](std::size_t mid) -> SideInfo {
     const EdgeHandle me = s.edges[mid];
     const TriangleHandle t0 = s.triangles[(mid + n - 1) % n];  // before the middle edge
     const TriangleHandle t1 = s.triangles[mid % s.triangles.size()];
     const Color c0 = color(t0), c1 = color(t1);
-    if (is_red(me) && level(me) == l && c0 == Color::red && c1 == Color::red &&
-        level(t0) == l && level(t1) == l)
+    if (is_red(me) && level(me) == l && c0 == Color::red && c1 == Color::red && level(t0) == l &&
+        level(t1) == l)
       return {g_form, VertexHandle()};
     if (!is_red(me) && level(me) == l + 1 && level(s.neighbors[mid]) == l + 1) {
       if (c0 == Color::green && c1 == Color::blue && level(t0) == l + 1 && level(t1) == l)
@@ -696,12 +752,12 @@ MergeKind RgbMesh::merge_kind(VertexHandle v) const {
 }
 
 EdgeHandle RgbMesh::checked_merge(VertexHandle v, MergeKind kind, const char* op) {
-  require(alive(v), op, describe(v) + " does not exist");
+  if (!alive(v)) fail(op, describe(v) + " does not exist");
   const MergeKind actual = merge_kind(v);
-  require(actual == kind, op,
-          describe(v) + " is " + (actual == MergeKind::not_mergeable
-                                      ? std::string("not mergeable")
-                                      : std::string("a case for ") + to_string(actual)));
+  if (actual != kind)
+    fail(op, describe(v) + " is " +
+                 (actual == MergeKind::not_mergeable ? std::string("not mergeable")
+                                                     : std::string("a case for ") + to_string(actual)));
   for (const auto& o : removal_observers_) o.cb(v);
   return unbisect(v);
 }
@@ -718,9 +774,9 @@ EdgeHandle RgbMesh::merge_gb_boundary(VertexHandle v) {
 }
 
 EdgeHandle RgbMesh::merge(VertexHandle v) {
-  require(alive(v), "merge", describe(v) + " does not exist");
+  if (!alive(v)) fail("merge", describe(v) + " does not exist");
   const MergeKind kind = merge_kind(v);
-  require(kind != MergeKind::not_mergeable, "merge", describe(v) + " is not mergeable");
+  if (kind == MergeKind::not_mergeable) fail("merge", describe(v) + " is not mergeable");
   return checked_merge(v, kind, "merge");
 }
 
@@ -728,12 +784,12 @@ EdgeHandle RgbMesh::merge(VertexHandle v) {
 // Swaps (Fig. 6)
 
 EdgeHandle RgbMesh::swap_bb(EdgeHandle e) {
-  require(alive(e), "swap_bb", describe(e) + " does not exist");
+  if (!alive(e)) fail("swap_bb", describe(e) + " does not exist");
   const auto& et = e_tri_[e.idx];
   const int l = level(e);
-  require(is_red(e) && et[1].valid() && color(et[0]) == Color::blue &&
-              color(et[1]) == Color::blue && level(et[0]) == l && level(et[1]) == l,
-          "swap_bb", describe(e) + " is not a red edge between two blue triangles of its level");
+  const bool ok = is_red(e) && et[1].valid() && color(et[0]) == Color::blue && color(et[1]) == Color::blue &&
+                  level(et[0]) == l && level(et[1]) == l;
+  if (!ok) fail("swap_bb", describe(e) + " is not a red edge between two blue triangles of its level");
   // The new diagonal joins two midpoints of level l+1: green, level l+1.
   flip(e, edge_info(false, l + 1));
   ++counters_.swaps_bb;
@@ -741,7 +797,7 @@ EdgeHandle RgbMesh::swap_bb(EdgeHandle e) {
 }
 
 EdgeHandle RgbMesh::swap_gg(EdgeHandle e) {
-  require(alive(e), "swap_gg", describe(e) + " does not exist");
+  if (!alive(e)) fail("swap_gg", describe(e) + " does not exist");
   const auto& et = e_tri_[e.idx];
   const int l = level(e);
   bool ok = !is_red(e) && l > 0 && et[1].valid() && color(et[0]) == Color::green &&
@@ -756,8 +812,8 @@ EdgeHandle RgbMesh::swap_gg(EdgeHandle e) {
     };
     ok = all_at_level(et[0]) != all_at_level(et[1]);
   }
-  require(ok, "swap_gg",
-          describe(e) + " is not shared by a central and a corner green child of one parent");
+  if (!ok)
+    fail("swap_gg", describe(e) + " is not shared by a central and a corner green child of one parent");
   // The new diagonal bisects the parent: red, level l-1.
   flip(e, edge_info(true, l - 1));
   ++counters_.swaps_gg;
@@ -765,7 +821,7 @@ EdgeHandle RgbMesh::swap_gg(EdgeHandle e) {
 }
 
 EdgeHandle RgbMesh::swap_rb(EdgeHandle e) {
-  require(alive(e), "swap_rb", describe(e) + " does not exist");
+  if (!alive(e)) fail("swap_rb", describe(e) + " does not exist");
   const auto& et = e_tri_[e.idx];
   const int l = level(e);
   bool ok = is_red(e) && et[1].valid() && level(et[0]) == l && level(et[1]) == l;
@@ -773,7 +829,7 @@ EdgeHandle RgbMesh::swap_rb(EdgeHandle e) {
     const Color c0 = color(et[0]), c1 = color(et[1]);
     ok = (c0 == Color::red && c1 == Color::blue) || (c0 == Color::blue && c1 == Color::red);
   }
-  require(ok, "swap_rb", describe(e) + " is not a red edge between a red and a blue triangle");
+  if (!ok) fail("swap_rb", describe(e) + " is not a red edge between a red and a blue triangle");
   // The other diagonal of the trapezoid bisects the same parent: red at the same level.
   flip(e, edge_info(true, l));
   ++counters_.swaps_rb;
@@ -807,10 +863,10 @@ void RgbMesh::stabilize_around(VertexHandle m) {
 }
 
 VertexHandle RgbMesh::split_edge(EdgeHandle e) {
-  require(alive(e), "split_edge", describe(e) + " does not exist");
-  require(!is_red(e), "split_edge", describe(e) + " is red; only green edges split");
+  if (!alive(e)) fail("split_edge", describe(e) + " does not exist");
+  if (is_red(e)) fail("split_edge", describe(e) + " is red; only green edges split");
   const int l = level(e);
-  require(l < kMaxLevel, "split_edge", describe(e) + " is at the maximum level");
+  if (l >= kMaxLevel) fail("split_edge", describe(e) + " is at the maximum level");
   // Make e refinable: each incident triangle of level l-1 is decomposed by splitting a
   // coarser green edge (section V-B). Splitting other edges never deletes e (green edges are
   // only removed by their own split or by a merge), so the handle stays valid.
@@ -849,9 +905,9 @@ VertexHandle RgbMesh::split_edge(EdgeHandle e) {
 }
 
 void RgbMesh::remove_vertex(VertexHandle v) {
-  require(alive(v), "remove_vertex", describe(v) + " does not exist");
-  require(is_removable(v), "remove_vertex",
-          describe(v) + " is not removable (level 0, or a neighbour has a higher level)");
+  if (!alive(v)) fail("remove_vertex", describe(v) + " does not exist");
+  if (!is_removable(v))
+    fail("remove_vertex", describe(v) + " is not removable (level 0, or a neighbour has a higher level)");
   const auto [a, b] = v_parents_[v.idx];
   // Bring each side of the split edge to a mergeable form by the swaps of Fig. 11. A side is
   // the fan of triangles between the halves (v, a) and (v, b); read as colors, it is one of
@@ -889,8 +945,7 @@ void RgbMesh::remove_vertex(VertexHandle v) {
       } else if (colors == "GBBG") {
         swap_bb(inner[1]);
       } else {
-        require(false, "remove_vertex",
-                describe(v) + " has an unexpected star side '" + colors + "'");
+        fail("remove_vertex", describe(v) + " has an unexpected star side '" + colors + "'");
       }
     }
   }

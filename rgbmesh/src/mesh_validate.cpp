@@ -40,8 +40,10 @@ bool check_free_list(Checker& c, const char* kind, const Free& free_list, std::i
   }
   std::size_t n_alive = 0;
   for (std::int32_t i = 0; i < slots; ++i) {
-    if (alive[i]) ++n_alive;
-    else if (!in_free[i]) return c.fail(kind, " slot ", i, " is dead but not in the free list");
+    if (alive[i])
+      ++n_alive;
+    else if (!in_free[i])
+      return c.fail(kind, " slot ", i, " is dead but not in the free list");
   }
   if (n_alive != alive_count)
     return c.fail(kind, " count is ", alive_count, " but ", n_alive, " slots are alive");
@@ -82,8 +84,14 @@ std::string RgbMesh::validate(bool require_stable) const {
     if (!e_alive[i]) continue;
     const EdgeHandle e(i);
     const auto& ev = e_vert_[i];
-    if (!v_ok(ev[0]) || !v_ok(ev[1])) { c.fail(describe(e), " has a dead endpoint"); break; }
-    if (ev[0] == ev[1]) { c.fail(describe(e), " is a loop"); break; }
+    if (!v_ok(ev[0]) || !v_ok(ev[1])) {
+      c.fail(describe(e), " has a dead endpoint");
+      break;
+    }
+    if (ev[0] == ev[1]) {
+      c.fail(describe(e), " is a loop");
+      break;
+    }
     std::int32_t lo = std::min(ev[0].idx, ev[1].idx), hi = std::max(ev[0].idx, ev[1].idx);
     if (!pairs.insert((static_cast<std::uint64_t>(lo) << 32) | static_cast<std::uint32_t>(hi)).second) {
       c.fail("two edges join vertices ", lo, " and ", hi);
@@ -92,9 +100,18 @@ std::string RgbMesh::validate(bool require_stable) const {
     ++degree[ev[0].idx];
     ++degree[ev[1].idx];
     const auto& et = e_tri_[i];
-    if (!t_ok(et[0])) { c.fail(describe(e), " has no first triangle"); break; }
-    if (et[1].valid() && !t_ok(et[1])) { c.fail(describe(e), " has a dead second triangle"); break; }
-    if (et[0] == et[1]) { c.fail(describe(e), " lists one triangle twice"); break; }
+    if (!t_ok(et[0])) {
+      c.fail(describe(e), " has no first triangle");
+      break;
+    }
+    if (et[1].valid() && !t_ok(et[1])) {
+      c.fail(describe(e), " has a dead second triangle");
+      break;
+    }
+    if (et[0] == et[1]) {
+      c.fail(describe(e), " lists one triangle twice");
+      break;
+    }
     for (TriangleHandle t : et) {
       if (t.valid() && local_index(t, e) < 0)
         c.fail(describe(e), " lists triangle ", t.idx, " which does not contain it");
@@ -112,8 +129,7 @@ std::string RgbMesh::validate(bool require_stable) const {
     // parent corner.
     const int lv = std::max(v_level_[ev[0].idx], v_level_[ev[1].idx]);
     const int le = level(e);
-    if (!is_red(e) && le != lv)
-      c.fail(describe(e), " is green but its highest endpoint level is ", lv);
+    if (!is_red(e) && le != lv) c.fail(describe(e), " is green but its highest endpoint level is ", lv);
     if (is_red(e)) {
       if (le != lv - 1) c.fail(describe(e), " is red but its highest endpoint level is ", lv);
       if (!et[1].valid()) c.fail(describe(e), " is red and on the boundary");
@@ -132,27 +148,36 @@ std::string RgbMesh::validate(bool require_stable) const {
     const TriangleHandle t(i);
     const auto& te = t_edge_[i];
     for (EdgeHandle e : te) {
-      if (!e_ok(e)) { c.fail("triangle ", i, " has a dead edge ", e.idx); break; }
+      if (!e_ok(e)) {
+        c.fail("triangle ", i, " has a dead edge ", e.idx);
+        break;
+      }
       if (e_tri_[e.idx][0] != t && e_tri_[e.idx][1] != t) {
         c.fail("triangle ", i, " holds ", describe(e), " which does not list it");
         break;
       }
     }
     if (!c.ok()) break;
-    if (te[0] == te[1] || te[1] == te[2] || te[2] == te[0]) { c.fail("triangle ", i, " repeats an edge"); break; }
+    if (te[0] == te[1] || te[1] == te[2] || te[2] == te[0]) {
+      c.fail("triangle ", i, " repeats an edge");
+      break;
+    }
     // Consecutive edges share exactly the corner between them.
     for (int k = 0; k < 3; ++k) {
       const auto& a = e_vert_[te[k].idx];
       const auto& b = e_vert_[te[(k + 1) % 3].idx];
       const int shared = (a[0] == b[0]) + (a[0] == b[1]) + (a[1] == b[0]) + (a[1] == b[1]);
-      if (shared != 1) c.fail("triangle ", i, ": edges ", te[k].idx, " and ", te[(k + 1) % 3].idx, " do not chain");
+      if (shared != 1)
+        c.fail("triangle ", i, ": edges ", te[k].idx, " and ", te[(k + 1) % 3].idx, " do not chain");
     }
     if (!c.ok()) break;
     const auto cv = triangle_vertices(t);
     for (int k = 0; k < 3; ++k) {
       const auto& ev = e_vert_[te[k].idx];
-      const bool fits = (ev[0] == cv[k] && ev[1] == cv[(k + 1) % 3]) || (ev[1] == cv[k] && ev[0] == cv[(k + 1) % 3]);
-      if (!fits) c.fail("triangle ", i, ": edge ", te[k].idx, " is not between corners ", k, " and ", (k + 1) % 3);
+      const bool fits =
+          (ev[0] == cv[k] && ev[1] == cv[(k + 1) % 3]) || (ev[1] == cv[k] && ev[0] == cv[(k + 1) % 3]);
+      if (!fits)
+        c.fail("triangle ", i, ": edge ", te[k].idx, " is not between corners ", k, " and ", (k + 1) % 3);
     }
     if (cv[0] == cv[1] || cv[1] == cv[2] || cv[2] == cv[0]) c.fail("triangle ", i, " is degenerate");
     if (!c.ok()) break;
@@ -170,9 +195,11 @@ std::string RgbMesh::validate(bool require_stable) const {
     if (level(t) != lo || static_cast<int>(color(t)) != finer)
       c.fail("triangle ", i, ": cached color/level disagree with its edges");
     // Green: three green edges. Red: {green l, red l, green l+1}. Blue: {red l, green l+1 x2}.
-    const bool edges_fit = (finer == 0 && red_edges == 0) || (finer == 1 && red_edges == 1 && red_at_lo == 1) ||
+    const bool edges_fit = (finer == 0 && red_edges == 0) ||
+                           (finer == 1 && red_edges == 1 && red_at_lo == 1) ||
                            (finer == 2 && red_edges == 1 && red_at_lo == 1);
-    if (!edges_fit) c.fail("triangle ", i, " (", "GRB"[finer], ", level ", lo, ") has edges of the wrong colors");
+    if (!edges_fit)
+      c.fail("triangle ", i, " (", "GRB"[finer], ", level ", lo, ") has edges of the wrong colors");
   }
   if (!c.ok()) return c.message();
 
@@ -183,8 +210,14 @@ std::string RgbMesh::validate(bool require_stable) const {
     if (!v_alive[i]) continue;
     const VertexHandle v(i);
     const EdgeHandle e = v_edge_[i];
-    if (!e_ok(e)) { c.fail(describe(v), " stores a dead edge"); break; }
-    if (e_vert_[e.idx][0] != v && e_vert_[e.idx][1] != v) { c.fail(describe(v), " stores a non-incident edge"); break; }
+    if (!e_ok(e)) {
+      c.fail(describe(v), " stores a dead edge");
+      break;
+    }
+    if (e_vert_[e.idx][0] != v && e_vert_[e.idx][1] != v) {
+      c.fail(describe(v), " stores a non-incident edge");
+      break;
+    }
     star(v, s);
     if (static_cast<int>(s.edges.size()) != degree[i])
       c.fail(describe(v), " is non-manifold: its fan has ", s.edges.size(), " of ", degree[i], " edges");

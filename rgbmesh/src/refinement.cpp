@@ -109,8 +109,7 @@ class Refiner {
       for (EdgeHandle f : mesh_.triangle_edges(t)) {  // the blue sibling it would raise
         if (!mesh_.is_red(f)) continue;
         const TriangleHandle u = mesh_.other_triangle(f, t);
-        if (u.valid() && mesh_.color(u) == Color::blue && crit_.triangle_priority(mesh_, u) > 0)
-          return true;
+        if (u.valid() && mesh_.color(u) == Color::blue && crit_.triangle_priority(mesh_, u) > 0) return true;
       }
     }
     return false;
@@ -158,9 +157,10 @@ class Refiner {
       qr_.pop();
       const EdgeHandle e(top.edge);
       // Slots are reused: the entry is current only if the slot still joins the same pair.
-      const bool current = mesh_.alive(e) && !mesh_.is_red(e) && mesh_.level(e) < opt_.max_level &&
-                           ((mesh_.edge_vertices(e)[0].idx == top.a && mesh_.edge_vertices(e)[1].idx == top.b) ||
-                            (mesh_.edge_vertices(e)[0].idx == top.b && mesh_.edge_vertices(e)[1].idx == top.a));
+      const bool current =
+          mesh_.alive(e) && !mesh_.is_red(e) && mesh_.level(e) < opt_.max_level &&
+          ((mesh_.edge_vertices(e)[0].idx == top.a && mesh_.edge_vertices(e)[1].idx == top.b) ||
+           (mesh_.edge_vertices(e)[0].idx == top.b && mesh_.edge_vertices(e)[1].idx == top.a));
       if (!current || !still_wanted(e)) {
         ++result_.skipped;
         continue;
@@ -232,9 +232,7 @@ double MaxEdgeLength::triangle_priority(const RgbMesh& m, TriangleHandle t) cons
   return longest > length_ ? longest : 0.0;
 }
 
-double TriangleBudget::edge_priority(const RgbMesh& m, EdgeHandle e) const {
-  return edge_length(m, e);
-}
+double TriangleBudget::edge_priority(const RgbMesh& m, EdgeHandle e) const { return edge_length(m, e); }
 
 double CoarsenAll::vertex_priority(const RgbMesh& m, VertexHandle v) const {
   return static_cast<double>(m.level(v));
@@ -242,8 +240,10 @@ double CoarsenAll::vertex_priority(const RgbMesh& m, VertexHandle v) const {
 
 FieldCriterion::FieldCriterion(std::vector<double> triangle_values, double refine_above,
                                std::vector<double> vertex_values, double coarsen_below)
-    : triangle_values_(std::move(triangle_values)), refine_above_(refine_above),
-      vertex_values_(std::move(vertex_values)), coarsen_below_(coarsen_below) {}
+    : triangle_values_(std::move(triangle_values)),
+      refine_above_(refine_above),
+      vertex_values_(std::move(vertex_values)),
+      coarsen_below_(coarsen_below) {}
 
 double FieldCriterion::triangle_priority(const RgbMesh&, TriangleHandle t) const {
   if (static_cast<std::size_t>(t.idx) >= triangle_values_.size()) return 0.0;
@@ -264,7 +264,9 @@ RefinementResult random_walk(RgbMesh& mesh, std::uint64_t steps, std::uint64_t s
                              const RandomWalkOptions& options) {
   // mt19937_64 with plain modulo reduction: the same sequence with every standard library.
   std::mt19937_64 rng(seed);
-  auto pick = [&rng](std::int32_t n) { return static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(n)); };
+  auto pick = [&rng](std::int32_t n) {
+    return static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(n));
+  };
   const std::size_t cap = options.max_triangles ? options.max_triangles : 64 * mesh.num_triangles();
   RefinementResult result;
   constexpr int kAttempts = 64;

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <functional>
 #include <iterator>
+#include <utility>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -140,12 +141,18 @@ class HandleRange {
     using reference = H;
     iterator(const HandleRange* r, std::int32_t i) : r_(r), i_(i) { skip(); }
     H operator*() const { return H(i_); }
-    iterator& operator++() { ++i_; skip(); return *this; }
+    iterator& operator++() {
+      ++i_;
+      skip();
+      return *this;
+    }
     bool operator!=(const iterator& o) const { return i_ != o.i_; }
     bool operator==(const iterator& o) const { return i_ == o.i_; }
 
    private:
-    void skip() { while (i_ < r_->end_ && !r_->alive_(*r_->mesh_, i_)) ++i_; }
+    void skip() {
+      while (i_ < r_->end_ && !r_->alive_(*r_->mesh_, i_)) ++i_;
+    }
     const HandleRange* r_;
     std::int32_t i_;
   };
@@ -211,7 +218,11 @@ class RgbMesh {
   VertexHandle opposite_vertex(TriangleHandle t, EdgeHandle e) const;
   EdgeHandle find_edge(VertexHandle a, VertexHandle b) const;  // invalid if none
   void star(VertexHandle v, VertexStar& out) const;
-  VertexStar star(VertexHandle v) const { VertexStar s; star(v, s); return s; }
+  VertexStar star(VertexHandle v) const {
+    VertexStar s;
+    star(v, s);
+    return s;
+  }
   int valence(VertexHandle v) const;
 
   // ---- RGB attributes (section IV-A) ----------------------------------------------------
@@ -307,14 +318,36 @@ class RgbMesh {
   const OperationCounters& counters() const { return counters_; }
   void reset_counters() { counters_ = {}; }
   long euler_characteristic() const {
-    return static_cast<long>(n_vertices_) - static_cast<long>(n_edges_) +
-           static_cast<long>(n_triangles_);
+    return static_cast<long>(n_vertices_) - static_cast<long>(n_edges_) + static_cast<long>(n_triangles_);
   }
   int boundary_loops() const;
   MeshSnapshot snapshot() const;
 
  private:
   static bool in_range(std::int32_t i, std::size_t n) { return i >= 0 && static_cast<std::size_t>(i) < n; }
+
+  // Visits every edge incident at v, in no particular order, without allocating; f returns
+  // false to stop early.
+  template <class F>
+  void visit_edges(VertexHandle v, F&& f) const {
+    const EdgeHandle start = v_edge_[v.idx];
+    const std::size_t guard = n_edges_ + 1;
+    EdgeHandle e = start;
+    // Counter-clockwise from the stored edge; if the boundary interrupts, clockwise too.
+    for (std::size_t step = 0; step < guard; ++step) {
+      if (!f(e)) return;
+      e = leaving_triangle(v, e).second;
+      if (!e.valid()) break;
+      if (e == start) return;
+    }
+    e = start;
+    for (std::size_t step = 0; step < guard; ++step) {
+      e = arriving_triangle(v, e).second;
+      if (!e.valid() || !f(e)) return;
+    }
+  }
+  std::pair<TriangleHandle, EdgeHandle> leaving_triangle(VertexHandle v, EdgeHandle e) const;
+  std::pair<TriangleHandle, EdgeHandle> arriving_triangle(VertexHandle v, EdgeHandle e) const;
 
   // Allocation with slot reuse.
   VertexHandle new_vertex();
@@ -337,7 +370,8 @@ class RgbMesh {
   void replace_edge_triangle(EdgeHandle e, TriangleHandle from, TriangleHandle to);
 
   // Precondition helpers.
-  void require(bool ok, const char* op, const std::string& what) const;
+  // Throws PreconditionError; messages are built only on failure (they are not cheap).
+  [[noreturn]] void fail(const char* op, const std::string& what) const;
   std::string describe(EdgeHandle e) const;
   std::string describe(VertexHandle v) const;
   VertexHandle checked_split(EdgeHandle e, SplitKind kind, const char* op);
@@ -358,7 +392,7 @@ class RgbMesh {
   std::vector<std::int32_t> e_free_;
   // Triangles.
   std::vector<std::array<EdgeHandle, 3>> t_edge_;  // [0] invalid: free slot
-  std::vector<std::uint8_t> t_info_;  // bits 6-7 color, bits 0-5 level
+  std::vector<std::uint8_t> t_info_;               // bits 6-7 color, bits 0-5 level
   std::vector<std::int32_t> t_free_;
 
   std::size_t n_vertices_ = 0, n_edges_ = 0, n_triangles_ = 0;
@@ -367,8 +401,14 @@ class RgbMesh {
   OperationCounters counters_;
 
   std::vector<std::unique_ptr<PropertyArrayBase>> vertex_properties_;
-  struct InsertionObserver { int id; InsertionCallback cb; };
-  struct RemovalObserver { int id; RemovalCallback cb; };
+  struct InsertionObserver {
+    int id;
+    InsertionCallback cb;
+  };
+  struct RemovalObserver {
+    int id;
+    RemovalCallback cb;
+  };
   std::vector<InsertionObserver> insertion_observers_;
   std::vector<RemovalObserver> removal_observers_;
   int next_observer_id_ = 1;

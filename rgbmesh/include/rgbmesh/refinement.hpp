@@ -116,8 +116,8 @@ class CoarsenAll final : public LodCriterion {
 // empty vector disables that half. New elements created by the run are not tested.
 class FieldCriterion final : public LodCriterion {
  public:
-  FieldCriterion(std::vector<double> triangle_values, double refine_above,
-                 std::vector<double> vertex_values, double coarsen_below);
+  FieldCriterion(std::vector<double> triangle_values, double refine_above, std::vector<double> vertex_values,
+                 double coarsen_below);
   double triangle_priority(const RgbMesh& m, TriangleHandle t) const override;
   double vertex_priority(const RgbMesh& m, VertexHandle v) const override;
   bool tests_new_elements() const override { return false; }
@@ -132,9 +132,9 @@ class FieldCriterion final : public LodCriterion {
 // ---- random operation sequences (a testing aid) -------------------------------------------
 
 struct RandomWalkOptions {
-  int max_level = 6;                // splits stay below this level
-  std::size_t max_triangles = 0;    // 0: 64 x the base mesh; above it, only removals
-  double split_probability = 0.5;   // chance that a step tries a split first
+  int max_level = 6;               // splits stay below this level
+  std::size_t max_triangles = 0;   // 0: 64 x the base mesh; above it, only removals
+  double split_probability = 0.5;  // chance that a step tries a split first
   // Called after each step (tests validate the mesh here).
   std::function<void(std::uint64_t step)> after_step;
 };

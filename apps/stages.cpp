@@ -1,0 +1,181 @@
+#include "stages.hpp"
+
+#include <unistd.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+#include "rgbmesh/soup.hpp"
+
+namespace rgbmesh::cli {
+
+namespace {
+
+std::vector<std::string> split_commas(const std::string& s) {
+  std::vector<std::string> parts;
+  std::string cur;
+  std::istringstream in(s);
+  while (std::getline(in, cur, ',')) parts.push_back(cur);
+  if (!s.empty() && s.back() == ',') parts.emplace_back();
+  return parts;
+}
+
+double to_double(const std::string& option, const std::string& s) {
+  char* end = nullptr;
+  const double x = std::strtod(s.c_str(), &end);
+  if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(x))
+    throw InputError(option + ": '" + s + "' is not a finite number");
+  return x;
+}
+
+std::int64_t to_integer(const std::string& option, const std::string& s, std::int64_t lo, std::int64_t hi) {
+  std::int64_t x = 0;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), x);
+  if (s.empty() || ec != std::errc() || ptr != s.data() + s.size())
+    throw InputError(option + ": '" + s + "' is not an integer");
+  if (x < lo || x > hi)
+    throw InputError(option + ": " + s + " is out of range [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "]");
+  return x;
+}
+
+std::vector<std::string> fields(const std::string& option, const std::string& value, std::size_t n,
+                                const char* form) {
+  auto parts = split_commas(value);
+  if (parts.size() != n)
+    throw InputError(option + ": expected " + form + " (" + std::to_string(n) +
+                     " values separated by commas), got '" + value + "'");
+  return parts;
+}
+
+// Progress on stderr for stages that take more than a second: rewritten in place on a
+// terminal, one line every few seconds otherwise.
+class Progress {
+ public:
+  explicit Progress(std::string label) : label_(std::move(label)), start_(clock::now()), tty_(isatty(2)) {}
+  ~Progress() {
+    if (printed_ && tty_) std::fputc('\n', stderr);
+  }
+  void update(std::uint64_t operations, std::size_t pending) {
+    const double t = seconds();
+    if (t < 1.0 || t < next_) return;
+    next_ = t + (tty_ ? 0.25 : 5.0);
+    std::fprintf(stderr, "%srgbmesh: %s: %llu operations, %zu queued, %.1f s%s", tty_ ? "\r" : "",
+                 label_.c_str(), static_cast<unsigned long long>(operations), pending, t, tty_ ? "" : "\n");
+    std::fflush(stderr);
+    printed_ = true;
+  }
+  double seconds() const { return std::chrono::duration<double>(clock::now() - start_).count(); }
+
+ private:
+  using clock = std::chrono::steady_clock;
+  std::string label_;
+  clock::time_point start_;
+  bool tty_;
+  bool printed_ = false;
+  double next_ = 0;
+};
+
+}  // namespace
+
+Stage parse_uniform(const std::string& value) {
+  Stage s{Stage::uniform, "--uniform " + value};
+  s.level = static_cast<int>(to_integer("--uniform", value, 0, kMaxLevel));
+  return s;
+}
+
+Stage parse_ball(const std::string& value) {
+  Stage s{Stage::ball, "--ball " + value};
+  const auto f = fields("--ball", value, 5, "X,Y,Z,R,K");
+  s.x = to_double("--ball", f[0]);
+  s.y = to_double("--ball", f[1]);
+  s.z = to_double("--ball", f[2]);
+  s.radius = to_double("--ball", f[3]);
+  if (s.radius < 0) throw InputError("--ball: the radius must not be negative, got " + f[3]);
+  s.level = static_cast<int>(to_integer("--ball", f[4], 0, kMaxLevel));
+  return s;
+}
+
+Stage parse_max_edge(const std::string& value) {
+  Stage s{Stage::max_edge, "--max-edge " + value};
+  s.length = to_double("--max-edge", value);
+  if (!(s.length > 0)) throw InputError("--max-edge: the length must be positive, got " + value);
+  return s;
+}
+
+Stage parse_budget(const std::string& value) {
+  Stage s{Stage::budget, "--budget " + value};
+  s.count = static_cast<std::uint64_t>(to_integer("--budget", value, 1, std::int64_t(1) << 40));
+  return s;
+}
+
+Stage parse_max_level(const std::string& value) {
+  Stage s{Stage::max_level, "--max-level " + value};
+  s.level = static_cast<int>(to_integer("--max-level", value, 0, kMaxLevel));
+  return s;
+}
+
+Stage parse_random_walk(const std::string& value) {
+  Stage s{Stage::random_walk, "--random-walk " + value};
+  const auto f = fields("--random-walk", value, 2, "N,SEED");
+  s.count = static_cast<std::uint64_t>(to_integer("--random-walk", f[0], 0, std::int64_t(1) << 40));
+  s.seed = static_cast<std::uint64_t>(to_integer("--random-walk", f[1], 0, INT64_MAX));
+  return s;
+}
+
+Stage parse_coarsen_all() { return Stage{Stage::coarsen_all, "--coarsen-all"}; }
+
+StageTotals run_stages(RgbMesh& mesh, const std::vector<Stage>& stages) {
+  StageTotals totals;
+  int cap = kMaxLevel;
+  const auto start = std::chrono::steady_clock::now();
+  for (std::size_t i = 0; i < stages.size(); ++i) {
+    const Stage& s = stages[i];
+    Progress progress("stage " + std::to_string(i + 1) + "/" + std::to_string(stages.size()) + " " + s.text);
+    RefinementOptions options;
+    options.max_level = cap;
+    options.progress = [&progress](std::uint64_t ops, std::size_t queued) { progress.update(ops, queued); };
+    RefinementResult r;
+    switch (s.kind) {
+      case Stage::uniform:
+        r = selective_refinement(mesh, UniformLevel(s.level), options);
+        break;
+      case Stage::ball:
+        r = selective_refinement(mesh, BallLevel({s.x, s.y, s.z}, s.radius, s.level), options);
+        break;
+      case Stage::max_edge:
+        r = selective_refinement(mesh, MaxEdgeLength(s.length), options);
+        break;
+      case Stage::budget:
+        r = selective_refinement(mesh, TriangleBudget(s.count), options);
+        break;
+      case Stage::coarsen_all:
+        r = selective_refinement(mesh, CoarsenAll(), options);
+        break;
+      case Stage::max_level:
+        cap = s.level;
+        break;
+      case Stage::random_walk: {
+        RandomWalkOptions walk;
+        // Random splits concentrate where the mesh is already fine; a level cap keeps the
+        // walk spread out (the triangle cap of random_walk bounds the size).
+        walk.max_level = std::min(cap, 8);
+        std::uint64_t done = 0;
+        walk.after_step = [&](std::uint64_t) {
+          if ((++done & 4095) == 0) progress.update(done, s.count - done);
+        };
+        r = random_walk(mesh, s.count, s.seed, walk);
+        break;
+      }
+    }
+    totals.splits += r.splits;
+    totals.removals += r.removals;
+  }
+  totals.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return totals;
+}
+
+}  // namespace rgbmesh::cli

@@ -1,0 +1,150 @@
+// Refinement and coarsening throughput of the RGB mesh, and OpenSubdiv's uniform Loop
+// refinement of the same base mesh in the same process (the reference for ratios).
+//
+//   build/bin/bench_refinement --benchmark_counters_tabular=true
+
+#include <benchmark/benchmark.h>
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <cmath>
+#include <memory>
+
+#include "rgbmesh/mesh.hpp"
+#include "rgbmesh/refinement.hpp"
+
+namespace {
+
+using namespace rgbmesh;
+
+// A torus with 2 * rings * sides triangles (10,000 by default): every vertex regular.
+struct Base {
+  std::vector<Vec3> points;
+  std::vector<std::array<std::int32_t, 3>> triangles;
+};
+
+const Base& torus_10k() {
+  static const Base base = [] {
+    Base b;
+    const int rings = 100, sides = 50;
+    const double pi = 3.14159265358979323846;
+    for (int i = 0; i < rings; ++i)
+      for (int j = 0; j < sides; ++j) {
+        const double u = 2 * pi * i / rings, v = 2 * pi * j / sides;
+        b.points.push_back({(3 + std::cos(v)) * std::cos(u), (3 + std::cos(v)) * std::sin(u), std::sin(v)});
+      }
+    auto id = [&](int i, int j) { return ((i + rings) % rings) * sides + (j + sides) % sides; };
+    for (int i = 0; i < rings; ++i)
+      for (int j = 0; j < sides; ++j) {
+        b.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+        b.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+      }
+    return b;
+  }();
+  return base;
+}
+
+RgbMesh base_mesh() { return RgbMesh::from_triangles(torus_10k().points, torus_10k().triangles); }
+
+void BM_UniformRgb(benchmark::State& state) {
+  const int level = static_cast<int>(state.range(0));
+  std::uint64_t splits = 0;
+  for (auto _ : state) {
+    RgbMesh m = base_mesh();
+    splits += selective_refinement(m, UniformLevel(level)).splits;
+    benchmark::DoNotOptimize(m.num_triangles());
+  }
+  state.counters["insertions/s"] =
+      benchmark::Counter(static_cast<double>(splits), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_UniformRgb)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
+
+struct Point {
+  double p[3];
+  void Clear() { p[0] = p[1] = p[2] = 0; }
+  void AddWithWeight(const Point& o, double w) {
+    for (int i = 0; i < 3; ++i) p[i] += w * o.p[i];
+  }
+};
+
+// OpenSubdiv: topology refinement plus Loop interpolation of the positions, level by level.
+void BM_UniformOpenSubdiv(benchmark::State& state) {
+  using namespace OpenSubdiv;
+  const int level = static_cast<int>(state.range(0));
+  const Base& b = torus_10k();
+  std::vector<int> counts(b.triangles.size(), 3), indices;
+  for (const auto& t : b.triangles) indices.insert(indices.end(), t.begin(), t.end());
+  std::uint64_t vertices = 0;
+  for (auto _ : state) {
+    Sdc::Options options;
+    options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+    Far::TopologyDescriptor desc;
+    desc.numVertices = static_cast<int>(b.points.size());
+    desc.numFaces = static_cast<int>(b.triangles.size());
+    desc.numVertsPerFace = counts.data();
+    desc.vertIndicesPerFace = indices.data();
+    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+    std::unique_ptr<Far::TopologyRefiner> refiner(
+        Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
+    refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(level));
+    std::vector<Point> src, dst;
+    for (const auto& p : b.points) src.push_back({{p.x, p.y, p.z}});
+    Far::PrimvarRefinerReal<double> primvar(*refiner);
+    for (int k = 1; k <= level; ++k) {
+      dst.resize(static_cast<std::size_t>(refiner->GetLevel(k).GetNumVertices()));
+      primvar.Interpolate(k, src, dst);
+      src.swap(dst);
+    }
+    vertices += src.size() - b.points.size();
+    benchmark::DoNotOptimize(src.data());
+  }
+  state.counters["insertions/s"] =
+      benchmark::Counter(static_cast<double>(vertices), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_UniformOpenSubdiv)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
+
+// Removing every inserted vertex of a uniform level-L mesh (setup excluded from the time).
+void BM_CoarsenAll(benchmark::State& state) {
+  const int level = static_cast<int>(state.range(0));
+  RgbMesh refined = base_mesh();
+  selective_refinement(refined, UniformLevel(level));
+  std::uint64_t removals = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    RgbMesh m = refined;
+    state.ResumeTiming();
+    removals += selective_refinement(m, CoarsenAll()).removals;
+  }
+  state.counters["removals/s"] =
+      benchmark::Counter(static_cast<double>(removals), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_CoarsenAll)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
+
+// Selective refinement: a ball to level 7 on one side of the torus.
+void BM_BallRefinement(benchmark::State& state) {
+  std::uint64_t splits = 0;
+  for (auto _ : state) {
+    RgbMesh m = base_mesh();
+    splits += selective_refinement(m, BallLevel({4, 0, 0}, 0.5, 7)).splits;
+  }
+  state.counters["insertions/s"] =
+      benchmark::Counter(static_cast<double>(splits), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_BallRefinement)->Unit(benchmark::kMillisecond);
+
+// Longest edges first up to a budget of 200,000 triangles.
+void BM_BudgetRefinement(benchmark::State& state) {
+  std::uint64_t splits = 0;
+  for (auto _ : state) {
+    RgbMesh m = base_mesh();
+    splits += selective_refinement(m, TriangleBudget(200000)).splits;
+  }
+  state.counters["insertions/s"] =
+      benchmark::Counter(static_cast<double>(splits), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_BudgetRefinement)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

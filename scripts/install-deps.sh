@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages rgbmesh needs, when missing (apt-get, as root or via sudo).
+#   scripts/install-deps.sh main   what the library and the CLI need
+#   scripts/install-deps.sh test   the above plus the test and benchmark dependencies
+set -euo pipefail
+
+main_packages=(cmake ninja-build g++ pkg-config libvtk9-dev libeigen3-dev libceres-dev libcli11-dev)
+test_packages=(libgtest-dev libgmock-dev libbenchmark-dev libosd-dev)
+
+packages=("${main_packages[@]}")
+if [ "${1:-main}" = "test" ]; then packages+=("${test_packages[@]}"); fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "rgbmesh: installing missing Debian packages: ${missing[*]}"
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
