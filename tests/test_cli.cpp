@@ -1,1 +1,232 @@
-// placeholder
+// The command-line tool, run as a user would: exit codes, messages, outputs, stage order.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "rgbmesh/vtk_io.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Triangles as a set of triples rotated so that the smallest index comes first (orientation kept).
+std::set<std::array<std::int32_t, 3>> oriented_triangle_set(
+    const std::vector<std::array<std::int32_t, 3>>& tris) {
+  std::set<std::array<std::int32_t, 3>> out;
+  for (auto t : tris) {
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    out.insert(t);
+  }
+  return out;
+}
+
+struct RunResult {
+  int code = -1;
+  std::string out, err;
+};
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rgbmesh_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  RunResult run(const std::string& args) const {
+    const std::string err_file = path("stderr.txt");
+    const std::string cmd = std::string(RGBMESH_CLI) + " " + args + " 2>" + err_file;
+    RunResult r;
+    FILE* pipe = ::popen(cmd.c_str(), "r");
+    char buf[4096];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) r.out.append(buf, n);
+    const int status = ::pclose(pipe);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream in(err_file);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    r.err = ss.str();
+    return r;
+  }
+
+  // An octahedron as OFF text (8 triangles, 6 vertices), optionally with extra lines.
+  std::string write_octahedron(const std::string& name) const {
+    std::ofstream f(path(name));
+    f << "OFF\n6 8 0\n1 0 0\n-1 0 0\n0 1 0\n0 -1 0\n0 0 1\n0 0 -1\n"
+      << "3 0 2 4\n3 2 1 4\n3 1 3 4\n3 3 0 4\n3 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 5\n";
+    return path(name);
+  }
+
+  static std::string last_line(const std::string& s) {
+    std::string t = s;
+    while (!t.empty() && t.back() == '\n') t.pop_back();
+    const auto p = t.rfind('\n');
+    return p == std::string::npos ? t : t.substr(p + 1);
+  }
+
+  // The integer value of "key": N in a flat JSON line.
+  static long json_int(const std::string& json, const std::string& key) {
+    const auto p = json.find("\"" + key + "\": ");
+    EXPECT_NE(p, std::string::npos) << key << " in " << json;
+    if (p == std::string::npos) return -1;
+    return std::stol(json.substr(p + key.size() + 4));
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(Cli, DefaultJobWritesItsOutputs) {
+  const RunResult r = run("--out " + path("out"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* f : {"star_base.vtp", "star_refined.vtp"}) {
+    ASSERT_TRUE(fs::exists(path("out") + "/" + f)) << f;
+    const auto mesh = rgbmesh::read_mesh(path("out") + "/" + f);
+    EXPECT_GT(mesh.triangles.size(), 0u);
+  }
+  EXPECT_NE(r.out.find("levels 0..6"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, InfoReportsTopology) {
+  const RunResult r = run("info --json " + write_octahedron("octa.off"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(json_int(r.out, "vertices"), 6);
+  EXPECT_EQ(json_int(r.out, "edges"), 12);
+  EXPECT_EQ(json_int(r.out, "triangles"), 8);
+  EXPECT_EQ(json_int(r.out, "boundary_loops"), 0);
+  EXPECT_EQ(json_int(r.out, "euler_characteristic"), 2);
+  EXPECT_EQ(json_int(r.out, "genus"), 0);
+  EXPECT_NE(r.out.find("\"valence_histogram\": {\"4\": 6}"), std::string::npos) << r.out;
+  const RunResult text = run("info " + path("octa.off"));
+  ASSERT_EQ(text.code, 0);
+  EXPECT_NE(text.out.find("genus:                0"), std::string::npos) << text.out;
+}
+
+TEST_F(Cli, RefineAppliesStagesInOrderAndReportsStats) {
+  const std::string in = write_octahedron("octa.off");
+  RunResult r = run("refine " + in + " - --max-level 1 --uniform 3 --stats");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::string stats = last_line(r.out);
+  EXPECT_EQ(json_int(stats, "triangles"), 8 * 4);
+  EXPECT_EQ(json_int(stats, "max_level"), 1);
+  r = run("refine " + in + " - --uniform 3 --max-level 1 --stats");
+  ASSERT_EQ(r.code, 0) << r.err;
+  stats = last_line(r.out);
+  EXPECT_EQ(json_int(stats, "triangles"), 8 * 64);
+  // A closed genus-0 mesh has V = T/2 + 2.
+  EXPECT_EQ(json_int(stats, "vertices"), 8 * 64 / 2 + 2);
+  EXPECT_EQ(json_int(stats, "splits"), 8 * 64 / 2 + 2 - 6);
+  for (const char* key : {"\"refine_seconds\": ", "\"peak_rss_mb\": ", "\"removals\": 0"})
+    EXPECT_NE(stats.find(key), std::string::npos) << key;
+}
+
+TEST_F(Cli, CoarsenAllAfterRandomWalkRestoresTheBaseMesh) {
+  const std::string in = write_octahedron("octa.off");
+  const RunResult r = run("refine " + in + " " + path("back.off") + " --random-walk 3000,17 --coarsen-all --stats");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string stats = last_line(r.out);
+  EXPECT_GT(json_int(stats, "splits"), 500);
+  EXPECT_EQ(json_int(stats, "splits"), json_int(stats, "removals"));
+  const auto a = rgbmesh::read_mesh(in), b = rgbmesh::read_mesh(path("back.off"));
+  // Base vertices keep their handles, so positions match one to one; triangle handles are
+  // recycled through the free lists, so compare triangles as a set of oriented triples.
+  EXPECT_EQ(a.points, b.points);
+  EXPECT_EQ(oriented_triangle_set(a.triangles), oriented_triangle_set(b.triangles));
+  EXPECT_EQ(b.triangles.size(), a.triangles.size());
+}
+
+TEST_F(Cli, RandomWalksAreReproducible) {
+  const std::string in = write_octahedron("octa.off");
+  ASSERT_EQ(run("refine " + in + " " + path("a.vtp") + " --random-walk 2000,3").code, 0);
+  ASSERT_EQ(run("refine " + in + " " + path("b.vtp") + " --random-walk 2000,3").code, 0);
+  ASSERT_EQ(run("refine " + in + " " + path("c.vtp") + " --random-walk 2000,4").code, 0);
+  const auto a = rgbmesh::read_mesh(path("a.vtp")), b = rgbmesh::read_mesh(path("b.vtp")),
+             c = rgbmesh::read_mesh(path("c.vtp"));
+  EXPECT_EQ(a.triangles, b.triangles);
+  EXPECT_EQ(a.points, b.points);
+  EXPECT_NE(a.points, c.points);
+}
+
+TEST_F(Cli, ConvertRoundTripsThroughEveryOutputFormat) {
+  const std::string in = write_octahedron("octa.off");
+  ASSERT_EQ(run("refine " + in + " " + path("r.vtp") + " --ball 1,0,0,0.5,3").code, 0);
+  const auto ref = rgbmesh::read_mesh(path("r.vtp"));
+  for (const char* ext : {"obj", "ply", "off", "stl", "vtu", "vtp"}) {
+    const std::string out = path(std::string("c.") + ext);
+    const RunResult r = run("convert " + path("r.vtp") + " " + out);
+    ASSERT_EQ(r.code, 0) << ext << ": " << r.err;
+    const auto back = rgbmesh::read_mesh(out);
+    EXPECT_EQ(back.triangles.size(), ref.triangles.size()) << ext;
+    EXPECT_EQ(back.points.size(), ref.points.size()) << ext;
+  }
+}
+
+TEST_F(Cli, BadInputGivesExitCode2AndNamesTheProblem) {
+  const std::string in = write_octahedron("octa.off");
+  struct Case {
+    std::string args, expect;
+  } cases[] = {
+      {"info " + path("missing.obj"), "missing.obj"},
+      {"refine " + in + " - --ball 1,2", "--ball"},
+      {"refine " + in + " - --uniform x", "--uniform"},
+      {"refine " + in + " - --max-edge -1", "--max-edge"},
+      {"refine " + in + " - --random-walk 10", "--random-walk"},
+      {"refine " + in + " " + path("out.xyz"), "unknown output format"},
+      {"refine " + in + " " + path("nodir/out.vtp"), "does not exist"},
+      {"convert " + in, "OUT"},
+      {"frobnicate", "frobnicate"},
+  };
+  for (const auto& c : cases) {
+    const RunResult r = run(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.args << "\nstderr: " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(path("out.xyz")));
+}
+
+TEST_F(Cli, InvalidMeshesAreRejectedWithTheElement) {
+  {
+    std::ofstream f(path("nonmanifold.off"));
+    f << "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n";
+  }
+  RunResult r = run("info " + path("nonmanifold.off"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("nonmanifold.off"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("edge (0, 1)"), std::string::npos) << r.err;
+  {
+    std::ofstream f(path("quad.off"));
+    f << "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
+  }
+  r = run("info " + path("quad.off"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--triangulate"), std::string::npos) << r.err;
+  r = run("info --json --triangulate " + path("quad.off"));
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(json_int(r.out, "triangles"), 2);
+}
+
+TEST_F(Cli, EverySubcommandHasHelp) {
+  for (const std::string sub : {"", "info", "convert", "refine"}) {
+    const RunResult r = run(sub + " --help");
+    EXPECT_EQ(r.code, 0) << sub;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+  }
+  EXPECT_NE(run("refine --help").out.find("--random-walk"), std::string::npos);
+}
+
+}  // namespace

@@ -1,0 +1,59 @@
+#pragma once
+// Mesh files.
+//
+// Reading: STL, VTP and VTU go through VTK's readers (with their failures captured, binary STL
+// length-checked and XML cell offsets validated). OFF (VTK has none), OBJ, PLY and legacy VTK are
+// read by parsers of our own, because VTK 9.1's readers for them read out of bounds or abort the
+// process on bad input (out-of-range indices, truncated files, short cell lists) and silently
+// lose data (OBJ and PLY coordinates in single precision, OBJ "nan" read as 0, PLY polygons with
+// more than 255 vertices cut short).
+//
+// Writing is atomic: a temporary file in the target's directory, flushed to disk and renamed
+// onto the target once complete.
+//
+// Errors: bad or unreadable input is an InputError whose message starts with the file path;
+// failing to write is a std::runtime_error naming the path. VTK's own messages are captured while
+// it works, never printed.
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "rgbmesh/snapshot.hpp"
+#include "rgbmesh/soup.hpp"
+
+namespace rgbmesh {
+
+// For help texts: ".obj, .off, .ply, .stl, .vtk, .vtp, .vtu" and ".obj, .off, .ply, .stl, .vtp, .vtu".
+std::string supported_input_extensions();
+std::string supported_output_extensions();
+
+// The faces and points exactly as the file has them (format chosen by the extension, case-
+// insensitive; coordinates in double precision where the file has them). Points are merged only
+// where the format itself duplicates them: STL, which stores every triangle's corners separately,
+// has exactly coincident points merged. Triangle strips become triangles (skipping the zero-area
+// joints of stitched strips). Non-surface cells (vertices, lines, volume cells; OBJ 'l' and 'p')
+// are an InputError naming the cell (or line). Indices are passed through unchecked, for
+// prepare_triangle_mesh to name the face with a bad one (OBJ reports them with their line).
+PolygonSoup read_polygon_soup(const std::filesystem::path& path);
+
+// read_polygon_soup + prepare_triangle_mesh, with the file path prefixed to any InputError.
+TriangleMeshData read_mesh(const std::filesystem::path& path, const SoupOptions& options = {});
+
+// Writes by extension: .obj, .ply (binary), .stl (binary), .off, .vtp, .vtu. The XML formats are
+// appended raw binary, zlib-compressed, with point data "level" (UInt8), cell data "level" and
+// "color" (UInt8: 0 green, 1 red, 2 blue) and every NamedArray as a Float64 array. OBJ, PLY and
+// STL carry geometry only, and PLY/STL store single-precision coordinates. An unknown extension
+// is an InputError; an inconsistent snapshot (sizes, indices) is std::invalid_argument.
+void write_mesh(const std::filesystem::path& path, const MeshSnapshot& mesh);
+
+// Replaces `path` by a file holding `contents`, atomically.
+void write_text_atomically(const std::filesystem::path& path, const std::string& contents);
+
+// A ParaView collection (.pvd) of a time series: one DataSet per (time, file relative to the
+// .pvd's directory). Written atomically.
+void write_pvd(const std::filesystem::path& pvd,
+               const std::vector<std::pair<double, std::string>>& time_and_relative_file);
+
+}  // namespace rgbmesh
