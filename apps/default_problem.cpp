@@ -44,9 +44,12 @@ int run_default_job(const std::string& out_dir) {
   RgbMesh mesh = embedded_star();
   std::cout << "rgbmesh default job: an embedded 6-spike star (" << mesh.num_triangles()
             << " triangles), refined selectively.\n";
-  write_mesh(fs::path(out_dir) / "star_base.vtp", mesh.snapshot());
-  // Level 2 everywhere, level 6 at the tip of one spike, level 4 along a band.
-  std::vector<Stage> stages = {parse_uniform("2"), parse_ball("2.5,0,0,0.8,6"), parse_ball("0,0,0,1.2,4")};
+  write_mesh(fs::path(out_dir) / "star_base.vtp", snapshot_for_file(mesh, fs::path(out_dir) / "star_base.vtp"));
+  // Level 2 everywhere, level 6 around the tip of one spike (where the Loop surface passes:
+  // the limit position of the spike's base vertex), level 4 in a ball around the centre.
+  const Vec3 tip = mesh.limit_position(VertexHandle(0));
+  const std::string tip_ball = std::to_string(tip.x) + "," + std::to_string(tip.y) + "," + std::to_string(tip.z) + ",0.4,6";
+  std::vector<Stage> stages = {parse_uniform("2"), parse_ball(tip_ball), parse_ball("0,0,0,1.0,4")};
   const StageTotals totals = run_stages(mesh, stages);
   const std::string error = mesh.validate(true);
   if (!error.empty()) {
@@ -54,9 +57,9 @@ int run_default_job(const std::string& out_dir) {
     return 1;
   }
   const fs::path out = fs::path(out_dir) / "star_refined.vtp";
-  write_mesh(out, mesh.snapshot());
+  write_mesh(out, snapshot_for_file(mesh, out));
   const MeshStatistics s = compute_statistics(mesh);
-  std::cout << "  stages: --uniform 2, --ball 2.5,0,0,0.8,6, --ball 0,0,0,1.2,4\n"
+  std::cout << "  stages: --uniform 2, --ball " << tip_ball << ", --ball 0,0,0,1.0,4\n"
             << "  result: " << s.vertices << " vertices, " << s.triangles << " triangles, levels 0.."
             << s.max_level << ", " << totals.splits << " splits in " << totals.seconds << " s\n"
             << "  wrote " << (fs::path(out_dir) / "star_base.vtp").string() << " and " << out.string()

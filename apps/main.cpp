@@ -179,11 +179,11 @@ int main(int argc, char** argv) {
                          "Selective refinement: apply the stages in the order given, then write OUT.\n"
                          "Stages may repeat; --max-level caps the stages after it.");
   std::string refine_in, refine_out;
-  bool refine_stats = false, refine_triangulate = false;
+  bool refine_stats = false, refine_triangulate = false, refine_limit = false;
   refine->add_option("IN", refine_in, "Input (base) mesh (" + supported_input_extensions() + ")")->required();
   refine->add_option("OUT", refine_out, "Output mesh (" + supported_output_extensions() + "), or - for none")
       ->required();
-  std::vector<std::string> uniform_v, ball_v, max_edge_v, budget_v, max_level_v, walk_v;
+  std::vector<std::string> uniform_v, ball_v, max_edge_v, geometric_tol_v, budget_v, max_level_v, walk_v;
   struct StageOption {
     CLI::Option* option;
     std::vector<std::string>* values;
@@ -198,6 +198,11 @@ int main(int argc, char** argv) {
        &ball_v, parse_ball},
       {refine->add_option("--max-edge", max_edge_v, "Split until no edge is longer than L")->type_name("L"),
        &max_edge_v, parse_max_edge},
+      {refine
+           ->add_option("--geometric-tol", geometric_tol_v,
+                        "Split where a new control point would lie farther than T from the edge midpoint")
+           ->type_name("T"),
+       &geometric_tol_v, parse_geometric_tol},
       {refine->add_option("--budget", budget_v, "Split the longest edges first until N triangles")
            ->type_name("N"),
        &budget_v, parse_budget},
@@ -216,6 +221,8 @@ int main(int argc, char** argv) {
   refine->add_flag("--stats", refine_stats,
                    "Print one JSON object with counts, timings and peak memory as the last line");
   refine->add_flag("--triangulate", refine_triangulate, "Fan-split polygons with more than three vertices");
+  refine->add_flag("--limit", refine_limit,
+                   "Write the vertices at their Loop limit positions instead of their control points");
 
   try {
     app.parse(argc, argv);
@@ -231,7 +238,8 @@ int main(int argc, char** argv) {
     }
     if (convert->parsed()) {
       check_output_path(convert_out);
-      write_mesh(convert_out, load_mesh(convert_in, convert_triangulate).snapshot());
+      RgbMesh mesh = load_mesh(convert_in, convert_triangulate);
+      write_mesh(convert_out, snapshot_for_file(mesh, convert_out));
       return 0;
     }
     if (refine->parsed()) {
@@ -254,7 +262,7 @@ int main(int argc, char** argv) {
       const double read_s = seconds_since(t0);
       const StageTotals totals = run_stages(mesh, stages);
       t0 = std::chrono::steady_clock::now();
-      if (refine_out != "-") write_mesh(refine_out, mesh.snapshot());
+      if (refine_out != "-") write_mesh(refine_out, snapshot_for_file(mesh, refine_out, refine_limit));
       const double write_s = seconds_since(t0);
       if (refine_stats) std::cout << stats_json(mesh, totals, read_s, write_s) << "\n";
       return 0;

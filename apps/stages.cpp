@@ -106,6 +106,13 @@ Stage parse_max_edge(const std::string& value) {
   return s;
 }
 
+Stage parse_geometric_tol(const std::string& value) {
+  Stage s{Stage::geometric_tol, "--geometric-tol " + value};
+  s.length = to_double("--geometric-tol", value);
+  if (!(s.length > 0)) throw InputError("--geometric-tol: the tolerance must be positive, got " + value);
+  return s;
+}
+
 Stage parse_budget(const std::string& value) {
   Stage s{Stage::budget, "--budget " + value};
   s.count = static_cast<std::uint64_t>(to_integer("--budget", value, 1, std::int64_t(1) << 40));
@@ -148,6 +155,9 @@ StageTotals run_stages(RgbMesh& mesh, const std::vector<Stage>& stages) {
         break;
       case Stage::max_edge:
         r = selective_refinement(mesh, MaxEdgeLength(s.length), options);
+        break;
+      case Stage::geometric_tol:
+        r = selective_refinement(mesh, GeometricTolerance(s.length), options);
         break;
       case Stage::budget:
         r = selective_refinement(mesh, TriangleBudget(s.count), options);

@@ -12,7 +12,7 @@
 namespace rgbmesh::cli {
 
 struct Stage {
-  enum Kind { uniform, ball, max_edge, budget, max_level, random_walk, coarsen_all } kind;
+  enum Kind { uniform, ball, max_edge, geometric_tol, budget, max_level, random_walk, coarsen_all } kind;
   std::string text;  // as the user wrote it, for messages: "--ball 0,0,1,0.2,5"
   double x = 0, y = 0, z = 0, radius = 0, length = 0;
   int level = 0;
@@ -23,6 +23,7 @@ struct Stage {
 Stage parse_uniform(const std::string& value);
 Stage parse_ball(const std::string& value);
 Stage parse_max_edge(const std::string& value);
+Stage parse_geometric_tol(const std::string& value);
 Stage parse_budget(const std::string& value);
 Stage parse_max_level(const std::string& value);
 Stage parse_random_walk(const std::string& value);

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,9 @@ struct BaseMesh {
   std::vector<std::array<std::int32_t, 3>> triangles;
   RgbMesh build() const { return RgbMesh::from_triangles(points, triangles); }
 };
+
+// GoogleTest prints parameters with this (the name, not the bytes).
+inline void PrintTo(const BaseMesh& m, std::ostream* os) { *os << m.name; }
 
 BaseMesh single_triangle();
 BaseMesh diamond();                          // two triangles sharing one interior edge

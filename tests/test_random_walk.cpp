@@ -57,7 +57,7 @@ TEST_P(RandomWalk, HundredThousandStepsStayValid) {
   RgbMesh m = wc.base.build();
   const auto base_triangles = testing::canonical_triangles(m);
   std::vector<Vec3> base_points;
-  for (VertexHandle v : m.vertices()) base_points.push_back(m.position(v));
+  for (VertexHandle v : m.vertices()) base_points.push_back(m.insertion_point(v));
 
   RandomWalkOptions options;
   options.max_level = 7;
@@ -82,7 +82,7 @@ TEST_P(RandomWalk, HundredThousandStepsStayValid) {
   ASSERT_EQ(m.validate(true), "");
   EXPECT_EQ(testing::canonical_triangles(m), base_triangles) << wc.base.name;
   std::vector<Vec3> points;
-  for (VertexHandle v : m.vertices()) points.push_back(m.position(v));
+  for (VertexHandle v : m.vertices()) points.push_back(m.insertion_point(v));
   EXPECT_EQ(points, base_points) << wc.base.name;
   for (TriangleHandle t : m.triangles()) {
     EXPECT_EQ(m.color(t), Color::green);
@@ -107,9 +107,9 @@ TEST_P(RandomWalk, UniformRefinementIsOrderIndependent) {
     EXPECT_EQ(walked.num_triangles(), wc.base.triangles.size() << (2 * k));
     // The midpoint positions agree too.
     std::map<std::int64_t, Vec3> ref_points;
-    for (VertexHandle v : reference.vertices()) ref_points[keys.key(reference, v)] = reference.position(v);
+    for (VertexHandle v : reference.vertices()) ref_points[keys.key(reference, v)] = reference.insertion_point(v);
     for (VertexHandle v : walked.vertices()) {
-      const Vec3& p = walked.position(v);
+      const Vec3& p = walked.insertion_point(v);
       const Vec3& q = ref_points.at(keys.key(walked, v));
       EXPECT_NEAR(distance(p, q), 0.0, 1e-12);
     }

@@ -15,7 +15,7 @@ double longest_edge(const RgbMesh& m) {
   double l = 0;
   for (EdgeHandle e : m.edges()) {
     const auto& v = m.edge_vertices(e);
-    l = std::max(l, distance(m.position(v[0]), m.position(v[1])));
+    l = std::max(l, distance(m.control_point(v[0]), m.control_point(v[1])));
   }
   return l;
 }
@@ -55,7 +55,7 @@ TEST(Ball, AtLeastLevelKOnTrianglesMeetingTheBallOnly) {
   int inside = 0, far_coarse = 0;
   for (TriangleHandle t : m.triangles()) {
     const auto c = m.triangle_vertices(t);
-    const double d = point_triangle_distance(center, m.position(c[0]), m.position(c[1]), m.position(c[2]));
+    const double d = point_triangle_distance(center, m.control_point(c[0]), m.control_point(c[1]), m.control_point(c[2]));
     if (d <= radius) {
       ++inside;
       EXPECT_GE(m.level(t), k);
@@ -118,14 +118,14 @@ TEST(Field, RefinesMarkedTrianglesOnceAndCoarsensMarkedVertices) {
   int marked = 0;
   for (TriangleHandle t : m.triangles()) {
     const auto c = m.triangle_vertices(t);
-    const double x = (m.position(c[0]).x + m.position(c[1]).x + m.position(c[2]).x) / 3;
+    const double x = (m.insertion_point(c[0]).x + m.insertion_point(c[1]).x + m.insertion_point(c[2]).x) / 3;
     if (x > 1) {
       tri[t.idx] = 1.0 + x;
       ++marked;
     }
   }
   for (VertexHandle v : m.vertices())
-    if (m.position(v).x < -1) ver[v.idx] = 0.0;
+    if (m.insertion_point(v).x < -1) ver[v.idx] = 0.0;
   ASSERT_GT(marked, 10);
   const auto result = selective_refinement(m, FieldCriterion(tri, 0.5, ver, 0.5));
   ASSERT_EQ(m.validate(true), "");
@@ -134,7 +134,7 @@ TEST(Field, RefinesMarkedTrianglesOnceAndCoarsensMarkedVertices) {
   // Marked triangles rose one level (to 3), nothing went beyond.
   EXPECT_EQ(m.max_level(), 3);
   for (VertexHandle v : m.vertices()) {
-    if (m.position(v).x < -1.2) {
+    if (m.insertion_point(v).x < -1.2) {
       EXPECT_LE(m.level(v), 1);
     }
   }

@@ -41,14 +41,14 @@ class BandAroundPlane final : public rgbmesh::LodCriterion {
   // A triangle rises one level when some corner wants more than it has.
   double triangle_priority(const RgbMesh& m, rgbmesh::TriangleHandle t) const override {
     int wanted = 0;
-    for (rgbmesh::VertexHandle v : m.triangle_vertices(t)) wanted = std::max(wanted, wanted_level(m.position(v)));
+    for (rgbmesh::VertexHandle v : m.triangle_vertices(t)) wanted = std::max(wanted, wanted_level(m.control_point(v)));
     return wanted > m.level(t) ? 1.0 + wanted - m.level(t) : 0.0;
   }
 
   // A vertex goes when it is finer than every point of its star wants.
   double vertex_priority(const RgbMesh& m, rgbmesh::VertexHandle v) const override {
-    int wanted = wanted_level(m.position(v));
-    for (rgbmesh::VertexHandle w : m.star(v).neighbors) wanted = std::max(wanted, wanted_level(m.position(w)));
+    int wanted = wanted_level(m.control_point(v));
+    for (rgbmesh::VertexHandle w : m.star(v).neighbors) wanted = std::max(wanted, wanted_level(m.control_point(w)));
     return m.level(v) > wanted ? 1.0 + m.level(v) - wanted : 0.0;
   }
 

@@ -80,7 +80,10 @@ RgbMesh::RgbMesh(const RgbMesh& o)
     : v_edge_(o.v_edge_),
       v_level_(o.v_level_),
       v_parents_(o.v_parents_),
-      v_point_(o.v_point_),
+      v_control_(o.v_control_),
+      v_limit_(o.v_limit_),
+      v_flags_(o.v_flags_),
+      base_eigenvalue_(o.base_eigenvalue_),
       v_free_(o.v_free_),
       e_vert_(o.e_vert_),
       e_tri_(o.e_tri_),
@@ -117,7 +120,7 @@ RgbMesh RgbMesh::from_triangles(const std::vector<Vec3>& points,
   m.v_edge_.assign(nv, EdgeHandle());
   m.v_level_.assign(nv, 0);
   m.v_parents_.assign(nv, {VertexHandle(), VertexHandle()});
-  m.v_point_ = points;
+  m.v_control_ = points;
   m.n_vertices_ = static_cast<std::size_t>(nv);
   m.n_base_vertices_ = m.n_vertices_;
 
@@ -184,6 +187,7 @@ RgbMesh RgbMesh::from_triangles(const std::vector<Vec3>& points,
       throw InputError("vertex " + std::to_string(v) + " is non-manifold");
   }
   m.base_euler_ = m.euler_characteristic();
+  m.init_base_geometry();
   return m;
 }
 
@@ -200,7 +204,9 @@ VertexHandle RgbMesh::new_vertex() {
     v_edge_.emplace_back();
     v_level_.push_back(0);
     v_parents_.push_back({VertexHandle(), VertexHandle()});
-    v_point_.emplace_back();
+    v_control_.emplace_back();
+    v_limit_.emplace_back();
+    v_flags_.push_back(0);
     for (auto& p : vertex_properties_) p->resize(v_edge_.size());
   }
   ++n_vertices_;
@@ -243,6 +249,7 @@ TriangleHandle RgbMesh::new_triangle(const std::array<EdgeHandle, 3>& edges) {
 void RgbMesh::free_vertex(VertexHandle v) {
   v_edge_[v.idx] = EdgeHandle();
   v_parents_[v.idx] = {VertexHandle(), VertexHandle()};
+  v_flags_[v.idx] = 0;
   v_free_.push_back(v.idx);
   --n_vertices_;
 }
@@ -446,6 +453,23 @@ void RgbMesh::update_triangle_info(TriangleHandle t) {
   t_info_[t.idx] = static_cast<std::uint8_t>((finer << 6) | lo);
 }
 
+void RgbMesh::raising_edges(TriangleHandle t, std::vector<EdgeHandle>& out) const {
+  out.clear();
+  const int l = level(t);
+  TriangleHandle source = t;
+  if (color(t) == Color::blue) {
+    // A blue triangle rises when its red sibling splits its coarse edge and the pair is
+    // BB-swapped (section V-B).
+    for (EdgeHandle f : triangle_edges(t)) {
+      if (is_red(f)) source = other_triangle(f, t);
+    }
+    if (!source.valid() || color(source) != Color::red || level(source) != l) return;
+  }
+  for (EdgeHandle f : triangle_edges(source)) {
+    if (!is_red(f) && level(f) == l) out.push_back(f);
+  }
+}
+
 bool RgbMesh::is_refinable(EdgeHandle e) const {
   if (is_red(e)) return false;
   const int l = level(e);
@@ -536,6 +560,8 @@ void RgbMesh::fail(const char* op, const std::string& what) const {
 VertexHandle RgbMesh::bisect(EdgeHandle e) {
   const auto [v0, v1] = e_vert_[e.idx];
   const int l = level(e);
+  const Vec3 control = odd_control_point(e);
+  const bool boundary = is_boundary(e);
   struct Side {
     int slot;
     TriangleHandle t;
@@ -562,7 +588,8 @@ VertexHandle RgbMesh::bisect(EdgeHandle e) {
   const VertexHandle m = new_vertex();
   v_level_[m.idx] = static_cast<std::uint8_t>(l + 1);
   v_parents_[m.idx] = {v0, v1};
-  v_point_[m.idx] = 0.5 * (v_point_[v0.idx] + v_point_[v1.idx]);
+  v_control_[m.idx] = control;
+  v_flags_[m.idx] = boundary ? kBoundaryFlag : 0;
 
   const std::uint8_t half_info = edge_info(false, l + 1);
   const EdgeHandle e1 = new_edge(m, v1, half_info);  // e keeps (v0, m)
@@ -586,12 +613,14 @@ VertexHandle RgbMesh::bisect(EdgeHandle e) {
     update_triangle_info(tb);
   }
   ++counters_.splits;
+  if (journal_) journal_->push_back({JournalEntry::bisect, m.idx, 0});
   return m;
 }
 
 // Replaces the diagonal e of the quadrilateral formed by its two triangles with the other
 // diagonal. t0 = (a, b, c) and t1 = (b, a, d) become (d, b, c) and (c, a, d).
 void RgbMesh::flip(EdgeHandle e, std::uint8_t new_info) {
+  if (journal_) journal_->push_back({JournalEntry::flip, e.idx, e_info_[e.idx]});
   const TriangleHandle t0 = e_tri_[e.idx][0], t1 = e_tri_[e.idx][1];
   const int i = local_index(t0, e), j = local_index(t1, e);
   const auto c0 = triangle_vertices(t0), c1 = triangle_vertices(t1);
@@ -662,6 +691,10 @@ VertexHandle RgbMesh::checked_split(EdgeHandle e, SplitKind kind, const char* op
     fail(op, describe(e) + " is " +
                  (actual == SplitKind::not_refinable ? std::string("not refinable")
                                                      : std::string("a case for ") + to_string(actual)));
+  // The stencil's coarser vertices need their limit positions; providing them may insert
+  // vertices around them, never touching e's triangles, which are finer (section VI-C).
+  prepare_stencil(e);
+  if (split_kind(e) != kind) fail(op, "internal error: preparing the stencil changed " + describe(e));
   const VertexHandle m = bisect(e);
   notify_inserted(m);
   return m;
@@ -1004,15 +1037,26 @@ void RgbMesh::remove_observer(int id) {
 // ---------------------------------------------------------------------------------------
 // Output
 
-MeshSnapshot RgbMesh::snapshot() const {
+MeshSnapshot RgbMesh::snapshot(Points points, bool geometry_arrays) const {
   MeshSnapshot s;
   std::vector<std::int32_t> index(v_edge_.size(), -1);
   s.points.reserve(n_vertices_);
+  NamedArray control{"control_point", 3, {}}, limit{"limit", 3, {}};
   for (VertexHandle v : vertices()) {
     index[v.idx] = static_cast<std::int32_t>(s.points.size());
-    s.points.push_back(v_point_[v.idx]);
+    const Vec3 c = control_point(v);
+    const Vec3 l = (points == Points::limit || geometry_arrays) ? limit_position(v) : Vec3();
+    s.points.push_back(points == Points::limit ? l : c);
     s.vertex_level.push_back(v_level_[v.idx]);
     s.vertex_handle.push_back(v);
+    if (geometry_arrays) {
+      control.values.insert(control.values.end(), {c.x, c.y, c.z});
+      limit.values.insert(limit.values.end(), {l.x, l.y, l.z});
+    }
+  }
+  if (geometry_arrays) {
+    s.point_data.push_back(std::move(control));
+    s.point_data.push_back(std::move(limit));
   }
   s.triangles.reserve(n_triangles_);
   for (TriangleHandle t : triangles()) {

@@ -15,20 +15,7 @@ double LodCriterion::vertex_priority(const RgbMesh&, VertexHandle) const { retur
 bool LodCriterion::satisfied(const RgbMesh&) const { return false; }
 
 void edges_raising(const RgbMesh& mesh, TriangleHandle t, std::vector<EdgeHandle>& out) {
-  out.clear();
-  const int l = mesh.level(t);
-  TriangleHandle source = t;
-  if (mesh.color(t) == Color::blue) {
-    // A blue triangle rises when its red sibling splits its coarse edge and the pair is
-    // BB-swapped (section V-B).
-    for (EdgeHandle f : mesh.triangle_edges(t)) {
-      if (mesh.is_red(f)) source = mesh.other_triangle(f, t);
-    }
-    if (!source.valid() || mesh.color(source) != Color::red || mesh.level(source) != l) return;
-  }
-  for (EdgeHandle f : mesh.triangle_edges(source)) {
-    if (!mesh.is_red(f) && mesh.level(f) == l) out.push_back(f);
-  }
+  mesh.raising_edges(t, out);
 }
 
 namespace {
@@ -68,6 +55,15 @@ class Refiner {
     for (VertexHandle v : mesh_.vertices()) test_vertex(v);
     coarsen();
     refine();
+    // A vertex moves when its last edge of its shown level splits (VI-D), which changes edges
+    // and triangles that were tested before: test everything again until a pass splits nothing.
+    while (crit_.tests_new_elements() && !crit_.satisfied(mesh_)) {
+      const std::uint64_t before = result_.splits;
+      for (EdgeHandle e : mesh_.edges()) test_edge(e);
+      for (TriangleHandle t : mesh_.triangles()) test_triangle(t);
+      refine();
+      if (result_.splits == before) break;
+    }
     return result_;
   }
 
@@ -203,7 +199,7 @@ namespace {
 
 double edge_length(const RgbMesh& m, EdgeHandle e) {
   const auto& ev = m.edge_vertices(e);
-  return distance(m.position(ev[0]), m.position(ev[1]));
+  return distance(m.control_point(ev[0]), m.control_point(ev[1]));
 }
 
 }  // namespace
@@ -221,7 +217,7 @@ double UniformLevel::vertex_priority(const RgbMesh& m, VertexHandle v) const {
 double BallLevel::triangle_priority(const RgbMesh& m, TriangleHandle t) const {
   if (m.level(t) >= level_) return 0.0;
   const auto c = m.triangle_vertices(t);
-  if (point_triangle_distance(center_, m.position(c[0]), m.position(c[1]), m.position(c[2])) > radius_)
+  if (point_triangle_distance(center_, m.control_point(c[0]), m.control_point(c[1]), m.control_point(c[2])) > radius_)
     return 0.0;
   return static_cast<double>(level_ - m.level(t));
 }
@@ -230,6 +226,41 @@ double MaxEdgeLength::triangle_priority(const RgbMesh& m, TriangleHandle t) cons
   double longest = 0;
   for (EdgeHandle e : m.triangle_edges(t)) longest = std::max(longest, edge_length(m, e));
   return longest > length_ ? longest : 0.0;
+}
+
+namespace {
+
+// p^l(v) when available without inserting vertices, else the shown control point.
+Vec3 control_point_or_shown(const RgbMesh& m, VertexHandle v, int l) {
+  if (m.level(v) == l || m.has_limit(v)) return m.control_point(v, l);
+  return m.control_point(v);
+}
+
+}  // namespace
+
+double GeometricTolerance::deviation(const RgbMesh& m, EdgeHandle e) {
+  const int l = m.level(e);
+  const auto st = m.loop_stencil(e);
+  const Vec3 a = control_point_or_shown(m, st[0], l), b = control_point_or_shown(m, st[1], l);
+  if (st[3].valid()) {
+    // |3/8 (a + b) + 1/8 (c + d) - (a + b) / 2| = |c + d - a - b| / 8.
+    const Vec3 c = control_point_or_shown(m, st[2], l), d = control_point_or_shown(m, st[3], l);
+    return norm(c + d - a - b) * 0.125;
+  }
+  // Boundary: how far the endpoints move from level l to l + 1 (limits of boundary vertices
+  // follow from their parents, so they are always available).
+  double worst = 0;
+  for (int i = 0; i < 2; ++i) {
+    const VertexHandle v = st[i];
+    if (!m.is_boundary_vertex(v) || !m.has_limit(v)) continue;
+    worst = std::max(worst, distance(m.control_point(v, l + 1), m.control_point(v, l)));
+  }
+  return worst;
+}
+
+double GeometricTolerance::edge_priority(const RgbMesh& m, EdgeHandle e) const {
+  const double d = deviation(m, e);
+  return d > tolerance_ ? d : 0.0;
 }
 
 double TriangleBudget::edge_priority(const RgbMesh& m, EdgeHandle e) const { return edge_length(m, e); }

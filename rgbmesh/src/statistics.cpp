@@ -43,7 +43,7 @@ MeshStatistics compute_statistics(const RgbMesh& m) {
     ++valence[v[0].idx];
     ++valence[v[1].idx];
     s.red_edges += m.is_red(e);
-    const double l = distance(m.position(v[0]), m.position(v[1]));
+    const double l = distance(m.control_point(v[0]), m.control_point(v[1]));
     s.shortest_edge = std::min(s.shortest_edge, l);
     s.longest_edge = std::max(s.longest_edge, l);
   }

@@ -733,6 +733,13 @@ std::string xml_attribute(const std::string& value) {
 
 }  // namespace
 
+MeshSnapshot snapshot_for_file(RgbMesh& mesh, const fs::path& path, bool limit_points) {
+  const std::string ext = lowercase_extension(path);
+  const bool xml = ext == ".vtp" || ext == ".vtu";
+  if (limit_points || xml) mesh.compute_limits();
+  return mesh.snapshot(limit_points ? RgbMesh::Points::limit : RgbMesh::Points::control, xml);
+}
+
 std::string supported_input_extensions() {
   return joined(std::begin(input_extensions), std::end(input_extensions));
 }

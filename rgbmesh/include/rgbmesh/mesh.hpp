@@ -232,12 +232,50 @@ class RgbMesh {
   bool is_red(EdgeHandle e) const { return (e_info_[e.idx] & 0x80) != 0; }
   Color color(EdgeHandle e) const { return is_red(e) ? Color::red : Color::green; }
   Color color(TriangleHandle t) const { return static_cast<Color>(t_info_[t.idx] >> 6); }
-  // Endpoints of the edge that v split (Fig. 12); both invalid for base vertices.
+  // Endpoints of the edge that v split (Fig. 12); both invalid for base vertices. They are
+  // also the parent triangle's vertices that a red edge ending at v refers to (VI-C).
   const std::array<VertexHandle, 2>& parents(VertexHandle v) const { return v_parents_[v.idx]; }
-  // Position of the vertex (for now the control point at insertion: the midpoint of its
-  // parents; the Loop rules of section VI replace it).
-  const Vec3& position(VertexHandle v) const { return v_point_[v.idx]; }
   int max_level() const;
+
+  // ---- geometry: Loop subdivision (section VI) -------------------------------------------
+  // Every vertex inserted at level l carries p^l(v), its Loop control point at that level
+  // (the base point when l = 0), and, once known, its limit position p_inf(v). Its control
+  // point at any finer level follows from those two (Eq. 7, 9). The limit position depends
+  // on the base mesh only, so once known it stays valid for as long as v exists.
+  //
+  // Limit positions are computed lazily and cached; the cache is written by const methods,
+  // so a mesh must not be read from several threads at once.
+
+  // p^l(v) with l = level(v): Loop's odd rule on the stencil of the edge v split.
+  const Vec3& insertion_point(VertexHandle v) const { return v_control_[v.idx]; }
+  // Whether v lies on the boundary (uses the crease rules of Eq. 2, 5, 8, 9).
+  bool is_boundary_vertex(VertexHandle v) const { return (v_flags_[v.idx] & kBoundaryFlag) != 0; }
+  // The level at which v is shown: the lowest level of its green edges (VI-D).
+  int shown_level(VertexHandle v) const;
+  // p^k(v) for k >= level(v). Needs the limit position when k > level(v).
+  Vec3 control_point(VertexHandle v, int k) const;
+  // The control point at the shown level: where v is in the current mesh. In a uniform mesh
+  // of level K this is Loop subdivision's level-K point.
+  Vec3 control_point(VertexHandle v) const { return control_point(v, shown_level(v)); }
+  // Whether limit_position(v) is available: known already, or computable because the Loop
+  // 1-ring of v at its level is in the mesh (recursively for its parents).
+  bool has_limit(VertexHandle v) const;
+  // The position of v on the limit surface (Eq. 6, 8); PreconditionError when !has_limit(v).
+  Vec3 limit_position(VertexHandle v) const;
+  // Makes the limit position of v available by inserting its missing Loop neighbours (and
+  // those of its parents), as the stencils of section VI-C require (Fig. 13).
+  void complete_limit(VertexHandle v);
+  // Makes limit_position() available for every vertex without changing the mesh: missing
+  // neighbours are inserted, the limit positions recorded, and the inserted vertices removed
+  // again (observers see both). Returns how many vertices were inserted and removed.
+  std::size_t compute_limits();
+  // The Loop stencil of green edge e at its level l: its endpoints, then the vertices
+  // opposite e in the two level-l triangles of the Loop mesh (for a red triangle, the apex
+  // of its parent triangle, VI-C); the last two are invalid on the boundary.
+  std::array<VertexHandle, 4> loop_stencil(EdgeHandle e) const;
+  // The control point that splitting green edge e gives the new vertex (Eq. 1, 2). Needs the
+  // limit positions of the stencil vertices coarser than e (split_edge provides them).
+  Vec3 odd_control_point(EdgeHandle e) const;
 
   // ---- predicates -----------------------------------------------------------------------
   // Green, and every incident triangle has the edge's level (section IV-A).
@@ -247,6 +285,9 @@ class RgbMesh {
   // No red edge shared by two blue triangles.
   bool is_stable() const;
   SplitKind split_kind(EdgeHandle e) const;
+  // The green edges whose split raises triangle t's level: its lowest green edges, or for a
+  // blue triangle those of the red triangle across its red edge (section V-B).
+  void raising_edges(TriangleHandle t, std::vector<EdgeHandle>& out) const;
   MergeKind merge_kind(VertexHandle v) const;
   // The star of a removable vertex as one of the 28 configurations of Fig. 11, written as the
   // colors of the triangles on each side of the split edge read counter-clockwise from a
@@ -321,7 +362,11 @@ class RgbMesh {
     return static_cast<long>(n_vertices_) - static_cast<long>(n_edges_) + static_cast<long>(n_triangles_);
   }
   int boundary_loops() const;
-  MeshSnapshot snapshot() const;
+  // A compact copy for output. Points are the shown control points, or the limit positions
+  // (then every vertex needs has_limit(): call compute_limits() first). With geometry_arrays,
+  // the point data also carries both, as "control_point" and "limit".
+  enum class Points { control, limit };
+  MeshSnapshot snapshot(Points points = Points::control, bool geometry_arrays = false) const;
 
  private:
   static bool in_range(std::int32_t i, std::size_t n) { return i >= 0 && static_cast<std::size_t>(i) < n; }
@@ -348,6 +393,29 @@ class RgbMesh {
   }
   std::pair<TriangleHandle, EdgeHandle> leaving_triangle(VertexHandle v, EdgeHandle e) const;
   std::pair<TriangleHandle, EdgeHandle> arriving_triangle(VertexHandle v, EdgeHandle e) const;
+
+  static constexpr std::uint8_t kBoundaryFlag = 1, kLimitFlag = 2;
+  // Geometry (mesh_geometry.cpp).
+  void init_base_geometry();
+  VertexHandle stencil_apex(TriangleHandle t, EdgeHandle e) const;
+  double eigenvalue(VertexHandle v) const {
+    return static_cast<std::size_t>(v.idx) < base_eigenvalue_.size() ? base_eigenvalue_[v.idx] : 0.25;
+  }
+  // Computes and caches the limit position if the Loop rings allow it; false otherwise.
+  bool try_limit(VertexHandle v) const;
+  // Makes the stencil of e ready for odd_control_point (may insert vertices elsewhere).
+  void prepare_stencil(EdgeHandle e);
+  // Splits edges until no triangle incident at v is coarser than v.
+  void raise_star(VertexHandle v);
+
+  // While journal_ is set, bisect and flip record themselves so that rollback() can undo
+  // them exactly (handles included), newest first.
+  struct JournalEntry {
+    enum Kind : std::uint8_t { bisect, flip } kind;
+    std::int32_t handle;        // the new vertex, or the flipped edge
+    std::uint8_t info_before;   // the flipped edge's color and level before the flip
+  };
+  void rollback(const std::vector<JournalEntry>& journal);
 
   // Allocation with slot reuse.
   VertexHandle new_vertex();
@@ -383,7 +451,11 @@ class RgbMesh {
   std::vector<EdgeHandle> v_edge_;  // invalid: free slot
   std::vector<std::uint8_t> v_level_;
   std::vector<std::array<VertexHandle, 2>> v_parents_;
-  std::vector<Vec3> v_point_;
+  std::vector<Vec3> v_control_;                // p^l(v) at insertion level l
+  mutable std::vector<Vec3> v_limit_;          // p_inf(v) where kLimitFlag is set
+  mutable std::vector<std::uint8_t> v_flags_;  // kBoundaryFlag | kLimitFlag
+  std::vector<double> base_eigenvalue_;        // g of Eq. 7 for each base vertex
+  std::vector<JournalEntry>* journal_ = nullptr;
   std::vector<std::int32_t> v_free_;
   // Edges.
   std::vector<std::array<VertexHandle, 2>> e_vert_;  // [0] invalid: free slot

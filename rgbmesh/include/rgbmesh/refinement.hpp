@@ -93,6 +93,23 @@ class MaxEdgeLength final : public LodCriterion {
   double length_;
 };
 
+// Splits where the surface is not yet resolved to `tolerance`: a green edge of level l splits
+// when the control point its split would create lies farther than the tolerance from the
+// edge's midpoint at level l (Eq. 1); a boundary edge, whose new point is its midpoint
+// (Eq. 2), splits when one of its endpoints would move farther than that at level l+1
+// (Eq. 5). Stencil points that are not available without inserting vertices are replaced by
+// the shown control points (an approximation near coarser regions only).
+class GeometricTolerance final : public LodCriterion {
+ public:
+  explicit GeometricTolerance(double tolerance) : tolerance_(tolerance) {}
+  double edge_priority(const RgbMesh& m, EdgeHandle e) const override;
+  // The deviation that edge_priority compares with the tolerance.
+  static double deviation(const RgbMesh& m, EdgeHandle e);
+
+ private:
+  double tolerance_;
+};
+
 // Splits the longest green edges until the mesh has at least `triangles` triangles.
 class TriangleBudget final : public LodCriterion {
  public:

@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "rgbmesh/mesh.hpp"
 #include "rgbmesh/snapshot.hpp"
 #include "rgbmesh/soup.hpp"
 
@@ -47,6 +48,12 @@ TriangleMeshData read_mesh(const std::filesystem::path& path, const SoupOptions&
 // STL carry geometry only, and PLY/STL store single-precision coordinates. An unknown extension
 // is an InputError; an inconsistent snapshot (sizes, indices) is std::invalid_argument.
 void write_mesh(const std::filesystem::path& path, const MeshSnapshot& mesh);
+
+// The snapshot of `mesh` to write to `path`: points at the shown control points, or at the
+// limit positions; VTK XML files (.vtp, .vtu) also get the point data "control_point" and
+// "limit". Computes the limit positions it needs (RgbMesh::compute_limits leaves the mesh as
+// it was).
+MeshSnapshot snapshot_for_file(RgbMesh& mesh, const std::filesystem::path& path, bool limit_points = false);
 
 // Replaces `path` by a file holding `contents`, atomically.
 void write_text_atomically(const std::filesystem::path& path, const std::string& contents);

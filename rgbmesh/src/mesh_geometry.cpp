@@ -1,0 +1,230 @@
+// RGB subdivision geometry (section VI): Loop control points of odd vertices from their
+// stencils, limit positions, and control points of even vertices by the multi-step rule.
+//
+// A vertex v inserted at level l stores p^l(v) and, once known, p_inf(v). Its control point
+// at level l + k is g^k p^l(v) + (1 - g^k) p_inf(v) (Eq. 7, 9). The limit position needs the
+// level-l control points of v's Loop neighbours at level l (Eq. 6, 8): for a boundary vertex
+// its two boundary neighbours, which are its parents; for an interior vertex its six
+// neighbours (the two parents and four vertices of level l), which exist in the mesh exactly
+// when no triangle incident at v is coarser than v. Since p_inf(v) depends only on the base
+// mesh, it is computed once, when first needed, and cached; removals never invalidate it.
+// (The paper accumulates it from contributions as neighbours arrive, VI-B; computing it from
+// the complete ring when first needed gives the same value without per-insertion work.)
+
+#include <algorithm>
+
+#include "rgbmesh/loop_rules.hpp"
+#include "rgbmesh/mesh.hpp"
+
+namespace rgbmesh {
+
+void RgbMesh::init_base_geometry() {
+  const std::size_t n = v_edge_.size();
+  v_limit_.assign(n, Vec3());
+  v_flags_.assign(n, kLimitFlag);
+  base_eigenvalue_.assign(n, 0.25);
+  VertexStar s;
+  for (std::size_t i = 0; i < n; ++i) {
+    const VertexHandle v(static_cast<std::int32_t>(i));
+    star(v, s);
+    const Vec3& p = v_control_[i];
+    if (s.boundary) {
+      // Crease rule: only the two boundary neighbours count (Eq. 8).
+      v_flags_[i] |= kBoundaryFlag;
+      v_limit_[i] = loop::kBoundaryLimitSelf * p +
+                    loop::kBoundaryLimitNeighbor *
+                        (v_control_[s.neighbors.front().idx] + v_control_[s.neighbors.back().idx]);
+      continue;
+    }
+    const int valence = static_cast<int>(s.neighbors.size());
+    Vec3 sum;
+    for (VertexHandle w : s.neighbors) sum += v_control_[w.idx];
+    const double b = loop::limit_neighbor_weight(valence);
+    v_limit_[i] = (1.0 - valence * b) * p + b * sum;
+    base_eigenvalue_[i] = loop::subdominant_eigenvalue(valence);
+  }
+}
+
+int RgbMesh::shown_level(VertexHandle v) const {
+  int k = kMaxLevel + 1;
+  visit_edges(v, [&](EdgeHandle e) {
+    if (!is_red(e)) k = std::min(k, level(e));
+    return true;
+  });
+  return k;
+}
+
+Vec3 RgbMesh::control_point(VertexHandle v, int k) const {
+  const int steps = k - level(v);
+  if (steps <= 0) {
+    if (steps < 0)
+      fail("control_point", describe(v) + " has no control point at level " + std::to_string(k));
+    return v_control_[v.idx];
+  }
+  const Vec3 limit = limit_position(v);
+  const double g = loop::eigenvalue_power(eigenvalue(v), steps);
+  return g * v_control_[v.idx] + (1.0 - g) * limit;
+}
+
+bool RgbMesh::has_limit(VertexHandle v) const { return try_limit(v); }
+
+Vec3 RgbMesh::limit_position(VertexHandle v) const {
+  if (!try_limit(v))
+    fail("limit_position", describe(v) + " has an incomplete Loop ring at its level (call complete_limit or "
+                                         "compute_limits first)");
+  return v_limit_[v.idx];
+}
+
+bool RgbMesh::try_limit(VertexHandle v) const {
+  std::uint8_t& flags = v_flags_[v.idx];
+  if (flags & kLimitFlag) return true;
+  const int l = level(v);
+  const auto [pa, pb] = v_parents_[v.idx];
+  // Both rules use the parents at level l, which are coarser: their limits come first.
+  if (!try_limit(pa) || !try_limit(pb)) return false;
+  if (flags & kBoundaryFlag) {
+    // The boundary neighbours of a boundary vertex at its own level are its parents (Eq. 8).
+    v_limit_[v.idx] = loop::kBoundaryLimitSelf * v_control_[v.idx] +
+                      loop::kBoundaryLimitNeighbor * (control_point(pa, l) + control_point(pb, l));
+    flags |= kLimitFlag;
+    return true;
+  }
+  // Interior: the six Loop neighbours at level l. Each green edge at v is a Loop edge of
+  // level l or a piece of one (its far end then descends from v by repeated halving:
+  // follow parents back to level l). A red edge coarser than v means a triangle coarser
+  // than v, hence a missing neighbour.
+  Vec3 sum;
+  int count = 0;
+  bool complete = true;
+  visit_edges(v, [&](EdgeHandle e) {
+    if (is_red(e)) {
+      if (level(e) < l) complete = false;
+      return complete;
+    }
+    VertexHandle w = other_vertex(e, v);
+    while (level(w) > l) {
+      const auto& p = v_parents_[w.idx];
+      w = (p[0] == v) ? p[1] : p[0];
+    }
+    if (level(w) < l && !try_limit(w)) {
+      complete = false;
+      return false;
+    }
+    sum += (level(w) == l) ? v_control_[w.idx] : control_point(w, l);
+    ++count;
+    return true;
+  });
+  if (!complete || count != 6) return false;
+  v_limit_[v.idx] = 0.5 * v_control_[v.idx] + (1.0 / 12.0) * sum;
+  flags |= kLimitFlag;
+  return true;
+}
+
+void RgbMesh::raise_star(VertexHandle v) {
+  const int l = level(v);
+  VertexStar s;
+  std::vector<EdgeHandle> raising;
+  for (;;) {
+    star(v, s);
+    TriangleHandle coarse;
+    for (TriangleHandle t : s.triangles) {
+      if (level(t) < l) coarse = t;
+    }
+    if (!coarse.valid()) return;
+    raising_edges(coarse, raising);
+    if (!raising.empty()) {
+      split_edge(raising.front());
+      continue;
+    }
+    // A blue pair on a red edge (left unstable by hand-applied operators): the BB-swap raises it.
+    EdgeHandle red_edge;
+    for (EdgeHandle f : t_edge_[coarse.idx]) {
+      if (is_red(f)) red_edge = f;
+    }
+    if (!red_edge.valid()) fail("complete_limit", "internal error: no operation raises a triangle at " + describe(v));
+    swap_bb(red_edge);
+  }
+}
+
+void RgbMesh::complete_limit(VertexHandle v) {
+  if (!alive(v)) fail("complete_limit", describe(v) + " does not exist");
+  if (v_flags_[v.idx] & kLimitFlag) return;
+  const auto [pa, pb] = v_parents_[v.idx];
+  complete_limit(pa);
+  complete_limit(pb);
+  if (!(v_flags_[v.idx] & kBoundaryFlag)) raise_star(v);
+  if (!try_limit(v)) fail("complete_limit", "internal error: the Loop ring of " + describe(v) + " is incomplete");
+}
+
+VertexHandle RgbMesh::stencil_apex(TriangleHandle t, EdgeHandle e) const {
+  const VertexHandle o = opposite_vertex(t, e);
+  if (color(t) != Color::red) return o;
+  // A red triangle is half of its parent triangle; e is the parent's edge and o the midpoint
+  // of another parent edge, whose far end is the apex the Loop stencil uses (VI-C, Fig. 12).
+  const auto& p = v_parents_[o.idx];
+  const auto& ev = e_vert_[e.idx];
+  return (p[0] == ev[0] || p[0] == ev[1]) ? p[1] : p[0];
+}
+
+std::array<VertexHandle, 4> RgbMesh::loop_stencil(EdgeHandle e) const {
+  if (!alive(e) || is_red(e)) fail("loop_stencil", describe(e) + " is not a green edge");
+  const auto& ev = e_vert_[e.idx];
+  const auto& et = e_tri_[e.idx];
+  return {ev[0], ev[1], stencil_apex(et[0], e), et[1].valid() ? stencil_apex(et[1], e) : VertexHandle()};
+}
+
+void RgbMesh::prepare_stencil(EdgeHandle e) {
+  const int l = level(e);
+  for (VertexHandle s : loop_stencil(e)) {
+    if (s.valid() && level(s) < l && !try_limit(s)) complete_limit(s);
+  }
+}
+
+Vec3 RgbMesh::odd_control_point(EdgeHandle e) const {
+  const int l = level(e);
+  const auto st = loop_stencil(e);
+  const Vec3 ends = control_point(st[0], l) + control_point(st[1], l);
+  if (!st[3].valid()) return 0.5 * ends;  // boundary edge (Eq. 2)
+  return 0.375 * ends + 0.125 * (control_point(st[2], l) + control_point(st[3], l));  // Eq. 1
+}
+
+std::size_t RgbMesh::compute_limits() {
+  std::vector<VertexHandle> missing;
+  for (VertexHandle v : vertices()) {
+    if (!try_limit(v)) missing.push_back(v);
+  }
+  if (missing.empty()) return 0;
+  // Complete the rings, then undo every operation in reverse order. Undoing (rather than
+  // removing the helper vertices in any order) restores the very same triangulation: RGB
+  // triangulations with the same vertices may differ by RB-swaps.
+  const OperationCounters counters = counters_;
+  std::vector<JournalEntry> journal;
+  journal_ = &journal;
+  try {
+    for (VertexHandle v : missing) complete_limit(v);
+  } catch (...) {
+    journal_ = nullptr;
+    rollback(journal);
+    counters_ = counters;
+    throw;
+  }
+  journal_ = nullptr;
+  const std::size_t helpers = counters_.splits - counters.splits;
+  rollback(journal);
+  counters_ = counters;
+  return helpers;
+}
+
+void RgbMesh::rollback(const std::vector<JournalEntry>& journal) {
+  for (auto it = journal.rbegin(); it != journal.rend(); ++it) {
+    if (it->kind == JournalEntry::flip) {
+      flip(EdgeHandle(it->handle), it->info_before);
+    } else {
+      const VertexHandle v(it->handle);
+      for (const auto& o : removal_observers_) o.cb(v);
+      unbisect(v);
+    }
+  }
+}
+
+}  // namespace rgbmesh
