@@ -13,6 +13,12 @@
 #include <cstdint>
 #include <vector>
 
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkXMLPolyDataReader.h>
+
 #include "rgbmesh/vtk_io.hpp"
 
 namespace fs = std::filesystem;
@@ -100,6 +106,72 @@ TEST_F(Cli, DefaultJobWritesItsOutputs) {
     EXPECT_GT(mesh.triangles.size(), 0u);
   }
   EXPECT_NE(r.out.find("levels 0..6"), std::string::npos) << r.out;
+}
+
+// Points and a 3-component point array of a VTP file, read with VTK's own reader.
+struct VtpPoints {
+  std::vector<std::array<double, 3>> points, control, limit;
+};
+VtpPoints read_vtp_points(const std::string& file) {
+  auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkPolyData* pd = reader->GetOutput();
+  VtpPoints out;
+  for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i) {
+    std::array<double, 3> p;
+    pd->GetPoint(i, p.data());
+    out.points.push_back(p);
+  }
+  for (auto [name, dst] : {std::pair{"control_point", &out.control}, std::pair{"limit", &out.limit}}) {
+    vtkDataArray* a = pd->GetPointData()->GetArray(name);
+    if (a == nullptr || a->GetNumberOfComponents() != 3) continue;
+    for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i) {
+      std::array<double, 3> p;
+      a->GetTuple(i, p.data());
+      dst->push_back(p);
+    }
+  }
+  return out;
+}
+
+TEST_F(Cli, VtkOutputCarriesControlPointsAndLimitPositions) {
+  const std::string in = write_octahedron("octa.off");
+  ASSERT_EQ(run("refine " + in + " " + path("c.vtp") + " --uniform 2 --ball 0.6,0,0,0.3,4").code, 0);
+  ASSERT_EQ(run("refine " + in + " " + path("l.vtp") + " --uniform 2 --ball 0.6,0,0,0.3,4 --limit").code, 0);
+  const VtpPoints c = read_vtp_points(path("c.vtp")), l = read_vtp_points(path("l.vtp"));
+  ASSERT_GT(c.points.size(), 66u);
+  ASSERT_EQ(c.control.size(), c.points.size());
+  ASSERT_EQ(c.limit.size(), c.points.size());
+  EXPECT_EQ(c.control, c.points);  // points are the control points...
+  EXPECT_EQ(l.points, c.limit);    // ...or, with --limit, the limit positions
+  EXPECT_EQ(l.limit, c.limit);
+  // The octahedron's limit surface lies strictly inside it (|x| + |y| + |z| < 1) and its
+  // control points are pulled towards the limit from outside that surface.
+  int moved = 0;
+  for (std::size_t i = 0; i < c.points.size(); ++i) {
+    const auto& p = c.limit[i];
+    EXPECT_LT(std::abs(p[0]) + std::abs(p[1]) + std::abs(p[2]), 1.0);
+    if (c.limit[i] != c.control[i]) ++moved;
+  }
+  EXPECT_EQ(moved, static_cast<int>(c.points.size()));
+}
+
+TEST_F(Cli, GeometricToleranceRefinesUntilTheSurfaceIsResolved) {
+  const std::string in = write_octahedron("octa.off");
+  const RunResult coarse = run("refine " + in + " - --geometric-tol 0.01 --stats");
+  const RunResult fine = run("refine " + in + " - --geometric-tol 0.001 --stats");
+  ASSERT_EQ(coarse.code, 0) << coarse.err;
+  ASSERT_EQ(fine.code, 0) << fine.err;
+  const long t_coarse = json_int(last_line(coarse.out), "triangles"), t_fine = json_int(last_line(fine.out), "triangles");
+  // A smooth surface: the deviation shrinks by 4 per level, so a 10x smaller tolerance needs
+  // about 1.66 more levels, i.e. 10 times more triangles (between 4 and 16 times).
+  EXPECT_GT(t_coarse, 8);
+  EXPECT_GE(t_fine, 4 * t_coarse);
+  EXPECT_LE(t_fine, 16 * t_coarse);
+  const RunResult bad = run("refine " + in + " - --geometric-tol -1");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("--geometric-tol"), std::string::npos) << bad.err;
 }
 
 TEST_F(Cli, InfoReportsTopology) {

@@ -109,6 +109,42 @@ TEST(Budget, LongestFirstUntilTheBudget) {
   EXPECT_LE(hi - lo, 2);
 }
 
+TEST(GeometricTolerance, EveryEdgeWithinToleranceAndFlatPartsStayCoarse) {
+  // A flat square (4 x 4 quads) with a bump in the middle of its right half.
+  testing::BaseMesh base{"bump", {}, {}};
+  const int n = 4;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) base.points.push_back({double(i), double(j), (i == 3 && j == 2) ? 1.0 : 0.0});
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i;
+      base.triangles.push_back({a, a + 1, a + n + 2});
+      base.triangles.push_back({a, a + n + 2, a + n + 1});
+    }
+  }
+  RgbMesh m = base.build();
+  const double tol = 1e-3;
+  selective_refinement(m, GeometricTolerance(tol));
+  ASSERT_EQ(m.validate(true), "");
+  for (EdgeHandle e : m.edges()) {
+    if (m.is_refinable(e)) {
+      EXPECT_LE(GeometricTolerance::deviation(m, e), tol);
+    }
+  }
+  // The flat left half (x < 1, away from the bump's support and the corners' curvature of the
+  // boundary) keeps coarse triangles, while the bump is refined deeply.
+  int deepest_near_bump = 0, deepest_left = 0;
+  for (TriangleHandle t : m.triangles()) {
+    const auto c = m.triangle_vertices(t);
+    const double x = (m.control_point(c[0]).x + m.control_point(c[1]).x + m.control_point(c[2]).x) / 3;
+    const double y = (m.control_point(c[0]).y + m.control_point(c[1]).y + m.control_point(c[2]).y) / 3;
+    if (std::abs(x - 3) < 0.5 && std::abs(y - 2) < 0.5) deepest_near_bump = std::max(deepest_near_bump, m.level(t));
+    if (x < 1 && y > 1 && y < 3) deepest_left = std::max(deepest_left, m.level(t));
+  }
+  EXPECT_GE(deepest_near_bump, 4);
+  EXPECT_LE(deepest_left, 1);
+}
+
 TEST(Field, RefinesMarkedTrianglesOnceAndCoarsensMarkedVertices) {
   RgbMesh m = testing::torus(6, 5).build();
   selective_refinement(m, UniformLevel(2));

@@ -167,7 +167,8 @@ VertexHandle RgbMesh::stencil_apex(TriangleHandle t, EdgeHandle e) const {
 }
 
 std::array<VertexHandle, 4> RgbMesh::loop_stencil(EdgeHandle e) const {
-  if (!alive(e) || is_red(e)) fail("loop_stencil", describe(e) + " is not a green edge");
+  // Only a refinable edge has both Loop triangles of its level in the mesh.
+  if (!alive(e) || !is_refinable(e)) fail("loop_stencil", describe(e) + " is not refinable");
   const auto& ev = e_vert_[e.idx];
   const auto& et = e_tri_[e.idx];
   return {ev[0], ev[1], stencil_apex(et[0], e), et[1].valid() ? stencil_apex(et[1], e) : VertexHandle()};

@@ -234,6 +234,13 @@ std::string RgbMesh::validate(bool require_stable) const {
     }
     if (static_cast<std::size_t>(i) < n_base_vertices_ && v_level_[i] != 0)
       c.fail(describe(v), " occupies a base slot but is not a base vertex");
+    // Geometry (section VI): a finite control point, the boundary flag that selects the
+    // crease rules, and a limit position wherever the vertex is shown above its own level
+    // (all its level-l edges split, so its Loop ring is complete; VI-D).
+    if (!is_finite(v_control_[i])) c.fail(describe(v), " has a non-finite control point");
+    if (is_boundary_vertex(v) != s.boundary) c.fail(describe(v), " has a wrong boundary flag");
+    if (c.ok() && shown_level(v) > v_level_[i] && !has_limit(v))
+      c.fail(describe(v), " is shown at level ", shown_level(v), " but its limit position is unknown");
   }
   if (!c.ok()) return c.message();
 

@@ -259,6 +259,9 @@ double GeometricTolerance::deviation(const RgbMesh& m, EdgeHandle e) {
 }
 
 double GeometricTolerance::edge_priority(const RgbMesh& m, EdgeHandle e) const {
+  // An edge next to a coarser triangle has no Loop stencil yet; it is tested once the
+  // coarser triangle's own edges have split (if they need to).
+  if (!m.is_refinable(e)) return 0.0;
   const double d = deviation(m, e);
   return d > tolerance_ ? d : 0.0;
 }

@@ -269,11 +269,11 @@ class RgbMesh {
   // neighbours are inserted, the limit positions recorded, and the inserted vertices removed
   // again (observers see both). Returns how many vertices were inserted and removed.
   std::size_t compute_limits();
-  // The Loop stencil of green edge e at its level l: its endpoints, then the vertices
+  // The Loop stencil of refinable edge e at its level l: its endpoints, then the vertices
   // opposite e in the two level-l triangles of the Loop mesh (for a red triangle, the apex
   // of its parent triangle, VI-C); the last two are invalid on the boundary.
   std::array<VertexHandle, 4> loop_stencil(EdgeHandle e) const;
-  // The control point that splitting green edge e gives the new vertex (Eq. 1, 2). Needs the
+  // The control point that splitting refinable edge e gives the new vertex (Eq. 1, 2). Needs the
   // limit positions of the stencil vertices coarser than e (split_edge provides them).
   Vec3 odd_control_point(EdgeHandle e) const;
 

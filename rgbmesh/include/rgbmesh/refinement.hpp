@@ -103,7 +103,7 @@ class GeometricTolerance final : public LodCriterion {
  public:
   explicit GeometricTolerance(double tolerance) : tolerance_(tolerance) {}
   double edge_priority(const RgbMesh& m, EdgeHandle e) const override;
-  // The deviation that edge_priority compares with the tolerance.
+  // The deviation that edge_priority compares with the tolerance (e must be refinable).
   static double deviation(const RgbMesh& m, EdgeHandle e);
 
  private:
