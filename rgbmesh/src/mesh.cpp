@@ -81,7 +81,9 @@ RgbMesh::RgbMesh(const RgbMesh& o)
       v_level_(o.v_level_),
       v_parents_(o.v_parents_),
       v_control_(o.v_control_),
-      v_limit_(o.v_limit_),
+      v_limit_index_(o.v_limit_index_),
+      limits_(o.limits_),
+      limits_free_(o.limits_free_),
       v_flags_(o.v_flags_),
       base_eigenvalue_(o.base_eigenvalue_),
       v_free_(o.v_free_),
@@ -194,6 +196,26 @@ RgbMesh RgbMesh::from_triangles(const std::vector<Vec3>& points,
 // ---------------------------------------------------------------------------------------
 // Allocation
 
+void RgbMesh::reserve(std::size_t vertices, std::size_t edges, std::size_t triangles) {
+  if (vertices > v_edge_.capacity()) {
+    v_edge_.reserve(vertices);
+    v_level_.reserve(vertices);
+    v_parents_.reserve(vertices);
+    v_control_.reserve(vertices);
+    v_limit_index_.reserve(vertices);
+    v_flags_.reserve(vertices);
+  }
+  if (edges > e_vert_.capacity()) {
+    e_vert_.reserve(edges);
+    e_tri_.reserve(edges);
+    e_info_.reserve(edges);
+  }
+  if (triangles > t_edge_.capacity()) {
+    t_edge_.reserve(triangles);
+    t_info_.reserve(triangles);
+  }
+}
+
 VertexHandle RgbMesh::new_vertex() {
   VertexHandle v;
   if (!v_free_.empty()) {
@@ -205,7 +227,7 @@ VertexHandle RgbMesh::new_vertex() {
     v_level_.push_back(0);
     v_parents_.push_back({VertexHandle(), VertexHandle()});
     v_control_.emplace_back();
-    v_limit_.emplace_back();
+    v_limit_index_.push_back(-1);
     v_flags_.push_back(0);
     for (auto& p : vertex_properties_) p->resize(v_edge_.size());
   }
@@ -250,6 +272,7 @@ void RgbMesh::free_vertex(VertexHandle v) {
   v_edge_[v.idx] = EdgeHandle();
   v_parents_[v.idx] = {VertexHandle(), VertexHandle()};
   v_flags_[v.idx] = 0;
+  release_limit(v);
   v_free_.push_back(v.idx);
   --n_vertices_;
 }

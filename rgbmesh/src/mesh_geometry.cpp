@@ -18,10 +18,32 @@
 
 namespace rgbmesh {
 
+void RgbMesh::store_limit(VertexHandle v, const Vec3& p) const {
+  std::int32_t& index = v_limit_index_[v.idx];
+  if (index < 0) {
+    if (!limits_free_.empty()) {
+      index = limits_free_.back();
+      limits_free_.pop_back();
+    } else {
+      index = static_cast<std::int32_t>(limits_.size());
+      limits_.emplace_back();
+    }
+  }
+  limits_[index] = p;
+}
+
+void RgbMesh::release_limit(VertexHandle v) {
+  std::int32_t& index = v_limit_index_[v.idx];
+  if (index >= 0) limits_free_.push_back(index);
+  index = -1;
+}
+
 void RgbMesh::init_base_geometry() {
   const std::size_t n = v_edge_.size();
-  v_limit_.assign(n, Vec3());
-  v_flags_.assign(n, kLimitFlag);
+  v_limit_index_.assign(n, -1);
+  limits_.clear();
+  limits_free_.clear();
+  v_flags_.assign(n, 0);
   base_eigenvalue_.assign(n, 0.25);
   VertexStar s;
   for (std::size_t i = 0; i < n; ++i) {
@@ -31,16 +53,16 @@ void RgbMesh::init_base_geometry() {
     if (s.boundary) {
       // Crease rule: only the two boundary neighbours count (Eq. 8).
       v_flags_[i] |= kBoundaryFlag;
-      v_limit_[i] = loop::kBoundaryLimitSelf * p +
-                    loop::kBoundaryLimitNeighbor *
-                        (v_control_[s.neighbors.front().idx] + v_control_[s.neighbors.back().idx]);
+      store_limit(v, loop::kBoundaryLimitSelf * p +
+                         loop::kBoundaryLimitNeighbor *
+                             (v_control_[s.neighbors.front().idx] + v_control_[s.neighbors.back().idx]));
       continue;
     }
     const int valence = static_cast<int>(s.neighbors.size());
     Vec3 sum;
     for (VertexHandle w : s.neighbors) sum += v_control_[w.idx];
     const double b = loop::limit_neighbor_weight(valence);
-    v_limit_[i] = (1.0 - valence * b) * p + b * sum;
+    store_limit(v, (1.0 - valence * b) * p + b * sum);
     base_eigenvalue_[i] = loop::subdominant_eigenvalue(valence);
   }
 }
@@ -72,21 +94,19 @@ Vec3 RgbMesh::limit_position(VertexHandle v) const {
   if (!try_limit(v))
     fail("limit_position", describe(v) + " has an incomplete Loop ring at its level (call complete_limit or "
                                          "compute_limits first)");
-  return v_limit_[v.idx];
+  return limits_[v_limit_index_[v.idx]];
 }
 
 bool RgbMesh::try_limit(VertexHandle v) const {
-  std::uint8_t& flags = v_flags_[v.idx];
-  if (flags & kLimitFlag) return true;
+  if (limit_known(v)) return true;
   const int l = level(v);
   const auto [pa, pb] = v_parents_[v.idx];
   // Both rules use the parents at level l, which are coarser: their limits come first.
   if (!try_limit(pa) || !try_limit(pb)) return false;
-  if (flags & kBoundaryFlag) {
+  if (v_flags_[v.idx] & kBoundaryFlag) {
     // The boundary neighbours of a boundary vertex at its own level are its parents (Eq. 8).
-    v_limit_[v.idx] = loop::kBoundaryLimitSelf * v_control_[v.idx] +
-                      loop::kBoundaryLimitNeighbor * (control_point(pa, l) + control_point(pb, l));
-    flags |= kLimitFlag;
+    store_limit(v, loop::kBoundaryLimitSelf * v_control_[v.idx] +
+                       loop::kBoundaryLimitNeighbor * (control_point(pa, l) + control_point(pb, l)));
     return true;
   }
   // Interior: the six Loop neighbours at level l. Each green edge at v is a Loop edge of
@@ -115,8 +135,7 @@ bool RgbMesh::try_limit(VertexHandle v) const {
     return true;
   });
   if (!complete || count != 6) return false;
-  v_limit_[v.idx] = 0.5 * v_control_[v.idx] + (1.0 / 12.0) * sum;
-  flags |= kLimitFlag;
+  store_limit(v, 0.5 * v_control_[v.idx] + (1.0 / 12.0) * sum);
   return true;
 }
 
@@ -148,7 +167,7 @@ void RgbMesh::raise_star(VertexHandle v) {
 
 void RgbMesh::complete_limit(VertexHandle v) {
   if (!alive(v)) fail("complete_limit", describe(v) + " does not exist");
-  if (v_flags_[v.idx] & kLimitFlag) return;
+  if (limit_known(v)) return;
   const auto [pa, pb] = v_parents_[v.idx];
   complete_limit(pa);
   complete_limit(pb);

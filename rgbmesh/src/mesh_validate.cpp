@@ -56,7 +56,7 @@ std::string RgbMesh::validate(bool require_stable) const {
   Checker c;
   const std::int32_t nv = vertex_slots(), ne = edge_slots(), nt = triangle_slots();
   if (v_level_.size() != v_edge_.size() || v_parents_.size() != v_edge_.size() ||
-      v_control_.size() != v_edge_.size() || v_limit_.size() != v_edge_.size() ||
+      v_control_.size() != v_edge_.size() || v_limit_index_.size() != v_edge_.size() ||
       v_flags_.size() != v_edge_.size())
     return "vertex arrays have different sizes";
   if (e_tri_.size() != e_vert_.size() || e_info_.size() != e_vert_.size())

@@ -188,8 +188,89 @@ class Refiner {
 
 }  // namespace
 
+namespace {
+
+// Level sweeps for the criteria that depend on levels only (UniformLevel, CoarsenAll): no
+// queues; vertices and edges are visited in slot order, which keeps memory access sequential.
+// The result is the one the queues give: the mesh of the unique uniform level, or the base.
+class LevelSweep {
+ public:
+  LevelSweep(RgbMesh& m, const RefinementOptions& o) : mesh_(m), opt_(o) {}
+
+  // Removes every vertex finer than `level`, finest first: a vertex of the finest level
+  // present has no finer neighbour, so it is removable (section IV-D).
+  void coarsen_to(int level) {
+    for (int l = mesh_.max_level(); l > level; --l) {
+      const std::int32_t n = mesh_.vertex_slots();
+      for (std::int32_t i = 0; i < n; ++i) {
+        const VertexHandle v(i);
+        if (!mesh_.alive(v) || mesh_.level(v) != l) continue;
+        mesh_.remove_vertex(v);
+        ++result_.removals;
+        report();
+      }
+    }
+  }
+
+  // Splits every green edge coarser than `level`, coarsest first. A pass over level l splits
+  // all green edges of level l; it creates edges of level l + 1 only (and coarser ones only
+  // through forced splits, which find none once the coarser passes are done).
+  void refine_to(int level) {
+    std::vector<VertexHandle> inserted;
+    for (int l = 0; l < level; ++l) {
+      const std::int32_t n = mesh_.edge_slots();
+      std::size_t count = 0;
+      for (std::int32_t i = 0; i < n; ++i) {
+        const EdgeHandle e(i);
+        if (mesh_.alive(e) && !mesh_.is_red(e) && mesh_.level(e) == l) ++count;
+      }
+      if (count == 0) continue;
+      // A 1-to-4 split of the level: one vertex per edge, two triangles and three edges more
+      // per edge (about; forced splits add a few).
+      mesh_.reserve(mesh_.num_vertices() + count, mesh_.num_edges() + 3 * count, mesh_.num_triangles() + 2 * count);
+      for (std::int32_t i = 0; i < n; ++i) {
+        const EdgeHandle e(i);
+        if (!mesh_.alive(e) || mesh_.is_red(e) || mesh_.level(e) != l) continue;
+        const std::uint64_t before = mesh_.counters().splits;
+        mesh_.split_edge(e);
+        result_.splits += mesh_.counters().splits - before;
+        report();
+      }
+    }
+  }
+
+  RefinementResult result() const { return result_; }
+
+ private:
+  void report() {
+    const std::uint64_t ops = result_.splits + result_.removals;
+    if (opt_.progress && ops >= next_report_) {
+      opt_.progress(ops, 0);
+      next_report_ = ops + (1u << 16);
+    }
+  }
+
+  RgbMesh& mesh_;
+  const RefinementOptions& opt_;
+  RefinementResult result_;
+  std::uint64_t next_report_ = 1u << 16;
+};
+
+}  // namespace
+
 RefinementResult selective_refinement(RgbMesh& mesh, const LodCriterion& criterion,
                                       const RefinementOptions& options) {
+  if (const auto* uniform = dynamic_cast<const UniformLevel*>(&criterion)) {
+    LevelSweep sweep(mesh, options);
+    sweep.coarsen_to(uniform->level());
+    sweep.refine_to(std::min(uniform->level(), options.max_level));
+    return sweep.result();
+  }
+  if (dynamic_cast<const CoarsenAll*>(&criterion) != nullptr) {
+    LevelSweep sweep(mesh, options);
+    sweep.coarsen_to(0);
+    return sweep.result();
+  }
   return Refiner(mesh, criterion, options).run();
 }
 

@@ -190,6 +190,10 @@ class RgbMesh {
   std::int32_t triangle_slots() const { return static_cast<std::int32_t>(t_edge_.size()); }
   std::size_t num_base_vertices() const { return n_base_vertices_; }
 
+  // Makes room for that many vertices, edges and triangles (slots), so that a large
+  // refinement grows its arrays once instead of by repeated doubling.
+  void reserve(std::size_t vertices, std::size_t edges, std::size_t triangles);
+
   bool alive(VertexHandle v) const { return in_range(v.idx, v_edge_.size()) && v_edge_[v.idx].valid(); }
   bool alive(EdgeHandle e) const { return in_range(e.idx, e_vert_.size()) && e_vert_[e.idx][0].valid(); }
   bool alive(TriangleHandle t) const { return in_range(t.idx, t_edge_.size()) && t_edge_[t.idx][0].valid(); }
@@ -394,7 +398,7 @@ class RgbMesh {
   std::pair<TriangleHandle, EdgeHandle> leaving_triangle(VertexHandle v, EdgeHandle e) const;
   std::pair<TriangleHandle, EdgeHandle> arriving_triangle(VertexHandle v, EdgeHandle e) const;
 
-  static constexpr std::uint8_t kBoundaryFlag = 1, kLimitFlag = 2;
+  static constexpr std::uint8_t kBoundaryFlag = 1;
   // Geometry (mesh_geometry.cpp).
   void init_base_geometry();
   VertexHandle stencil_apex(TriangleHandle t, EdgeHandle e) const;
@@ -452,8 +456,15 @@ class RgbMesh {
   std::vector<std::uint8_t> v_level_;
   std::vector<std::array<VertexHandle, 2>> v_parents_;
   std::vector<Vec3> v_control_;                // p^l(v) at insertion level l
-  mutable std::vector<Vec3> v_limit_;          // p_inf(v) where kLimitFlag is set
-  mutable std::vector<std::uint8_t> v_flags_;  // kBoundaryFlag | kLimitFlag
+  // Limit positions live in a side table: in a uniform mesh of level K only the vertices
+  // coarser than K need theirs (a quarter), which saves 20 bytes per vertex.
+  mutable std::vector<std::int32_t> v_limit_index_;  // into limits_, or -1 if not known
+  mutable std::vector<Vec3> limits_;
+  mutable std::vector<std::int32_t> limits_free_;
+  std::vector<std::uint8_t> v_flags_;  // kBoundaryFlag
+  bool limit_known(VertexHandle v) const { return v_limit_index_[v.idx] >= 0; }
+  void store_limit(VertexHandle v, const Vec3& p) const;
+  void release_limit(VertexHandle v);
   std::vector<double> base_eigenvalue_;        // g of Eq. 7 for each base vertex
   std::vector<JournalEntry>* journal_ = nullptr;
   std::vector<std::int32_t> v_free_;

@@ -50,6 +50,8 @@ struct RefinementResult {
 
 // Runs one stage: fills both queues from the whole mesh, removes over-refined vertices, then
 // splits under-refined edges, until both queues are empty or the criterion is satisfied.
+// UniformLevel and CoarsenAll, which depend on levels only, run as level-by-level sweeps
+// without queues (same result, less work).
 RefinementResult selective_refinement(RgbMesh& mesh, const LodCriterion& criterion,
                                       const RefinementOptions& options = {});
 
@@ -64,6 +66,7 @@ void edges_raising(const RgbMesh& mesh, TriangleHandle t, std::vector<EdgeHandle
 class UniformLevel final : public LodCriterion {
  public:
   explicit UniformLevel(int level) : level_(level) {}
+  int level() const { return level_; }
   double edge_priority(const RgbMesh& m, EdgeHandle e) const override;
   double vertex_priority(const RgbMesh& m, VertexHandle v) const override;
 
