@@ -322,7 +322,10 @@ int RgbMesh::local_index(TriangleHandle t, EdgeHandle e) const {
 VertexHandle RgbMesh::opposite_vertex(TriangleHandle t, EdgeHandle e) const {
   const int i = local_index(t, e);
   assert(i >= 0);
-  return triangle_vertices(t)[(i + 2) % 3];
+  // The far end of the next edge: the endpoint it does not share with e.
+  const auto& n = e_vert_[t_edge_[t.idx][(i + 1) % 3].idx];
+  const auto& ev = e_vert_[e.idx];
+  return (n[0] == ev[0] || n[0] == ev[1]) ? n[1] : n[0];
 }
 
 void RgbMesh::replace_edge_triangle(EdgeHandle e, TriangleHandle from, TriangleHandle to) {
@@ -580,10 +583,9 @@ void RgbMesh::fail(const char* op, const std::string& what) const {
 // (a, b, c) into (a, m, c) and (m, b, c) through a new edge (m, c). The halves of e are green
 // one level finer; the bisecting edge is red at e's level in a green triangle and green one
 // level finer in a red triangle (section IV-A).
-VertexHandle RgbMesh::bisect(EdgeHandle e) {
+VertexHandle RgbMesh::bisect(EdgeHandle e, const Vec3& control) {
   const auto [v0, v1] = e_vert_[e.idx];
   const int l = level(e);
-  const Vec3 control = odd_control_point(e);
   const bool boundary = is_boundary(e);
   struct Side {
     int slot;
@@ -714,11 +716,16 @@ VertexHandle RgbMesh::checked_split(EdgeHandle e, SplitKind kind, const char* op
     fail(op, describe(e) + " is " +
                  (actual == SplitKind::not_refinable ? std::string("not refinable")
                                                      : std::string("a case for ") + to_string(actual)));
+  return split_checked_edge(e, kind, op);
+}
+
+VertexHandle RgbMesh::split_checked_edge(EdgeHandle e, SplitKind kind, const char* op) {
   // The stencil's coarser vertices need their limit positions; providing them may insert
   // vertices around them, never touching e's triangles, which are finer (section VI-C).
-  prepare_stencil(e);
-  if (split_kind(e) != kind) fail(op, "internal error: preparing the stencil changed " + describe(e));
-  const VertexHandle m = bisect(e);
+  const std::array<VertexHandle, 4> st = stencil(e);
+  if (prepare_stencil(st, level(e)) && split_kind(e) != kind)
+    fail(op, "internal error: preparing the stencil changed " + describe(e));
+  const VertexHandle m = bisect(e, stencil_point(st, level(e)));
   notify_inserted(m);
   return m;
 }
@@ -738,7 +745,7 @@ VertexHandle RgbMesh::split_refinable(EdgeHandle e) {
   if (!alive(e)) fail("split_refinable", describe(e) + " does not exist");
   const SplitKind kind = split_kind(e);
   if (kind == SplitKind::not_refinable) fail("split_refinable", describe(e) + " is not refinable");
-  return checked_split(e, kind, "split_refinable");
+  return split_checked_edge(e, kind, "split_refinable");
 }
 
 void RgbMesh::notify_inserted(VertexHandle v) {
@@ -898,23 +905,23 @@ EdgeHandle RgbMesh::swap_rb(EdgeHandle e) {
 // BB-swaps every unstable pair that the insertion of m created: the blue triangles of a
 // split are incident at the new vertex.
 void RgbMesh::stabilize_around(VertexHandle m) {
-  VertexStar s;
-  for (bool swapped = true; swapped;) {
-    swapped = false;
-    star(m, s);
-    for (TriangleHandle t : s.triangles) {
-      if (color(t) != Color::blue) continue;
-      for (EdgeHandle f : t_edge_[t.idx]) {
-        if (!is_red(f)) continue;
-        const TriangleHandle u = other_triangle(f, t);
-        if (u.valid() && color(u) == Color::blue) {
-          swap_bb(f);
-          swapped = true;
+  for (;;) {
+    EdgeHandle unstable;
+    visit_edges(m, [&](EdgeHandle e) {
+      for (TriangleHandle t : e_tri_[e.idx]) {
+        if (!t.valid() || color(t) != Color::blue) continue;
+        for (EdgeHandle f : t_edge_[t.idx]) {
+          if (!is_red(f)) continue;
+          const TriangleHandle u = other_triangle(f, t);
+          if (u.valid() && color(u) == Color::blue) unstable = f;
+          break;
         }
-        break;
+        if (unstable.valid()) return false;
       }
-      if (swapped) break;  // the star changed: read it again
-    }
+      return true;
+    });
+    if (!unstable.valid()) return;
+    swap_bb(unstable);  // the star changed: look again
   }
 }
 

@@ -188,24 +188,40 @@ VertexHandle RgbMesh::stencil_apex(TriangleHandle t, EdgeHandle e) const {
 std::array<VertexHandle, 4> RgbMesh::loop_stencil(EdgeHandle e) const {
   // Only a refinable edge has both Loop triangles of its level in the mesh.
   if (!alive(e) || !is_refinable(e)) fail("loop_stencil", describe(e) + " is not refinable");
+  return stencil(e);
+}
+
+std::array<VertexHandle, 4> RgbMesh::stencil(EdgeHandle e) const {
   const auto& ev = e_vert_[e.idx];
   const auto& et = e_tri_[e.idx];
   return {ev[0], ev[1], stencil_apex(et[0], e), et[1].valid() ? stencil_apex(et[1], e) : VertexHandle()};
 }
 
-void RgbMesh::prepare_stencil(EdgeHandle e) {
-  const int l = level(e);
-  for (VertexHandle s : loop_stencil(e)) {
-    if (s.valid() && level(s) < l && !try_limit(s)) complete_limit(s);
+bool RgbMesh::prepare_stencil(const std::array<VertexHandle, 4>& st, int l) {
+  bool completed = false;
+  for (VertexHandle s : st) {
+    if (s.valid() && level(s) < l && !try_limit(s)) {
+      complete_limit(s);
+      completed = true;
+    }
   }
+  return completed;
 }
 
 Vec3 RgbMesh::odd_control_point(EdgeHandle e) const {
   const int l = level(e);
   const auto st = loop_stencil(e);
-  const Vec3 ends = control_point(st[0], l) + control_point(st[1], l);
+  for (VertexHandle s : st) {
+    if (s.valid() && level(s) < l && !try_limit(s))
+      fail("odd_control_point", "the limit position of stencil vertex " + describe(s) + " is not known");
+  }
+  return stencil_point(st, l);
+}
+
+Vec3 RgbMesh::stencil_point(const std::array<VertexHandle, 4>& st, int l) const {
+  const Vec3 ends = known_control_point(st[0], l) + known_control_point(st[1], l);
   if (!st[3].valid()) return 0.5 * ends;  // boundary edge (Eq. 2)
-  return 0.375 * ends + 0.125 * (control_point(st[2], l) + control_point(st[3], l));  // Eq. 1
+  return 0.375 * ends + 0.125 * (known_control_point(st[2], l) + known_control_point(st[3], l));  // Eq. 1
 }
 
 std::size_t RgbMesh::compute_limits() {

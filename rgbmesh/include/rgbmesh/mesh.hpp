@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "rgbmesh/handles.hpp"
+#include "rgbmesh/loop_rules.hpp"
 #include "rgbmesh/snapshot.hpp"
 #include "rgbmesh/vec3.hpp"
 
@@ -407,8 +408,21 @@ class RgbMesh {
   }
   // Computes and caches the limit position if the Loop rings allow it; false otherwise.
   bool try_limit(VertexHandle v) const;
-  // Makes the stencil of e ready for odd_control_point (may insert vertices elsewhere).
-  void prepare_stencil(EdgeHandle e);
+  // Makes the limit positions of the stencil's vertices coarser than l known (may insert
+  // vertices elsewhere); returns whether it had to insert any.
+  bool prepare_stencil(const std::array<VertexHandle, 4>& st, int l);
+  // Eq. 1 or 2 on a prepared stencil of level l.
+  Vec3 stencil_point(const std::array<VertexHandle, 4>& st, int l) const;
+  // loop_stencil without the precondition check.
+  std::array<VertexHandle, 4> stencil(EdgeHandle e) const;
+  // p^l(v) for l >= level(v), with the limit position known when l > level(v).
+  Vec3 known_control_point(VertexHandle v, int l) const {
+    if (l == level(v)) return v_control_[v.idx];
+    const double g = (static_cast<std::size_t>(v.idx) < base_eigenvalue_.size())
+                         ? loop::eigenvalue_power(base_eigenvalue_[v.idx], l - level(v))
+                         : std::ldexp(1.0, -2 * (l - level(v)));
+    return g * v_control_[v.idx] + (1.0 - g) * limits_[v_limit_index_[v.idx]];
+  }
   // Splits edges until no triangle incident at v is coarser than v.
   void raise_star(VertexHandle v);
 
@@ -430,7 +444,8 @@ class RgbMesh {
   void free_triangle(TriangleHandle t);
 
   // Topological primitives shared by the named operators.
-  VertexHandle bisect(EdgeHandle e);
+  // Inserts the vertex with control point `control` (the Loop stencil's value).
+  VertexHandle bisect(EdgeHandle e, const Vec3& control);
   void flip(EdgeHandle e, std::uint8_t new_info);
   EdgeHandle unbisect(VertexHandle m);
 
@@ -447,6 +462,7 @@ class RgbMesh {
   std::string describe(EdgeHandle e) const;
   std::string describe(VertexHandle v) const;
   VertexHandle checked_split(EdgeHandle e, SplitKind kind, const char* op);
+  VertexHandle split_checked_edge(EdgeHandle e, SplitKind kind, const char* op);
   EdgeHandle checked_merge(VertexHandle v, MergeKind kind, const char* op);
   void stabilize_around(VertexHandle m);
   void notify_inserted(VertexHandle v);
