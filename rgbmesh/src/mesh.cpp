@@ -4,6 +4,7 @@
 #include "rgbmesh/mesh.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <cassert>
 #include <sstream>
 #include <unordered_map>
@@ -670,7 +671,11 @@ void RgbMesh::flip(EdgeHandle e, std::uint8_t new_info) {
 // the two triangles (a, m, c), (m, b, c) become (a, b, c).
 EdgeHandle RgbMesh::unbisect(VertexHandle m) {
   const auto [a, b] = v_parents_[m.idx];
-  const EdgeHandle ea = find_edge(m, a), eb = find_edge(m, b);
+  return unbisect(m, find_edge(m, a), find_edge(m, b));
+}
+
+EdgeHandle RgbMesh::unbisect(VertexHandle m, EdgeHandle ea, EdgeHandle eb) {
+  const auto [a, b] = v_parents_[m.idx];
   for (int k = 0; k < 2; ++k) {
     const TriangleHandle ta = e_tri_[ea.idx][k];
     if (!ta.valid()) continue;
@@ -760,7 +765,7 @@ MergeKind RgbMesh::merge_kind(VertexHandle v) const {
   if (!alive(v) || level(v) == 0) return MergeKind::not_mergeable;
   const auto [a, b] = v_parents_[v.idx];
   const int l = level(v) - 1;
-  VertexStar s;
+  VertexStar& s = scratch_star_;  // reused: no allocation per removal
   star(v, s);
   const std::size_t n = s.edges.size();
   if (n != (s.boundary ? 3u : 4u)) return MergeKind::not_mergeable;
@@ -840,7 +845,8 @@ EdgeHandle RgbMesh::merge(VertexHandle v) {
   if (!alive(v)) fail("merge", describe(v) + " does not exist");
   const MergeKind kind = merge_kind(v);
   if (kind == MergeKind::not_mergeable) fail("merge", describe(v) + " is not mergeable");
-  return checked_merge(v, kind, "merge");
+  for (const auto& o : removal_observers_) o.cb(v);
+  return unbisect(v);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -969,50 +975,62 @@ VertexHandle RgbMesh::split_edge(EdgeHandle e) {
 
 void RgbMesh::remove_vertex(VertexHandle v) {
   if (!alive(v)) fail("remove_vertex", describe(v) + " does not exist");
-  if (!is_removable(v))
-    fail("remove_vertex", describe(v) + " is not removable (level 0, or a neighbour has a higher level)");
   const auto [a, b] = v_parents_[v.idx];
+  // One walk around v checks removability (section IV-D) and finds the halves of its edge.
+  const int l = level(v);
+  bool removable = l > 0;
+  EdgeHandle halves[2];
+  visit_edges(v, [&](EdgeHandle e) {
+    const VertexHandle w = other_vertex(e, v);
+    if (level(w) > l) removable = false;
+    if (w == a) halves[0] = e;
+    if (w == b) halves[1] = e;
+    return removable;
+  });
+  if (!removable)
+    fail("remove_vertex", describe(v) + " is not removable (level 0, or a neighbour has a higher level)");
   // Bring each side of the split edge to a mergeable form by the swaps of Fig. 11. A side is
-  // the fan of triangles between the halves (v, a) and (v, b); read as colors, it is one of
-  // RR, GB, BG (mergeable), GBR, RBG (one RB-swap), GGG (one GG-swap) or GBBG (BB-swap, then
-  // GG-swap).
-  VertexStar s;
+  // the fan of triangles between the halves (v, a) and (v, b), read counter-clockwise from
+  // one of them; as colors it is one of RR, GB, BG (mergeable), GBR, RBG (one RB-swap), GGG
+  // (one GG-swap) or GBBG (BB-swap, then GG-swap). Both fans are walked without allocating.
+  // (The halves are never swapped, so their handles stay valid throughout.)
   for (int side = 0; side < 2; ++side) {
     for (int step = 0; step < 3; ++step) {
-      star(v, s);
-      const std::size_t n = s.edges.size();
-      std::size_t from = n;
-      for (std::size_t i = 0; i < n; ++i) {
-        if (s.neighbors[i] == (side == 0 ? a : b)) from = i;
-      }
-      if (s.boundary && from != 0) break;  // the boundary side is handled from the other end
-      std::vector<TriangleHandle> fan;
-      std::vector<EdgeHandle> inner;  // inner[i] separates fan[i] and fan[i+1]
-      for (std::size_t k = 0; k < n; ++k) {
-        const std::size_t i = (from + k) % n;
-        if (i >= s.triangles.size()) break;
-        fan.push_back(s.triangles[i]);
-        const VertexHandle next = s.neighbors[(i + 1) % n];
+      TriangleHandle fan[5];
+      EdgeHandle inner[4];  // inner[i] separates fan[i] and fan[i+1]
+      int n = 0;
+      EdgeHandle e = halves[side];
+      while (n < 5) {
+        const auto [t, arriving] = leaving_triangle(v, e);
+        if (!t.valid()) break;  // the boundary: this side is read from the other parent
+        fan[n++] = t;
+        const VertexHandle next = other_vertex(arriving, v);
         if (next == a || next == b) break;
-        inner.push_back(s.edges[(i + 1) % n]);
+        inner[n - 1] = arriving;
+        e = arriving;
       }
-      std::string colors;
-      for (TriangleHandle t : fan) colors += color_letter(color(t));
-      if (colors == "RR" || colors == "GB" || colors == "BG") break;
-      if (colors == "GBR") {
+      if (n == 0) break;
+      char colors[6] = {};
+      for (int i = 0; i < n; ++i) colors[i] = color_letter(color(fan[i]));
+      const auto is = [&colors](const char* pattern) { return std::strcmp(colors, pattern) == 0; };
+      if (is("RR") || is("GB") || is("BG")) break;
+      if (is("GBR")) {
         swap_rb(inner[1]);
-      } else if (colors == "RBG") {
+      } else if (is("RBG")) {
         swap_rb(inner[0]);
-      } else if (colors == "GGG") {
+      } else if (is("GGG")) {
         swap_gg(inner[1]);
-      } else if (colors == "GBBG") {
+      } else if (is("GBBG")) {
         swap_bb(inner[1]);
       } else {
-        fail("remove_vertex", describe(v) + " has an unexpected star side '" + colors + "'");
+        fail("remove_vertex", describe(v) + " has an unexpected star side '" + std::string(colors) + "'");
       }
     }
   }
-  merge(v);
+  // Both sides are now in mergeable form (checked in debug builds; validate() checks the result).
+  assert(merge_kind(v) != MergeKind::not_mergeable);
+  for (const auto& o : removal_observers_) o.cb(v);
+  unbisect(v, halves[0], halves[1]);
 }
 
 std::string RgbMesh::removal_configuration(VertexHandle v) const {

@@ -201,8 +201,8 @@ class LevelSweep {
   // present has no finer neighbour, so it is removable (section IV-D).
   void coarsen_to(int level) {
     for (int l = mesh_.max_level(); l > level; --l) {
-      const std::int32_t n = mesh_.vertex_slots();
-      for (std::int32_t i = 0; i < n; ++i) {
+      // Newest first: the reverse of the order in which a sweep inserted them.
+      for (std::int32_t i = mesh_.vertex_slots() - 1; i >= 0; --i) {
         const VertexHandle v(i);
         if (!mesh_.alive(v) || mesh_.level(v) != l) continue;
         mesh_.remove_vertex(v);

@@ -448,6 +448,7 @@ class RgbMesh {
   VertexHandle bisect(EdgeHandle e, const Vec3& control);
   void flip(EdgeHandle e, std::uint8_t new_info);
   EdgeHandle unbisect(VertexHandle m);
+  EdgeHandle unbisect(VertexHandle m, EdgeHandle half_a, EdgeHandle half_b);  // halves at the parents
 
   static std::uint8_t edge_info(bool red, int level) {
     return static_cast<std::uint8_t>((red ? 0x80 : 0) | level);
@@ -483,6 +484,7 @@ class RgbMesh {
   void release_limit(VertexHandle v);
   std::vector<double> base_eigenvalue_;        // g of Eq. 7 for each base vertex
   std::vector<JournalEntry>* journal_ = nullptr;
+  mutable VertexStar scratch_star_;  // for merge_kind (the mesh is not for concurrent use)
   std::vector<std::int32_t> v_free_;
   // Edges.
   std::vector<std::array<VertexHandle, 2>> e_vert_;  // [0] invalid: free slot
