@@ -15,7 +15,8 @@ double longest_edge(const RgbMesh& m) {
   double l = 0;
   for (EdgeHandle e : m.edges()) {
     const auto& v = m.edge_vertices(e);
-    l = std::max(l, distance(m.control_point(v[0]), m.control_point(v[1])));
+    // Measured as the criterion defines it: in the Loop mesh of the edge's level.
+    l = std::max(l, distance(m.level_point(v[0], m.level(e)), m.level_point(v[1], m.level(e))));
   }
   return l;
 }
@@ -55,7 +56,8 @@ TEST(Ball, AtLeastLevelKOnTrianglesMeetingTheBallOnly) {
   int inside = 0, far_coarse = 0;
   for (TriangleHandle t : m.triangles()) {
     const auto c = m.triangle_vertices(t);
-    const double d = point_triangle_distance(center, m.control_point(c[0]), m.control_point(c[1]), m.control_point(c[2]));
+    const int l = m.level(t);
+    const double d = point_triangle_distance(center, m.level_point(c[0], l), m.level_point(c[1], l), m.level_point(c[2], l));
     if (d <= radius) {
       ++inside;
       EXPECT_GE(m.level(t), k);

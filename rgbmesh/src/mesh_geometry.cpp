@@ -90,6 +90,12 @@ Vec3 RgbMesh::control_point(VertexHandle v, int k) const {
 
 bool RgbMesh::has_limit(VertexHandle v) const { return try_limit(v); }
 
+Vec3 RgbMesh::level_point(VertexHandle v, int l) const {
+  if (l <= level(v)) return v_control_[v.idx];
+  if (try_limit(v)) return known_control_point(v, l);
+  return control_point(v);
+}
+
 Vec3 RgbMesh::limit_position(VertexHandle v) const {
   if (!try_limit(v))
     fail("limit_position", describe(v) + " has an incomplete Loop ring at its level (call complete_limit or "

@@ -55,9 +55,7 @@ class Refiner {
     for (VertexHandle v : mesh_.vertices()) test_vertex(v);
     coarsen();
     refine();
-    // A vertex moves when its last edge of its shown level splits (VI-D), which changes edges
-    // and triangles that were tested before: test everything again until a pass splits nothing.
-    while (crit_.tests_new_elements() && !crit_.satisfied(mesh_)) {
+    while (crit_.priorities_change_nearby() && !crit_.satisfied(mesh_)) {
       const std::uint64_t before = result_.splits;
       for (EdgeHandle e : mesh_.edges()) test_edge(e);
       for (TriangleHandle t : mesh_.triangles()) test_triangle(t);
@@ -169,7 +167,16 @@ class Refiner {
           if (!mesh_.alive(m)) continue;
           mesh_.star(m, s);
           for (EdgeHandle f : s.edges) test_edge(f);
-          for (TriangleHandle t : s.triangles) test_triangle(t);
+          for (TriangleHandle t : s.triangles) {
+            test_triangle(t);
+            // The far edge of a new triangle may have just become refinable.
+            if (crit_.priorities_change_nearby()) {
+              for (EdgeHandle f : mesh_.triangle_edges(t)) {
+                const auto& fv = mesh_.edge_vertices(f);
+                if (fv[0] != m && fv[1] != m) test_edge(f);
+              }
+            }
+          }
         }
       }
       report();
@@ -280,7 +287,10 @@ namespace {
 
 double edge_length(const RgbMesh& m, EdgeHandle e) {
   const auto& ev = m.edge_vertices(e);
-  return distance(m.control_point(ev[0]), m.control_point(ev[1]));
+  // Measured in the Loop mesh of the edge's level, which does not change while the edge
+  // exists (shown points move as neighbours refine).
+  const int l = m.level(e);
+  return distance(m.level_point(ev[0], l), m.level_point(ev[1], l));
 }
 
 }  // namespace
@@ -298,7 +308,8 @@ double UniformLevel::vertex_priority(const RgbMesh& m, VertexHandle v) const {
 double BallLevel::triangle_priority(const RgbMesh& m, TriangleHandle t) const {
   if (m.level(t) >= level_) return 0.0;
   const auto c = m.triangle_vertices(t);
-  if (point_triangle_distance(center_, m.control_point(c[0]), m.control_point(c[1]), m.control_point(c[2])) > radius_)
+  const int l = m.level(t);
+  if (point_triangle_distance(center_, m.level_point(c[0], l), m.level_point(c[1], l), m.level_point(c[2], l)) > radius_)
     return 0.0;
   return static_cast<double>(level_ - m.level(t));
 }
@@ -309,23 +320,13 @@ double MaxEdgeLength::triangle_priority(const RgbMesh& m, TriangleHandle t) cons
   return longest > length_ ? longest : 0.0;
 }
 
-namespace {
-
-// p^l(v) when available without inserting vertices, else the shown control point.
-Vec3 control_point_or_shown(const RgbMesh& m, VertexHandle v, int l) {
-  if (m.level(v) == l || m.has_limit(v)) return m.control_point(v, l);
-  return m.control_point(v);
-}
-
-}  // namespace
-
 double GeometricTolerance::deviation(const RgbMesh& m, EdgeHandle e) {
   const int l = m.level(e);
   const auto st = m.loop_stencil(e);
-  const Vec3 a = control_point_or_shown(m, st[0], l), b = control_point_or_shown(m, st[1], l);
+  const Vec3 a = m.level_point(st[0], l), b = m.level_point(st[1], l);
   if (st[3].valid()) {
     // |3/8 (a + b) + 1/8 (c + d) - (a + b) / 2| = |c + d - a - b| / 8.
-    const Vec3 c = control_point_or_shown(m, st[2], l), d = control_point_or_shown(m, st[3], l);
+    const Vec3 c = m.level_point(st[2], l), d = m.level_point(st[3], l);
     return norm(c + d - a - b) * 0.125;
   }
   // Boundary: how far the endpoints move from level l to l + 1 (limits of boundary vertices

@@ -262,6 +262,10 @@ class RgbMesh {
   // The control point at the shown level: where v is in the current mesh. In a uniform mesh
   // of level K this is Loop subdivision's level-K point.
   Vec3 control_point(VertexHandle v) const { return control_point(v, shown_level(v)); }
+  // The point of v in the Loop mesh of level max(l, level(v)) when known without inserting
+  // vertices, else the shown control point. Criteria measure an edge or triangle of level l
+  // with it: unlike shown points, it does not change while the element exists.
+  Vec3 level_point(VertexHandle v, int l) const;
   // Whether limit_position(v) is available: known already, or computable because the Loop
   // 1-ring of v at its level is in the mesh (recursively for its parents).
   bool has_limit(VertexHandle v) const;

@@ -33,6 +33,10 @@ class LodCriterion {
   // Whether elements created by the run are tested too (false for marks computed once on
   // the initial mesh, such as error indicators of a solution).
   virtual bool tests_new_elements() const { return true; }
+  // Whether priorities of existing elements change as the mesh refines around them (edges
+  // that become refinable, stencil points that become exact): the run then also tests the
+  // far edges of new triangles, and re-tests the whole mesh until a pass splits nothing.
+  virtual bool priorities_change_nearby() const { return false; }
 };
 
 struct RefinementOptions {
@@ -106,6 +110,7 @@ class GeometricTolerance final : public LodCriterion {
  public:
   explicit GeometricTolerance(double tolerance) : tolerance_(tolerance) {}
   double edge_priority(const RgbMesh& m, EdgeHandle e) const override;
+  bool priorities_change_nearby() const override { return true; }
   // The deviation that edge_priority compares with the tolerance (e must be refinable).
   static double deviation(const RgbMesh& m, EdgeHandle e);
 
