@@ -1,13 +1,14 @@
 // Refinement and coarsening throughput of the RGB mesh, and OpenSubdiv's uniform Loop
 // refinement of the same base mesh in the same process (the reference for ratios).
 //
-//   build/bin/bench_refinement --benchmark_counters_tabular=true
+//   build/bin/bench_refinement        (or scripts/run-bench.sh, which adds memory figures)
 
 #include <benchmark/benchmark.h>
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
 
+#include <chrono>
 #include <cmath>
 #include <memory>
 
@@ -47,18 +48,14 @@ const Base& torus_10k() {
 
 RgbMesh base_mesh() { return RgbMesh::from_triangles(torus_10k().points, torus_10k().triangles); }
 
-void BM_UniformRgb(benchmark::State& state) {
-  const int level = static_cast<int>(state.range(0));
-  std::uint64_t splits = 0;
-  for (auto _ : state) {
-    RgbMesh m = base_mesh();
-    splits += selective_refinement(m, UniformLevel(level)).splits;
-    benchmark::DoNotOptimize(m.num_triangles());
-  }
-  state.counters["insertions/s"] =
-      benchmark::Counter(static_cast<double>(splits), benchmark::Counter::kIsRate);
+// RGB subdivision to uniform level `level` (topology and Loop control points); returns the
+// vertices inserted.
+std::uint64_t rgb_uniform(int level) {
+  RgbMesh m = base_mesh();
+  const std::uint64_t splits = selective_refinement(m, UniformLevel(level)).splits;
+  benchmark::DoNotOptimize(m.num_triangles());
+  return splits;
 }
-BENCHMARK(BM_UniformRgb)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
 
 struct Point {
   double p[3];
@@ -68,41 +65,69 @@ struct Point {
   }
 };
 
-// OpenSubdiv: topology refinement plus Loop interpolation of the positions, level by level.
-void BM_UniformOpenSubdiv(benchmark::State& state) {
+// OpenSubdiv to uniform level `level`: topology refinement plus Loop interpolation of the
+// positions, level by level (what RGB subdivision computes too); returns the vertices added.
+std::uint64_t opensubdiv_uniform(int level) {
   using namespace OpenSubdiv;
-  const int level = static_cast<int>(state.range(0));
   const Base& b = torus_10k();
   std::vector<int> counts(b.triangles.size(), 3), indices;
   for (const auto& t : b.triangles) indices.insert(indices.end(), t.begin(), t.end());
-  std::uint64_t vertices = 0;
-  for (auto _ : state) {
-    Sdc::Options options;
-    options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
-    Far::TopologyDescriptor desc;
-    desc.numVertices = static_cast<int>(b.points.size());
-    desc.numFaces = static_cast<int>(b.triangles.size());
-    desc.numVertsPerFace = counts.data();
-    desc.vertIndicesPerFace = indices.data();
-    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-    std::unique_ptr<Far::TopologyRefiner> refiner(
-        Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
-    refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(level));
-    std::vector<Point> src, dst;
-    for (const auto& p : b.points) src.push_back({{p.x, p.y, p.z}});
-    Far::PrimvarRefinerReal<double> primvar(*refiner);
-    for (int k = 1; k <= level; ++k) {
-      dst.resize(static_cast<std::size_t>(refiner->GetLevel(k).GetNumVertices()));
-      primvar.Interpolate(k, src, dst);
-      src.swap(dst);
-    }
-    vertices += src.size() - b.points.size();
-    benchmark::DoNotOptimize(src.data());
+  Sdc::Options options;
+  options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  Far::TopologyDescriptor desc;
+  desc.numVertices = static_cast<int>(b.points.size());
+  desc.numFaces = static_cast<int>(b.triangles.size());
+  desc.numVertsPerFace = counts.data();
+  desc.vertIndicesPerFace = indices.data();
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  std::unique_ptr<Far::TopologyRefiner> refiner(Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
+  refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(level));
+  std::vector<Point> src, dst;
+  for (const auto& p : b.points) src.push_back({{p.x, p.y, p.z}});
+  Far::PrimvarRefinerReal<double> primvar(*refiner);
+  for (int k = 1; k <= level; ++k) {
+    dst.resize(static_cast<std::size_t>(refiner->GetLevel(k).GetNumVertices()));
+    primvar.Interpolate(k, src, dst);
+    src.swap(dst);
   }
-  state.counters["insertions/s"] =
-      benchmark::Counter(static_cast<double>(vertices), benchmark::Counter::kIsRate);
+  benchmark::DoNotOptimize(src.data());
+  return src.size() - b.points.size();
 }
-BENCHMARK(BM_UniformOpenSubdiv)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
+
+void BM_UniformRgb(benchmark::State& state) {
+  std::uint64_t splits = 0;
+  for (auto _ : state) splits += rgb_uniform(static_cast<int>(state.range(0)));
+  state.counters["insertions/s"] = benchmark::Counter(static_cast<double>(splits), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_UniformRgb)->Arg(3)->Arg(4)->Arg(5)->Unit(benchmark::kMillisecond);
+
+void BM_UniformOpenSubdiv(benchmark::State& state) {
+  std::uint64_t vertices = 0;
+  for (auto _ : state) vertices += opensubdiv_uniform(static_cast<int>(state.range(0)));
+  state.counters["insertions/s"] = benchmark::Counter(static_cast<double>(vertices), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_UniformOpenSubdiv)->Arg(3)->Arg(4)->Arg(5)->Unit(benchmark::kMillisecond);
+
+// Both, alternately in each iteration, so that the machine's state affects them alike:
+// `ratio` = RGB time / OpenSubdiv time (the goal is at most 3).
+void BM_RatioToOpenSubdiv(benchmark::State& state) {
+  const int level = static_cast<int>(state.range(0));
+  double rgb = 0, osd = 0;
+  for (auto _ : state) {
+    auto t0 = std::chrono::steady_clock::now();
+    rgb_uniform(level);
+    auto t1 = std::chrono::steady_clock::now();
+    opensubdiv_uniform(level);
+    auto t2 = std::chrono::steady_clock::now();
+    rgb += std::chrono::duration<double>(t1 - t0).count();
+    osd += std::chrono::duration<double>(t2 - t1).count();
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["rgb_ms"] = 1e3 * rgb / n;
+  state.counters["opensubdiv_ms"] = 1e3 * osd / n;
+  state.counters["ratio"] = rgb / osd;
+}
+BENCHMARK(BM_RatioToOpenSubdiv)->Arg(4)->Arg(5)->Unit(benchmark::kMillisecond);
 
 // Removing every inserted vertex of a uniform level-L mesh (setup excluded from the time).
 void BM_CoarsenAll(benchmark::State& state) {

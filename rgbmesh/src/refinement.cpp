@@ -223,7 +223,7 @@ class LevelSweep {
   // all green edges of level l; it creates edges of level l + 1 only (and coarser ones only
   // through forced splits, which find none once the coarser passes are done).
   void refine_to(int level) {
-    std::vector<VertexHandle> inserted;
+    reserve_for_uniform_mesh(level);
     for (int l = 0; l < level; ++l) {
       const std::int32_t n = mesh_.edge_slots();
       std::size_t count = 0;
@@ -237,11 +237,7 @@ class LevelSweep {
       mesh_.reserve(mesh_.num_vertices() + count, mesh_.num_edges() + 3 * count, mesh_.num_triangles() + 2 * count);
       for (std::int32_t i = 0; i < n; ++i) {
         const EdgeHandle e(i);
-        if (!mesh_.alive(e) || mesh_.is_red(e) || mesh_.level(e) != l) continue;
-        const std::uint64_t before = mesh_.counters().splits;
-        mesh_.split_edge(e);
-        result_.splits += mesh_.counters().splits - before;
-        report();
+        if (mesh_.alive(e) && !mesh_.is_red(e) && mesh_.level(e) == l) split(e);
       }
     }
   }
@@ -249,6 +245,34 @@ class LevelSweep {
   RefinementResult result() const { return result_; }
 
  private:
+  void split(EdgeHandle e) {
+    const std::uint64_t before = mesh_.counters().splits;
+    mesh_.split_edge(e);
+    result_.splits += mesh_.counters().splits - before;
+    report();
+  }
+
+  // When the mesh is uniform (every edge green, at one level l0), the counts at `level` are
+  // known: each level adds a vertex per edge, and has 2E + 3T edges and 4T triangles. One
+  // reservation then replaces one per level, and the arrays are copied once.
+  void reserve_for_uniform_mesh(int level) {
+    int l0 = kMaxLevel + 1;
+    for (EdgeHandle e : mesh_.edges()) {
+      if (mesh_.is_red(e)) return;
+      l0 = std::min(l0, mesh_.level(e));
+    }
+    for (EdgeHandle e : mesh_.edges()) {
+      if (mesh_.level(e) != l0) return;
+    }
+    std::size_t v = mesh_.num_vertices(), e = mesh_.num_edges(), t = mesh_.num_triangles();
+    for (int l = l0; l < level; ++l) {
+      v += e;
+      e = 2 * e + 3 * t;
+      t *= 4;
+    }
+    mesh_.reserve(v, e, t);
+  }
+
   void report() {
     const std::uint64_t ops = result_.splits + result_.removals;
     if (opt_.progress && ops >= next_report_) {
