@@ -126,6 +126,21 @@ void print_statistics(const std::string& name, const RgbMesh& mesh, bool json) {
   std::cout << "red edges:            " << s.red_edges << "\n";
 }
 
+// [{"stage": "--uniform 4", "splits": N, "removals": N, "seconds": S}, ...]
+std::string stages_json(const StageTotals& t) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < t.stages.size(); ++i) {
+    const StageResult& r = t.stages[i];
+    out += (i ? ", " : "") + JsonObject()
+                                 .add("stage", r.text)
+                                 .add("splits", r.splits)
+                                 .add("removals", r.removals)
+                                 .add("seconds", r.seconds)
+                                 .str();
+  }
+  return out + "]";
+}
+
 std::string stats_json(const RgbMesh& mesh, const StageTotals& t, double read_s, double write_s) {
   // Only counts the mesh keeps anyway: a statistics pass would allocate and distort peak_rss_mb.
   const double rss = peak_rss_mb();
@@ -139,12 +154,13 @@ std::string stats_json(const RgbMesh& mesh, const StageTotals& t, double read_s,
       .add("removals", t.removals)
       .add("swaps", c.swaps_bb + c.swaps_gg + c.swaps_rb)
       .add("refine_seconds", t.seconds)
-      .add("splits_per_second", t.seconds > 0 ? static_cast<double>(t.splits) / t.seconds : 0.0)
-      .add("removals_per_second", t.seconds > 0 ? static_cast<double>(t.removals) / t.seconds : 0.0)
+      .add("splits_per_second", t.splits_per_second)
+      .add("removals_per_second", t.removals_per_second)
       .add("read_seconds", read_s)
       .add("write_seconds", write_s)
       .add("peak_rss_mb", rss)
       .add("bytes_per_vertex", rss * 1048576.0 / static_cast<double>(std::max<std::size_t>(1, mesh.num_vertices())))
+      .raw("stages", stages_json(t))
       .str();
 }
 

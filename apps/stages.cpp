@@ -139,8 +139,11 @@ StageTotals run_stages(RgbMesh& mesh, const std::vector<Stage>& stages) {
   StageTotals totals;
   int cap = kMaxLevel;
   const auto start = std::chrono::steady_clock::now();
+  double split_seconds = 0, removal_seconds = 0;
+  std::uint64_t pure_splits = 0, pure_removals = 0;
   for (std::size_t i = 0; i < stages.size(); ++i) {
     const Stage& s = stages[i];
+    const auto stage_start = std::chrono::steady_clock::now();
     Progress progress("stage " + std::to_string(i + 1) + "/" + std::to_string(stages.size()) + " " + s.text);
     RefinementOptions options;
     options.max_level = cap;
@@ -181,10 +184,22 @@ StageTotals run_stages(RgbMesh& mesh, const std::vector<Stage>& stages) {
         break;
       }
     }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start).count();
     totals.splits += r.splits;
     totals.removals += r.removals;
+    if (s.kind != Stage::max_level) totals.stages.push_back({s.text, r.splits, r.removals, seconds});
+    if (r.splits > 0 && r.removals == 0) {
+      pure_splits += r.splits;
+      split_seconds += seconds;
+    }
+    if (r.removals > 0 && r.splits == 0) {
+      pure_removals += r.removals;
+      removal_seconds += seconds;
+    }
   }
   totals.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  totals.splits_per_second = split_seconds > 0 ? static_cast<double>(pure_splits) / split_seconds : 0.0;
+  totals.removals_per_second = removal_seconds > 0 ? static_cast<double>(pure_removals) / removal_seconds : 0.0;
   return totals;
 }
 

@@ -29,9 +29,19 @@ Stage parse_max_level(const std::string& value);
 Stage parse_random_walk(const std::string& value);
 Stage parse_coarsen_all();
 
+struct StageResult {
+  std::string text;
+  std::uint64_t splits = 0, removals = 0;
+  double seconds = 0;
+};
+
 struct StageTotals {
   std::uint64_t splits = 0, removals = 0;
   double seconds = 0;
+  // Splits per second over the stages that only split, removals per second over those that
+  // only removed (stages doing both, like a random walk, count in neither); 0 if none.
+  double splits_per_second = 0, removals_per_second = 0;
+  std::vector<StageResult> stages;
 };
 
 // Runs the stages in order on the mesh, reporting progress on stderr for long stages.
