@@ -1,0 +1,58 @@
+#pragma once
+// Poisson-type problems on surfaces: -Δu + c u = f, with c >= 0.
+//
+// On a closed surface with c = 0 the solution is defined up to a constant: rgbmesh returns the
+// solution of zero mean, and requires a source of zero mean (the compatibility condition,
+// checked). On open surfaces, the boundary is Dirichlet (u = g) except where `is_neumann`
+// says otherwise (du/dn = h there, n the outward conormal); with c = 0 and no Dirichlet part
+// the zero-mean treatment applies, and the compatibility condition includes the flux h.
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "rgbmesh/vec3.hpp"
+
+namespace rgbmesh::fem {
+
+using ScalarField = std::function<double(const Vec3&)>;
+using VectorField = std::function<Vec3(const Vec3&)>;
+
+// An exact solution: its values, and the gradient of an extension to space (its tangential
+// part is the surface gradient).
+struct ExactSolution {
+  ScalarField value;
+  VectorField gradient;
+};
+
+struct Problem {
+  std::string name;
+  double c = 0;  // reaction coefficient, >= 0
+  ScalarField source;
+  ScalarField dirichlet;                       // g; zero if empty
+  std::function<bool(const Vec3&)> is_neumann;  // at a boundary edge's midpoint; none if empty
+  ScalarField neumann_flux;                    // h; zero if empty
+  std::optional<ExactSolution> exact;
+  // Relative tolerance of the zero-mean check |∫f + ∫h| <= tol ∫(|f| + |h|).
+  double mean_tolerance = 1e-3;
+};
+
+// u = xyz on the unit sphere: a spherical harmonic of degree 3, so -Δu = 12 xyz (c = 0).
+Problem sphere_harmonic();
+
+// u = exp(κ (x·d - 1)) on the unit sphere, a peak of width about 1/sqrt(κ) around d
+// (κ = 100 by default); with t = x·d, Δu = g''(t)(1 - t²) - 2 t g'(t) for u = g(t). Posed
+// with c = 1, so that the solution is unique without a mean condition.
+Problem sphere_peak(const Vec3& d = Vec3(0.48, 0.6, 0.64), double kappa = 100.0, double c = 1.0);
+
+// A Gaussian source f = exp(-|x - x0|² / (2 σ²)) with c = 1, on any surface (no exact
+// solution): the problem the main job solves on its default mesh.
+Problem gaussian_source(const Vec3& x0, double sigma);
+
+// The built-in problems by name ("sphere-harmonic", "sphere-peak"); throws InputError listing
+// the names otherwise. The third, "gaussian", needs a centre: gaussian_source().
+Problem builtin_problem(const std::string& name);
+std::vector<std::string> builtin_problem_names();
+
+}  // namespace rgbmesh::fem

@@ -1,0 +1,183 @@
+#include "rgbmesh/fem/estimators.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace rgbmesh::fem {
+
+namespace {
+
+Vec3 at(const std::array<double, 3>& l, const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+  return l[0] * p0 + l[1] * p1 + l[2] * p2;
+}
+
+Vec3 tangential(const Vec3& v, const Vec3& n) { return v - dot(v, n) * n; }
+
+// ∇u_h on a triangle: Σ u_i ∇λ_i.
+Vec3 gradient(const TriangleGeometry& g, const std::array<std::int32_t, 3>& t, const Eigen::VectorXd& u) {
+  return u[t[0]] * g.grad[0] + u[t[1]] * g.grad[1] + u[t[2]] * g.grad[2];
+}
+
+double longest_edge(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+  return std::max({distance(p0, p1), distance(p1, p2), distance(p2, p0)});
+}
+
+std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+Estimate finish(std::vector<double> eta_squared, std::vector<double> geometric) {
+  Estimate e;
+  double sum = 0;
+  e.eta.resize(eta_squared.size());
+  for (std::size_t i = 0; i < eta_squared.size(); ++i) {
+    sum += eta_squared[i];
+    e.eta[i] = std::sqrt(eta_squared[i]);
+  }
+  e.total = std::sqrt(sum);
+  e.geometric = std::move(geometric);
+  return e;
+}
+
+}  // namespace
+
+ErrorNorms error_norms(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const ExactSolution& exact,
+                       bool subtract_mean) {
+  const auto& rule = triangle_quadrature();
+  double mean = 0;
+  if (subtract_mean) {
+    double integral = 0, area = 0;
+    for (const auto& t : mesh.triangles) {
+      const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
+      const double a = triangle_geometry(p0, p1, p2).area;
+      for (const auto& q : rule) integral += q.weight * a * exact.value(mesh.lift(at(q.barycentric, p0, p1, p2)));
+      area += a;
+    }
+    mean = integral / area;
+  }
+  double l2 = 0, h1 = 0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
+    const TriangleGeometry g = triangle_geometry(p0, p1, p2);
+    const Vec3 grad_h = gradient(g, t, u);
+    for (const auto& q : rule) {
+      const Vec3 x = mesh.lift(at(q.barycentric, p0, p1, p2));
+      const double uh = q.barycentric[0] * u[t[0]] + q.barycentric[1] * u[t[1]] + q.barycentric[2] * u[t[2]];
+      const double d = exact.value(x) - mean - uh;
+      const Vec3 dg = tangential(exact.gradient(x), g.normal) - grad_h;
+      l2 += q.weight * g.area * d * d;
+      h1 += q.weight * g.area * dot(dg, dg);
+    }
+  }
+  return {std::sqrt(l2), std::sqrt(h1)};
+}
+
+Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, const Eigen::VectorXd& u) {
+  const std::size_t nt = mesh.triangles.size();
+  const auto& rule = triangle_quadrature();
+  std::vector<TriangleGeometry> geo(nt);
+  std::vector<Vec3> grad(nt);
+  std::vector<double> h(nt), eta2(nt, 0.0), geometric(nt, 0.0), delta(nt, 0.0);
+  for (std::size_t i = 0; i < nt; ++i) {
+    const auto& t = mesh.triangles[i];
+    geo[i] = triangle_geometry(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
+    grad[i] = gradient(geo[i], t, u);
+    h[i] = longest_edge(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
+  }
+  // Element residuals (and, with a projection, the distance to the surface).
+  for (std::size_t i = 0; i < nt; ++i) {
+    const auto& t = mesh.triangles[i];
+    const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
+    double r2 = 0;
+    for (const auto& q : rule) {
+      const Vec3 x = at(q.barycentric, p0, p1, p2);
+      const Vec3 lifted = mesh.lift(x);
+      const double uh = q.barycentric[0] * u[t[0]] + q.barycentric[1] * u[t[1]] + q.barycentric[2] * u[t[2]];
+      const double r = (problem.source ? problem.source(lifted) : 0.0) - problem.c * uh;
+      r2 += q.weight * geo[i].area * r * r;
+      if (mesh.projection) delta[i] = std::max(delta[i], distance(x, lifted));
+    }
+    eta2[i] += h[i] * h[i] * r2;
+  }
+  // Jumps of the conormal derivative across interior edges.
+  std::unordered_map<std::uint64_t, std::pair<std::int32_t, int>> first;  // edge -> (triangle, local edge)
+  first.reserve(nt * 2);
+  for (std::size_t i = 0; i < nt; ++i) {
+    const auto& t = mesh.triangles[i];
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t a = t[k], b = t[(k + 1) % 3];
+      const auto [it, inserted] = first.try_emplace(edge_key(a, b), static_cast<std::int32_t>(i), k);
+      if (inserted) continue;
+      const std::size_t j = static_cast<std::size_t>(it->second.first);
+      const Vec3 pa = mesh.points[a], pb = mesh.points[b];
+      const double len = distance(pa, pb);
+      // Outward conormals: the edge direction turned in each triangle's plane.
+      const Vec3 dir = (pb - pa) * (1.0 / len);
+      const Vec3 ni = cross(dir, geo[i].normal), nj = cross(dir * -1.0, geo[j].normal);
+      const double jump = dot(grad[i], ni) + dot(grad[j], nj);
+      const double contribution = 0.5 * len * len * jump * jump;  // ½ h_e ‖J‖²_e, J constant on e
+      eta2[i] += contribution;
+      eta2[j] += contribution;
+      if (!mesh.projection) {
+        // The sagitta of an arc through the edge whose ends turn by the normals' angle.
+        const double theta = std::acos(std::clamp(dot(geo[i].normal, geo[j].normal), -1.0, 1.0));
+        const double sagitta = len * theta / 8.0;
+        delta[i] = std::max(delta[i], sagitta);
+        delta[j] = std::max(delta[j], sagitta);
+      }
+    }
+  }
+  // Neumann edges: the flux misfit.
+  if (problem.is_neumann) {
+    for (const auto& e : mesh.boundary_edges) {
+      const Vec3 pa = mesh.points[e.a], pb = mesh.points[e.b];
+      const Vec3 mid = mesh.lift(0.5 * (pa + pb));
+      if (!problem.is_neumann(mid)) continue;
+      const auto i = static_cast<std::size_t>(e.triangle);
+      const double len = distance(pa, pb);
+      const Vec3 n = cross((pb - pa) * (1.0 / len), geo[i].normal);
+      const double misfit = (problem.neumann_flux ? problem.neumann_flux(mid) : 0.0) - dot(grad[i], n);
+      eta2[i] += len * len * misfit * misfit;
+    }
+  }
+  for (std::size_t i = 0; i < nt; ++i) {
+    geometric[i] = delta[i] / h[i] * std::sqrt(geo[i].area) * norm(grad[i]);
+    eta2[i] += geometric[i] * geometric[i];
+  }
+  return finish(std::move(eta2), std::move(geometric));
+}
+
+Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u) {
+  const std::size_t nt = mesh.triangles.size();
+  std::vector<Vec3> recovered(mesh.num_dofs());
+  std::vector<double> weight(mesh.num_dofs(), 0.0);
+  std::vector<TriangleGeometry> geo(nt);
+  std::vector<Vec3> grad(nt);
+  for (std::size_t i = 0; i < nt; ++i) {
+    const auto& t = mesh.triangles[i];
+    geo[i] = triangle_geometry(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
+    grad[i] = gradient(geo[i], t, u);
+    for (std::int32_t v : t) {
+      recovered[v] += geo[i].area * grad[i];
+      weight[v] += geo[i].area;
+    }
+  }
+  for (std::size_t v = 0; v < recovered.size(); ++v) {
+    if (weight[v] > 0) recovered[v] *= 1.0 / weight[v];
+  }
+  const auto& rule = triangle_quadrature();
+  std::vector<double> eta2(nt, 0.0);
+  for (std::size_t i = 0; i < nt; ++i) {
+    const auto& t = mesh.triangles[i];
+    for (const auto& q : rule) {
+      const Vec3 g = at(q.barycentric, recovered[t[0]], recovered[t[1]], recovered[t[2]]);
+      const Vec3 d = tangential(g, geo[i].normal) - grad[i];
+      eta2[i] += q.weight * geo[i].area * dot(d, d);
+    }
+  }
+  return finish(std::move(eta2), std::vector<double>(nt, 0.0));
+}
+
+}  // namespace rgbmesh::fem

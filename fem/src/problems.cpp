@@ -1,0 +1,55 @@
+#include <cmath>
+
+#include "rgbmesh/fem/problem.hpp"
+#include "rgbmesh/soup.hpp"
+
+namespace rgbmesh::fem {
+
+Problem sphere_harmonic() {
+  Problem p;
+  p.name = "sphere-harmonic";
+  p.c = 0;
+  p.source = [](const Vec3& x) { return 12.0 * x.x * x.y * x.z; };
+  p.exact = ExactSolution{[](const Vec3& x) { return x.x * x.y * x.z; },
+                          [](const Vec3& x) { return Vec3(x.y * x.z, x.x * x.z, x.x * x.y); }};
+  return p;
+}
+
+Problem sphere_peak(const Vec3& d_in, double kappa, double c) {
+  const Vec3 d = d_in * (1.0 / norm(d_in));
+  Problem p;
+  p.name = "sphere-peak";
+  p.c = c;
+  // u = g(t), t = x·d, g(t) = exp(κ (t - 1)): g' = κ g, g'' = κ² g.
+  p.source = [d, kappa, c](const Vec3& x) {
+    const double t = dot(x, d), g = std::exp(kappa * (t - 1.0));
+    const double laplacian = kappa * kappa * g * (1.0 - t * t) - 2.0 * t * kappa * g;
+    return -laplacian + c * g;
+  };
+  p.exact = ExactSolution{[d, kappa](const Vec3& x) { return std::exp(kappa * (dot(x, d) - 1.0)); },
+                          [d, kappa](const Vec3& x) { return d * (kappa * std::exp(kappa * (dot(x, d) - 1.0))); }};
+  return p;
+}
+
+Problem gaussian_source(const Vec3& x0, double sigma) {
+  Problem p;
+  p.name = "gaussian";
+  p.c = 1.0;
+  p.source = [x0, sigma](const Vec3& x) {
+    const Vec3 r = x - x0;
+    return std::exp(-dot(r, r) / (2.0 * sigma * sigma));
+  };
+  return p;
+}
+
+std::vector<std::string> builtin_problem_names() { return {"sphere-harmonic", "sphere-peak"}; }
+
+Problem builtin_problem(const std::string& name) {
+  if (name == "sphere-harmonic") return sphere_harmonic();
+  if (name == "sphere-peak") return sphere_peak();
+  std::string names;
+  for (const auto& n : builtin_problem_names()) names += (names.empty() ? "" : ", ") + n;
+  throw InputError("unknown problem '" + name + "' (built in: " + names + ")");
+}
+
+}  // namespace rgbmesh::fem

@@ -1,0 +1,259 @@
+#include "rgbmesh/fem/solver.hpp"
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "rgbmesh/soup.hpp"
+
+#if defined(RGBMESH_HAVE_CHOLMOD)
+#include <Eigen/CholmodSupport>
+#endif
+
+namespace rgbmesh::fem {
+
+namespace {
+
+using Triplet = Eigen::Triplet<double>;
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+Vec3 at(const std::array<double, 3>& l, const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+  return l[0] * p0 + l[1] * p1 + l[2] * p2;
+}
+
+// Dirichlet DOFs: the ends of every boundary edge that is not Neumann.
+std::vector<char> dirichlet_dofs(const SurfaceMesh& mesh, const Problem& problem) {
+  std::vector<char> dir(mesh.num_dofs(), 0);
+  for (const auto& e : mesh.boundary_edges) {
+    const Vec3 mid = mesh.lift(0.5 * (mesh.points[e.a] + mesh.points[e.b]));
+    if (problem.is_neumann && problem.is_neumann(mid)) continue;
+    dir[e.a] = dir[e.b] = 1;
+  }
+  return dir;
+}
+
+template <class Solver>
+Eigen::VectorXd factor_and_solve(Solver& solver, const SparseMatrix& a, const Eigen::VectorXd& rhs,
+                                 const char* name) {
+  solver.compute(a);
+  if (solver.info() != Eigen::Success)
+    throw std::runtime_error(std::string(name) + ": the factorization failed: the system is singular or not positive definite");
+  Eigen::VectorXd x = solver.solve(rhs);
+  if (solver.info() != Eigen::Success) throw std::runtime_error(std::string(name) + ": the solve failed");
+  return x;
+}
+
+}  // namespace
+
+const char* to_string(SolverKind k) {
+  switch (k) {
+    case SolverKind::automatic: return "auto";
+    case SolverKind::ldlt: return "ldlt";
+    case SolverKind::cg_ichol: return "cg";
+    case SolverKind::cholmod: return "cholmod";
+  }
+  return "?";
+}
+
+SolverKind parse_solver(const std::string& name) {
+  if (name == "auto") return SolverKind::automatic;
+  if (name == "ldlt") return SolverKind::ldlt;
+  if (name == "cg") return SolverKind::cg_ichol;
+  if (name == "cholmod") return SolverKind::cholmod;
+  throw InputError("unknown solver '" + name + "' (auto, ldlt, cg, cholmod)");
+}
+
+bool cholmod_available() {
+#if defined(RGBMESH_HAVE_CHOLMOD)
+  return true;
+#else
+  return false;
+#endif
+}
+
+System assemble(const SurfaceMesh& mesh, const Problem& problem) {
+  const auto n = static_cast<Eigen::Index>(mesh.num_dofs());
+  std::vector<Triplet> k, m;
+  k.reserve(mesh.triangles.size() * 9);
+  m.reserve(mesh.triangles.size() * 9);
+  System s;
+  s.load = Eigen::VectorXd::Zero(n);
+  const auto& rule = triangle_quadrature();
+  for (const auto& t : mesh.triangles) {
+    const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
+    const TriangleGeometry g = triangle_geometry(p0, p1, p2);
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        k.emplace_back(t[i], t[j], g.area * dot(g.grad[i], g.grad[j]));
+        m.emplace_back(t[i], t[j], g.area / 12.0 * (i == j ? 2.0 : 1.0));
+      }
+    }
+    if (problem.source) {
+      for (const auto& q : rule) {
+        const double f = problem.source(mesh.lift(at(q.barycentric, p0, p1, p2)));
+        for (int i = 0; i < 3; ++i) s.load[t[i]] += q.weight * g.area * f * q.barycentric[i];
+      }
+    }
+  }
+  if (problem.neumann_flux && problem.is_neumann) {
+    // Two-point Gauss on each Neumann edge (exact for cubics along the edge).
+    const double r = 0.5 / std::sqrt(3.0);
+    for (const auto& e : mesh.boundary_edges) {
+      const Vec3 &pa = mesh.points[e.a], &pb = mesh.points[e.b];
+      if (!problem.is_neumann(mesh.lift(0.5 * (pa + pb)))) continue;
+      const double len = distance(pa, pb);
+      for (double sq : {0.5 - r, 0.5 + r}) {
+        const double h = problem.neumann_flux(mesh.lift((1 - sq) * pa + sq * pb));
+        s.load[e.a] += 0.5 * len * h * (1 - sq);
+        s.load[e.b] += 0.5 * len * h * sq;
+      }
+    }
+  }
+  s.stiffness.resize(n, n);
+  s.mass.resize(n, n);
+  s.stiffness.setFromTriplets(k.begin(), k.end());
+  s.mass.setFromTriplets(m.begin(), m.end());
+  return s;
+}
+
+Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptions& options) {
+  if (!(problem.c >= 0) || !std::isfinite(problem.c))
+    throw InputError("problem '" + problem.name + "': the coefficient c must be finite and >= 0, got " +
+                     std::to_string(problem.c));
+  Solution sol;
+  auto t0 = std::chrono::steady_clock::now();
+  System sys = assemble(mesh, problem);
+  if (!sys.load.allFinite())
+    throw InputError("problem '" + problem.name + "': the source or flux is not finite somewhere on the mesh");
+  const auto n = static_cast<Eigen::Index>(mesh.num_dofs());
+  const SparseMatrix a_full = sys.stiffness + problem.c * sys.mass;
+
+  std::vector<char> fixed = dirichlet_dofs(mesh, problem);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
+  bool any_dirichlet = false;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!fixed[i]) continue;
+    any_dirichlet = true;
+    u[i] = problem.dirichlet ? problem.dirichlet(mesh.lift(mesh.points[i])) : 0.0;
+  }
+  Eigen::VectorXd b = sys.load;
+  const Eigen::VectorXd area = sys.mass * Eigen::VectorXd::Ones(n);  // ∫ φi
+  if (!any_dirichlet && problem.c == 0) {
+    // Closed surface (or all Neumann) with c = 0: solutions differ by constants, and exist
+    // only if ∫f + ∫h = 0. Check it, make it exact for the discrete system, fix one value and
+    // shift the result to zero mean.
+    sol.zero_mean = true;
+    const double total = b.sum(), scale = b.cwiseAbs().sum();
+    if (std::abs(total) > problem.mean_tolerance * scale)
+      throw InputError("problem '" + problem.name + "': on a closed surface with c = 0 the source must have zero mean, but ∫f = " +
+                       std::to_string(total) + " (relative " + std::to_string(scale > 0 ? total / scale : 0.0) +
+                       "); use c > 0, or subtract the mean");
+    b -= (total / area.sum()) * area;
+    fixed[0] = 1;
+  }
+
+  // The system on the free DOFs, with the fixed values moved to the right-hand side.
+  std::vector<Eigen::Index> index(static_cast<std::size_t>(n), -1);
+  Eigen::Index nf = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!fixed[i]) index[i] = nf++;
+  }
+  if (nf == 0) throw std::runtime_error("problem '" + problem.name + "': every vertex is on the Dirichlet boundary");
+  std::vector<Triplet> trip;
+  trip.reserve(static_cast<std::size_t>(a_full.nonZeros()));
+  Eigen::VectorXd rhs(nf);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (index[i] >= 0) rhs[index[i]] = b[i];
+  }
+  for (Eigen::Index j = 0; j < a_full.outerSize(); ++j) {
+    for (SparseMatrix::InnerIterator it(a_full, j); it; ++it) {
+      const Eigen::Index i = it.row();
+      if (index[i] < 0) continue;
+      if (index[j] >= 0)
+        trip.emplace_back(index[i], index[j], it.value());
+      else
+        rhs[index[i]] -= it.value() * u[j];
+    }
+  }
+  SparseMatrix a(nf, nf);
+  a.setFromTriplets(trip.begin(), trip.end());
+  sol.assembly_seconds = seconds_since(t0);
+
+  SolverKind kind = options.solver;
+  if (kind == SolverKind::automatic) {
+    if (nf < 20000)
+      kind = SolverKind::ldlt;
+    else if (cholmod_available())
+      kind = SolverKind::cholmod;
+    else
+      kind = nf <= 200000 ? SolverKind::ldlt : SolverKind::cg_ichol;
+  }
+  sol.solver = kind;
+  t0 = std::chrono::steady_clock::now();
+  Eigen::VectorXd x;
+  switch (kind) {
+    case SolverKind::ldlt: {
+      Eigen::SimplicialLDLT<SparseMatrix> ldlt;
+      x = factor_and_solve(ldlt, a, rhs, "ldlt");
+      // A zero pivot means a singular system (a part without Dirichlet boundary and c = 0).
+      const Eigen::VectorXd d = ldlt.vectorD();
+      if (d.minCoeff() <= 1e-12 * d.cwiseAbs().maxCoeff())
+        throw std::runtime_error("problem '" + problem.name + "': the system is singular (a connected part of the mesh has no "
+                                 "Dirichlet boundary while c = 0)");
+      break;
+    }
+    case SolverKind::cholmod: {
+#if defined(RGBMESH_HAVE_CHOLMOD)
+      Eigen::CholmodSupernodalLLT<SparseMatrix> llt;
+      x = factor_and_solve(llt, a, rhs, "cholmod");
+#else
+      throw InputError("solver 'cholmod' is not available: rgbmesh was built without SuiteSparse");
+#endif
+      break;
+    }
+    case SolverKind::cg_ichol: {
+      Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>> cg;
+      cg.setTolerance(options.cg_tolerance);
+      cg.setMaxIterations(static_cast<Eigen::Index>(std::max<Eigen::Index>(1000, 10 * nf)));
+      cg.compute(a);
+      if (cg.info() != Eigen::Success)
+        throw std::runtime_error("cg: the incomplete Cholesky preconditioner failed (singular or indefinite system)");
+      if (options.initial_guess != nullptr && options.initial_guess->size() == n) {
+        Eigen::VectorXd guess(nf);
+        for (Eigen::Index i = 0; i < n; ++i) {
+          if (index[i] >= 0) guess[index[i]] = (*options.initial_guess)[i];
+        }
+        x = cg.solveWithGuess(rhs, guess);
+      } else {
+        x = cg.solve(rhs);
+      }
+      sol.iterations = static_cast<int>(cg.iterations());
+      if (cg.info() != Eigen::Success)
+        throw std::runtime_error("cg: no convergence to " + std::to_string(options.cg_tolerance) + " in " +
+                                 std::to_string(cg.iterations()) + " iterations (error " + std::to_string(cg.error()) +
+                                 "); the system may be singular");
+      break;
+    }
+    case SolverKind::automatic:
+      break;
+  }
+  sol.solve_seconds = seconds_since(t0);
+  const double residual = (a * x - rhs).norm(), scale = rhs.norm();
+  if (!x.allFinite() || residual > 1e-6 * std::max(scale, 1e-300))
+    throw std::runtime_error("problem '" + problem.name + "': the system is singular (" + to_string(kind) +
+                             " left a relative residual of " + std::to_string(residual / std::max(scale, 1e-300)) + ")");
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (index[i] >= 0) u[i] = x[index[i]];
+  }
+  if (sol.zero_mean) u.array() -= area.dot(u) / area.sum();
+  sol.u = std::move(u);
+  return sol;
+}
+
+}  // namespace rgbmesh::fem

@@ -1,0 +1,251 @@
+// P1 finite elements on surfaces, against exact solutions and theory: quadrature exactness,
+// constants and coordinate functions on the sphere, convergence rates under uniform
+// refinement, effectivity of the estimators, agreement of the solvers, conservation on a
+// Loop surface, and clear errors for bad problems.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+
+#include "rgbmesh/fem/estimators.hpp"
+#include "rgbmesh/fem/solver.hpp"
+#include "rgbmesh/refinement.hpp"
+#include "rgbmesh/soup.hpp"
+#include "test_meshes.hpp"
+
+namespace rgbmesh::fem {
+namespace {
+
+// The unit sphere from the icosahedron refined to `level`, vertices projected onto it.
+SurfaceMesh sphere(int level) {
+  RgbMesh m = testing::icosahedron().build();
+  selective_refinement(m, UniformLevel(level));
+  return build_surface_mesh(m, Projection(project_to_unit_sphere));
+}
+
+// Least-squares slope of log(y) against log(x).
+double rate(const std::vector<double>& x, const std::vector<double>& y) {
+  const std::size_t n = x.size();
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double lx = std::log(x[i]), ly = std::log(y[i]);
+    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+double factorial(int k) { return k <= 1 ? 1.0 : k * factorial(k - 1); }
+
+TEST(Quadrature, ExactForPolynomialsOfDegreeFive) {
+  const Vec3 p0{0.3, -0.2, 0.1}, p1{1.7, 0.4, -0.3}, p2{0.5, 1.9, 0.8};
+  const double area = triangle_geometry(p0, p1, p2).area;
+  for (int a = 0; a <= 5; ++a) {
+    for (int b = 0; a + b <= 5; ++b) {
+      for (int c = 0; a + b + c <= 5; ++c) {
+        double q = 0;
+        for (const auto& pt : triangle_quadrature())
+          q += pt.weight * area * std::pow(pt.barycentric[0], a) * std::pow(pt.barycentric[1], b) *
+               std::pow(pt.barycentric[2], c);
+        // ∫_T λ0^a λ1^b λ2^c = 2 |T| a! b! c! / (a + b + c + 2)!
+        const double exact = 2 * area * factorial(a) * factorial(b) * factorial(c) / factorial(a + b + c + 2);
+        EXPECT_NEAR(q, exact, 1e-15) << a << b << c;
+      }
+    }
+  }
+}
+
+TEST(Fem, ConstantsAreReproducedExactly) {
+  const SurfaceMesh mesh = sphere(2);
+  const System sys = assemble(mesh, Problem{});
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(mesh.num_dofs()));
+  EXPECT_LT((sys.stiffness * ones).cwiseAbs().maxCoeff(), 1e-13);  // the Laplacian of a constant
+  // -Δu + u = 1 has the solution u = 1, which P1 contains: the discrete solution is exactly 1.
+  Problem p;
+  p.c = 1;
+  p.source = [](const Vec3&) { return 1.0; };
+  const Solution s = solve(mesh, p);
+  EXPECT_LT((s.u - ones).cwiseAbs().maxCoeff(), 1e-12);
+  // The mass matrix integrates 1 to the area of the polyhedron.
+  EXPECT_NEAR(ones.dot(sys.mass * ones), mesh.total_area(), 1e-12);
+}
+
+TEST(Fem, CoordinateFunctionsBehaveAsTheoryPredicts) {
+  // On a polyhedron the coordinate functions are linear on each triangle: they are in the P1
+  // space exactly. Then (1) Σ_i (K x)_i = 0 (the discrete mean-curvature normal integrates to
+  // zero), (2) Σ_k x_kᵀ K x_k = 2 |Γ_h| exactly (the tangential projector has trace 2), and
+  // (3) on the sphere, where -Δx = 2x, the Rayleigh quotient Σ xᵀKx / Σ xᵀMx tends to the
+  // eigenvalue 2 at the rate of P1 eigenvalues, h² (a quarter per level).
+  std::vector<double> dofs, err;
+  for (int level = 1; level <= 5; ++level) {
+    const SurfaceMesh mesh = sphere(level);
+    const System sys = assemble(mesh, Problem{});
+    double kk = 0, mm = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      Eigen::VectorXd x(static_cast<Eigen::Index>(mesh.num_dofs()));
+      for (std::size_t i = 0; i < mesh.num_dofs(); ++i) x[static_cast<Eigen::Index>(i)] = mesh.points[i][axis];
+      EXPECT_NEAR((sys.stiffness * x).sum(), 0.0, 1e-12);
+      kk += x.dot(sys.stiffness * x);
+      mm += x.dot(sys.mass * x);
+    }
+    EXPECT_NEAR(kk, 2 * mesh.total_area(), 1e-12 * kk);
+    dofs.push_back(static_cast<double>(mesh.num_dofs()));
+    err.push_back(std::abs(kk / mm - 2.0));
+  }
+  EXPECT_NEAR(rate(dofs, err), -1.0, 0.15);
+}
+
+struct Convergence {
+  std::vector<double> dofs, l2, h1, eta_residual, eta_zz;
+};
+
+Convergence uniform_convergence(const Problem& problem, int from, int to) {
+  Convergence c;
+  for (int level = from; level <= to; ++level) {
+    const SurfaceMesh mesh = sphere(level);
+    const Solution s = solve(mesh, problem);
+    const ErrorNorms e = error_norms(mesh, s.u, *problem.exact, s.zero_mean);
+    c.dofs.push_back(static_cast<double>(mesh.num_dofs()));
+    c.l2.push_back(e.l2);
+    c.h1.push_back(e.h1);
+    c.eta_residual.push_back(residual_estimator(mesh, problem, s.u).total);
+    c.eta_zz.push_back(zz_estimator(mesh, s.u).total);
+  }
+  return c;
+}
+
+void expect_rates_and_effectivity(const Convergence& c, const std::string& what) {
+  const std::size_t n = c.dofs.size();
+  // Asymptotic rates from the last three meshes: L2 ~ h² ~ N^-1, H1 ~ h ~ N^-1/2.
+  const std::vector<double> d(c.dofs.end() - 3, c.dofs.end());
+  EXPECT_NEAR(rate(d, {c.l2.end() - 3, c.l2.end()}), -1.0, 0.15) << what;
+  EXPECT_NEAR(rate(d, {c.h1.end() - 3, c.h1.end()}), -0.5, 0.15) << what;
+  // Effectivity indices η / ‖∇(u - u_h)‖ stay in a fixed band (a factor 1.5 from first to
+  // last) over the refinements.
+  for (const auto* eta : {&c.eta_residual, &c.eta_zz}) {
+    double lo = 1e300, hi = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double eff = (*eta)[i] / c.h1[i];
+      lo = std::min(lo, eff);
+      hi = std::max(hi, eff);
+    }
+    EXPECT_GT(lo, 0.1) << what;
+    EXPECT_LT(hi / lo, 1.5) << what << (eta == &c.eta_zz ? " (ZZ)" : " (residual)");
+  }
+}
+
+TEST(Fem, SphereHarmonicConvergesAtTheTheoreticalRates) {
+  const Convergence c = uniform_convergence(sphere_harmonic(), 2, 6);
+  expect_rates_and_effectivity(c, "sphere-harmonic");
+}
+
+TEST(Fem, SpherePeakConvergesAtTheTheoreticalRates) {
+  const Convergence c = uniform_convergence(sphere_peak(), 3, 7);
+  expect_rates_and_effectivity(c, "sphere-peak");
+}
+
+TEST(Fem, EverySolverGivesTheSameSolution) {
+  const SurfaceMesh mesh = sphere(4);
+  for (const Problem& p : {sphere_harmonic(), sphere_peak()}) {
+    SolveOptions o;
+    o.solver = SolverKind::ldlt;
+    const Solution ref = solve(mesh, p, o);
+    std::vector<SolverKind> others = {SolverKind::cg_ichol};
+    if (cholmod_available()) others.push_back(SolverKind::cholmod);
+    for (SolverKind k : others) {
+      o.solver = k;
+      const Solution s = solve(mesh, p, o);
+      EXPECT_EQ(s.solver, k);
+      EXPECT_LT((s.u - ref.u).cwiseAbs().maxCoeff(), 1e-7 * ref.u.cwiseAbs().maxCoeff()) << p.name << " " << to_string(k);
+    }
+  }
+}
+
+TEST(Fem, DirichletProblemOnAnOpenSurfaceIsExactForLinearFunctions) {
+  // On a flat disk, u = 1 + 2x - y is harmonic: with that Dirichlet data and f = 0, P1
+  // reproduces it exactly, on any mesh; the estimators then vanish.
+  RgbMesh m = testing::fan_disk(7).build();
+  selective_refinement(m, UniformLevel(3));
+  // A flat disk: project onto the plane z = 0.
+  const SurfaceMesh mesh = build_surface_mesh(m, Projection([](const Vec3& p) { return Vec3(p.x, p.y, 0); }));
+  Problem p;
+  p.dirichlet = [](const Vec3& x) { return 1 + 2 * x.x - x.y; };
+  p.exact = ExactSolution{p.dirichlet, [](const Vec3&) { return Vec3(2, -1, 0); }};
+  const Solution s = solve(mesh, p);
+  const ErrorNorms e = error_norms(mesh, s.u, *p.exact);
+  EXPECT_LT(e.l2, 1e-12);
+  EXPECT_LT(e.h1, 1e-11);
+  EXPECT_LT(residual_estimator(mesh, p, s.u).total, 1e-10);
+  // With a Neumann part carrying the exact flux (on y < 0), the same solution.
+  p.is_neumann = [](const Vec3& x) { return x.y < 0; };
+  p.neumann_flux = [](const Vec3& x) {
+    const double r = std::hypot(x.x, x.y);  // the outward normal of the polygon is close to x/r
+    return (2 * x.x - x.y) / r;
+  };
+  const Solution s2 = solve(mesh, p);
+  EXPECT_LT(error_norms(mesh, s2.u, *p.exact).h1, 0.05);  // the polygon's normals are not x/r
+}
+
+TEST(Fem, LoopSurfaceConservesTheSource) {
+  // On a closed surface, ∫(-Δu_h) = 0, so c ∫u_h = ∫f exactly for the discrete solution.
+  RgbMesh m = testing::torus(6, 5).build();
+  selective_refinement(m, UniformLevel(2));
+  const SurfaceMesh mesh = build_surface_mesh(m);  // the vertices on the Loop limit surface
+  const Problem p = gaussian_source(mesh.points[0], 0.5);
+  const Solution s = solve(mesh, p);
+  const System sys = assemble(mesh, p);
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(static_cast<Eigen::Index>(mesh.num_dofs()));
+  EXPECT_NEAR(p.c * ones.dot(sys.mass * s.u), sys.load.sum(), 1e-12 * sys.load.sum());
+  EXPECT_GT(s.u.maxCoeff(), 0.0);
+}
+
+TEST(Fem, BadProblemsGiveClearErrors) {
+  const SurfaceMesh mesh = sphere(2);
+  Problem p;
+  p.source = [](const Vec3&) { return 1.0; };  // c = 0 on a closed surface: no solution
+  try {
+    solve(mesh, p);
+    FAIL() << "a source of non-zero mean was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("zero mean"), std::string::npos) << e.what();
+  }
+  p.c = -1;
+  EXPECT_THROW(solve(mesh, p), InputError);
+  p.c = 1;
+  p.source = [](const Vec3& x) { return x.x > 0 ? std::nan("") : 1.0; };
+  EXPECT_THROW(solve(mesh, p), InputError);
+
+  // Two parts, one with a Dirichlet boundary and one closed, c = 0: singular.
+  testing::BaseMesh two = testing::fan_disk(5);
+  const testing::BaseMesh tet = testing::tetrahedron();
+  const auto offset = static_cast<std::int32_t>(two.points.size());
+  for (const auto& q : tet.points) two.points.push_back(q + Vec3(5, 0, 0));
+  for (const auto& t : tet.triangles) two.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  RgbMesh m = two.build();
+  selective_refinement(m, UniformLevel(1));
+  const SurfaceMesh both = build_surface_mesh(m);
+  Problem q;
+  q.source = [](const Vec3&) { return 1.0; };
+  for (SolverKind k : {SolverKind::ldlt, SolverKind::cg_ichol}) {
+    SolveOptions o;
+    o.solver = k;
+    try {
+      solve(both, q, o);
+      FAIL() << "a singular system was solved by " << to_string(k);
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("singular"), std::string::npos) << e.what();
+    }
+  }
+
+  // A projection that flattens the sphere onto a line makes every triangle degenerate.
+  RgbMesh ico = testing::icosahedron().build();
+  try {
+    build_surface_mesh(ico, Projection([](const Vec3& x) { return Vec3(x.x, 0, 0); }));
+    FAIL() << "degenerate triangles were accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("degenerate"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace rgbmesh::fem
