@@ -19,6 +19,8 @@ struct System {
   Eigen::VectorXd load;
 };
 System assemble(const SurfaceMesh& mesh, const Problem& problem);
+// Only the load vector.
+Eigen::VectorXd load_vector(const SurfaceMesh& mesh, const Problem& problem);
 
 enum class SolverKind {
   automatic,        // by size: sparse LDLT, CHOLMOD above 20,000 DOFs, CG beyond 200,000 without it
