@@ -21,7 +21,7 @@
 #include <iostream>
 #include <map>
 
-#include "default_problem.hpp"
+#include "adapt_command.hpp"
 #include "json.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/soup.hpp"
@@ -181,7 +181,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(0, 1);
   app.set_version_flag("--version", "rgbmesh 0.1.0");
   std::string default_out = "out";
-  app.add_option("--out", default_out, "Output directory of the default job")->capture_default_str();
+  app.add_option("--out", default_out, "Output directory of the default job (rgbmesh adapt with its defaults)")
+      ->capture_default_str();
 
   // info
   auto* info = app.add_subcommand("info",
@@ -252,6 +253,35 @@ int main(int argc, char** argv) {
   refine->add_flag("--limit", refine_limit,
                    "Write the vertices at their Loop limit positions instead of their control points");
 
+  // adapt
+  auto* adapt_cmd = app.add_subcommand(
+      "adapt",
+      "Error-driven adaptive finite elements: solve, estimate, mark, refine and coarsen, repeat.\n"
+      "Writes one .vtp per cycle (or time step) and a .pvd series for ParaView into --out.");
+  AdaptArgs adapt_args;
+  adapt_cmd->add_option("--mesh", adapt_args.mesh, "Base mesh (default: an embedded icosahedron)");
+  adapt_cmd->add_option("--problem", adapt_args.problem, "sphere-harmonic, sphere-peak, moving-peak or gaussian")
+      ->capture_default_str();
+  adapt_cmd->add_option("--strategy", adapt_args.strategy, "adaptive or uniform")->capture_default_str();
+  adapt_cmd->add_option("--marking", adapt_args.marking, "dorfler (bulk) or fraction (fixed fraction)")
+      ->capture_default_str();
+  adapt_cmd->add_option("--theta", adapt_args.theta, "Marking parameter")->capture_default_str();
+  adapt_cmd->add_option("--estimator", adapt_args.estimator, "residual or zz")->capture_default_str();
+  adapt_cmd->add_option("--coarsen", adapt_args.coarsen,
+                        "Remove vertices whose star indicator is below this times the mean "
+                        "(default: 0.25 for moving-peak, else 0)");
+  adapt_cmd->add_option("--cycles", adapt_args.cycles, "Maximum number of cycles")->capture_default_str();
+  adapt_cmd->add_option("--steps", adapt_args.steps, "Time steps of moving-peak")->capture_default_str();
+  adapt_cmd->add_option("--target-error", adapt_args.target_error, "Stop once the estimate is at most this")
+      ->capture_default_str();
+  adapt_cmd->add_option("--max-dofs", adapt_args.max_dofs, "Stop once the mesh has more vertices")
+      ->capture_default_str();
+  adapt_cmd->add_option("--geometry", adapt_args.geometry,
+                        "loop (vertices on the limit surface) or sphere (projected; default for the sphere problems)");
+  adapt_cmd->add_option("--solver", adapt_args.solver, "auto, ldlt, cg or cholmod")->capture_default_str();
+  adapt_cmd->add_option("--out", adapt_args.out, "Output directory")->capture_default_str();
+  adapt_cmd->add_option("--report", adapt_args.report, "Write a JSON report of the cycles to this file");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -295,7 +325,11 @@ int main(int argc, char** argv) {
       if (refine_stats) std::cout << stats_json(mesh, totals, read_s, write_s) << "\n";
       return 0;
     }
-    return run_default_job(default_out);
+    if (adapt_cmd->parsed()) return run_adapt(adapt_args);
+    // The main job: rgbmesh adapt with its defaults.
+    AdaptArgs defaults;
+    defaults.out = default_out;
+    return run_adapt(defaults);
   } catch (const InputError& e) {
     std::cerr << "rgbmesh: error: " << e.what() << "\n";
     return 2;

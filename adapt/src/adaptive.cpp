@@ -1,0 +1,217 @@
+#include "rgbmesh/adapt/adaptive.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+#include "rgbmesh/refinement.hpp"
+
+namespace rgbmesh::adapt {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// The finite-element solution follows the mesh: a new vertex takes the mean of the ends of
+// the edge it split (linear interpolation, exact for P1 on that edge); removed vertices drop
+// their values. The values seed the next solve (an initial guess for CG).
+class SolutionTransfer {
+ public:
+  explicit SolutionTransfer(RgbMesh& mesh) : mesh_(mesh) {
+    id_ = mesh_.add_insertion_observer([this](VertexHandle v, VertexHandle a, VertexHandle b) {
+      grow();
+      values_[v.idx] = 0.5 * (values_[a.idx] + values_[b.idx]);
+    });
+  }
+  ~SolutionTransfer() { mesh_.remove_observer(id_); }
+  SolutionTransfer(const SolutionTransfer&) = delete;
+  SolutionTransfer& operator=(const SolutionTransfer&) = delete;
+
+  void store(const fem::SurfaceMesh& fe, const Eigen::VectorXd& u) {
+    grow();
+    for (std::size_t i = 0; i < fe.num_dofs(); ++i) values_[fe.vertex[i].idx] = u[static_cast<Eigen::Index>(i)];
+    has_values_ = true;
+  }
+  // The carried values in the DOF order of a new FE mesh; empty before the first store().
+  Eigen::VectorXd on(const fem::SurfaceMesh& fe) const {
+    if (!has_values_) return {};
+    Eigen::VectorXd u(static_cast<Eigen::Index>(fe.num_dofs()));
+    for (std::size_t i = 0; i < fe.num_dofs(); ++i) u[static_cast<Eigen::Index>(i)] = values_[fe.vertex[i].idx];
+    return u;
+  }
+
+ private:
+  void grow() {
+    if (values_.size() < static_cast<std::size_t>(mesh_.vertex_slots()))
+      values_.resize(static_cast<std::size_t>(mesh_.vertex_slots()), 0.0);
+  }
+  RgbMesh& mesh_;
+  int id_ = 0;
+  std::vector<double> values_;
+  bool has_values_ = false;
+};
+
+struct SolvedCycle {
+  fem::SurfaceMesh fe;
+  fem::Solution solution;
+  fem::Estimate estimate;
+  CycleReport report;
+};
+
+SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
+                               const SolutionTransfer& transfer) {
+  SolvedCycle c;
+  c.fe = fem::build_surface_mesh(mesh, options.projection);
+  fem::SolveOptions so = options.solve;
+  const Eigen::VectorXd guess = transfer.on(c.fe);
+  if (guess.size() > 0) so.initial_guess = &guess;
+  c.solution = fem::solve(c.fe, problem, so);
+  const auto t0 = std::chrono::steady_clock::now();
+  c.estimate = options.estimator == EstimatorKind::residual ? fem::residual_estimator(c.fe, problem, c.solution.u)
+                                                            : fem::zz_estimator(c.fe, c.solution.u);
+  c.report.estimate_seconds = seconds_since(t0);
+  c.report.triangles = c.fe.triangles.size();
+  c.report.dofs = c.fe.num_dofs();
+  c.report.estimate = c.estimate.total;
+  c.report.solve_seconds = c.solution.assembly_seconds + c.solution.solve_seconds;
+  c.report.solver = fem::to_string(c.solution.solver);
+  if (problem.exact) {
+    const fem::ErrorNorms e = fem::error_norms(c.fe, c.solution.u, *problem.exact, c.solution.zero_mean);
+    c.report.error_l2 = e.l2;
+    c.report.error_h1 = e.h1;
+  }
+  return c;
+}
+
+// Marks, then refines and coarsens the mesh through the queues; returns the marks per FE
+// triangle and counts the operations in the report.
+std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOptions& options, CycleReport& report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<char> marked(c.fe.triangles.size(), 0);
+  RefinementOptions ro;
+  ro.max_level = options.max_level;
+  RefinementResult r;
+  if (options.strategy == Strategy::uniform) {
+    std::fill(marked.begin(), marked.end(), 1);
+    r = selective_refinement(mesh, UniformLevel(std::min(mesh.max_level() + 1, options.max_level)), ro);
+  } else {
+    marked = mark(c.estimate.eta, options.marking, options.theta);
+    std::vector<double> triangle_values(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
+    for (std::size_t i = 0; i < marked.size(); ++i) {
+      if (marked[i]) triangle_values[c.fe.triangle[i].idx] = 1.0;
+    }
+    std::vector<double> vertex_values;
+    double threshold = 0;
+    if (options.coarsen_below > 0) {
+      std::vector<double> star(c.fe.num_dofs(), 0.0);
+      for (std::size_t i = 0; i < c.fe.triangles.size(); ++i) {
+        const double e2 = c.estimate.eta[i] * c.estimate.eta[i];
+        for (std::int32_t v : c.fe.triangles[i]) star[v] += e2;
+      }
+      vertex_values.assign(static_cast<std::size_t>(mesh.vertex_slots()), 1e300);
+      double mean = 0;
+      for (std::size_t v = 0; v < star.size(); ++v) {
+        star[v] = std::sqrt(star[v]);
+        mean += star[v];
+        vertex_values[c.fe.vertex[v].idx] = star[v];
+      }
+      mean /= static_cast<double>(std::max<std::size_t>(1, star.size()));
+      threshold = options.coarsen_below * mean;
+    }
+    r = selective_refinement(mesh, FieldCriterion(std::move(triangle_values), 0.5, std::move(vertex_values), threshold),
+                             ro);
+  }
+  report.marked = static_cast<std::size_t>(std::count(marked.begin(), marked.end(), 1));
+  report.splits += r.splits;
+  report.removals += r.removals;
+  report.adapt_seconds += seconds_since(t0);
+  return marked;
+}
+
+}  // namespace
+
+std::vector<char> mark(const std::vector<double>& eta, Marking marking, double theta) {
+  std::vector<char> marked(eta.size(), 0);
+  if (eta.empty()) return marked;
+  std::vector<std::size_t> order(eta.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&eta](std::size_t a, std::size_t b) { return eta[a] > eta[b]; });
+  if (marking == Marking::fixed_fraction) {
+    const auto n = static_cast<std::size_t>(std::ceil(theta * static_cast<double>(eta.size())));
+    for (std::size_t k = 0; k < std::min(n, eta.size()); ++k) marked[order[k]] = 1;
+    return marked;
+  }
+  double total = 0;
+  for (double e : eta) total += e * e;
+  double sum = 0;
+  for (std::size_t k = 0; k < order.size() && sum < theta * total; ++k) {
+    marked[order[k]] = 1;
+    sum += eta[order[k]] * eta[order[k]];
+  }
+  return marked;
+}
+
+std::vector<CycleReport> run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
+                                    const CycleCallback& on_cycle) {
+  SolutionTransfer transfer(mesh);
+  std::vector<CycleReport> reports;
+  for (int cycle = 0; cycle < options.max_cycles; ++cycle) {
+    const auto t0 = std::chrono::steady_clock::now();
+    SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer);
+    c.report.cycle = cycle;
+    const bool last = cycle + 1 == options.max_cycles || c.estimate.total <= options.target_estimate;
+    std::vector<char> marked(c.fe.triangles.size(), 0);
+    if (!last) {
+      transfer.store(c.fe, c.solution.u);
+      marked = adapt_mesh(mesh, c, options, c.report);
+    }
+    c.report.seconds = seconds_since(t0);
+    reports.push_back(c.report);
+    if (on_cycle) on_cycle({reports.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked});
+    if (last || mesh.num_vertices() > options.max_dofs) break;
+  }
+  return reports;
+}
+
+std::vector<CycleReport> run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& problem_at, int steps,
+                                     int cycles_per_step, const AdaptOptions& options, const CycleCallback& on_step) {
+  SolutionTransfer transfer(mesh);
+  std::vector<CycleReport> reports;
+  for (int step = 0; step <= steps; ++step) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const double t = steps > 0 ? static_cast<double>(step) / steps : 0.0;
+    const fem::Problem problem = problem_at(t);
+    CycleReport adapted;
+    // Adapt to the feature where it is now: refine there, coarsen where it was.
+    for (int k = 0; k < cycles_per_step; ++k) {
+      SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer);
+      transfer.store(c.fe, c.solution.u);
+      adapt_mesh(mesh, c, options, adapted);
+    }
+    SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer);
+    transfer.store(c.fe, c.solution.u);
+    c.report.cycle = step;
+    c.report.time = t;
+    c.report.splits = adapted.splits;
+    c.report.removals = adapted.removals;
+    c.report.adapt_seconds = adapted.adapt_seconds;
+    c.report.seconds = seconds_since(t0);
+    reports.push_back(c.report);
+    const std::vector<char> marked = mark(c.estimate.eta, options.marking, options.theta);
+    if (on_step) on_step({reports.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked});
+  }
+  return reports;
+}
+
+fem::Problem moving_peak(double t, double kappa) {
+  const double pi = 3.14159265358979323846, phi = 0.5 * pi * t;
+  const Vec3 a(0.6, 0.0, 0.8), b(0.0, 1.0, 0.0);  // orthonormal: the great circle's plane
+  fem::Problem p = fem::sphere_peak(std::cos(phi) * a + std::sin(phi) * b, kappa, 1.0);
+  p.name = "moving-peak";
+  return p;
+}
+
+}  // namespace rgbmesh::adapt
