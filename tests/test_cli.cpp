@@ -8,11 +8,13 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <map>
 #include <sstream>
 #include <array>
 #include <cstdint>
 #include <vector>
 
+#include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
@@ -100,12 +102,70 @@ class Cli : public ::testing::Test {
 TEST_F(Cli, DefaultJobWritesItsOutputs) {
   const RunResult r = run("--out " + path("out"));
   ASSERT_EQ(r.code, 0) << r.err;
-  for (const char* f : {"star_base.vtp", "star_refined.vtp"}) {
-    ASSERT_TRUE(fs::exists(path("out") + "/" + f)) << f;
-    const auto mesh = rgbmesh::read_mesh(path("out") + "/" + f);
-    EXPECT_GT(mesh.triangles.size(), 0u);
+  EXPECT_TRUE(fs::exists(path("out") + "/solution.pvd"));
+  EXPECT_TRUE(fs::exists(path("out") + "/cycle_000.vtp"));
+  EXPECT_NE(r.out.find("sphere-peak"), std::string::npos) << r.out;
+}
+
+// The arrays of a VTP file, read with VTK's own reader: name -> components, per point / cell.
+struct VtpArrays {
+  vtkIdType points = 0, cells = 0;
+  std::map<std::string, int> point_arrays, cell_arrays;
+};
+VtpArrays read_vtp_arrays(const std::string& file) {
+  auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkPolyData* pd = reader->GetOutput();
+  VtpArrays out;
+  out.points = pd->GetNumberOfPoints();
+  out.cells = pd->GetNumberOfCells();
+  for (int i = 0; i < pd->GetPointData()->GetNumberOfArrays(); ++i)
+    out.point_arrays[pd->GetPointData()->GetArrayName(i)] = pd->GetPointData()->GetArray(i)->GetNumberOfComponents();
+  for (int i = 0; i < pd->GetCellData()->GetNumberOfArrays(); ++i)
+    out.cell_arrays[pd->GetCellData()->GetArrayName(i)] = pd->GetCellData()->GetArray(i)->GetNumberOfComponents();
+  return out;
+}
+
+TEST_F(Cli, AdaptWritesCyclesSeriesAndReport) {
+  const RunResult r = run("adapt --problem sphere-peak --cycles 4 --out " + path("a") + " --report " + path("a/r.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (int c = 0; c < 4; ++c) {
+    const std::string file = path("a") + "/cycle_00" + std::to_string(c) + ".vtp";
+    VtpArrays a = read_vtp_arrays(file);
+    EXPECT_GT(a.points, 0) << file;
+    for (const char* name : {"solution", "exact_solution", "error", "level"}) EXPECT_EQ(a.point_arrays[name], 1) << name;
+    for (const char* name : {"error_indicator", "marked", "level", "color"}) EXPECT_EQ(a.cell_arrays[name], 1) << name;
   }
-  EXPECT_NE(r.out.find("levels 0..6"), std::string::npos) << r.out;
+  std::ifstream pvd(path("a") + "/solution.pvd");
+  std::stringstream ps;
+  ps << pvd.rdbuf();
+  EXPECT_NE(ps.str().find("cycle_003.vtp"), std::string::npos) << ps.str();
+  std::ifstream report(path("a/r.json"));
+  std::stringstream rs;
+  rs << report.rdbuf();
+  const std::string json = rs.str();
+  for (const char* key : {"\"problem\": \"sphere-peak\"", "\"strategy\": \"adaptive\"", "\"cycles\": [", "\"error_h1\"",
+                          "\"estimate\"", "\"dofs\"", "\"seconds\""})
+    EXPECT_NE(json.find(key), std::string::npos) << key << " in " << json;
+  // A problem without exact solution has no error fields.
+  const RunResult g = run("adapt --mesh " + write_octahedron("octa.off") + " --problem gaussian --cycles 2 --out " +
+                          path("g") + " --report " + path("g/r.json"));
+  ASSERT_EQ(g.code, 0) << g.err;
+  std::ifstream greport(path("g/r.json"));
+  std::stringstream gs;
+  gs << greport.rdbuf();
+  EXPECT_EQ(gs.str().find("error_h1"), std::string::npos) << gs.str();
+  EXPECT_EQ(read_vtp_arrays(path("g") + "/cycle_001.vtp").point_arrays.count("exact_solution"), 0u);
+}
+
+TEST_F(Cli, AdaptRejectsBadArguments) {
+  for (const char* args : {"--problem nope", "--strategy sometimes", "--theta 2", "--solver magic", "--geometry flat",
+                           "--cycles 0"}) {
+    const RunResult r = run(std::string("adapt --out ") + path("x") + " " + args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("error"), std::string::npos) << args;
+  }
 }
 
 // Points and a 3-component point array of a VTP file, read with VTK's own reader.
@@ -293,7 +353,7 @@ TEST_F(Cli, InvalidMeshesAreRejectedWithTheElement) {
 }
 
 TEST_F(Cli, EverySubcommandHasHelp) {
-  for (const std::string sub : {"", "info", "convert", "refine"}) {
+  for (const std::string sub : {"", "info", "convert", "refine", "adapt"}) {
     const RunResult r = run(sub + " --help");
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
