@@ -17,44 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The cycle's mesh as ParaView sees it: the finite-element geometry (limit or projected
-// positions) with the solution, the exact solution and the error where known, and per
-// triangle the indicator, level, color and marks.
-MeshSnapshot cycle_snapshot(const adapt::CycleState& s) {
-  MeshSnapshot out;
-  const std::size_t n = s.fe.num_dofs();
-  out.points = s.fe.points;
-  out.triangles = s.fe.triangles;
-  out.vertex_handle = s.fe.vertex;
-  out.triangle_handle = s.fe.triangle;
-  NamedArray u{"solution", 1, {}}, exact{"exact_solution", 1, {}}, error{"error", 1, {}};
-  for (std::size_t i = 0; i < n; ++i) {
-    out.vertex_level.push_back(static_cast<std::uint8_t>(s.mesh.level(s.fe.vertex[i])));
-    const double uh = s.u[static_cast<Eigen::Index>(i)];
-    u.values.push_back(uh);
-    if (s.problem.exact) {
-      const double ue = s.problem.exact->value(s.fe.lift(s.fe.points[i]));
-      exact.values.push_back(ue);
-      error.values.push_back(ue - uh);
-    }
-  }
-  out.point_data.push_back(std::move(u));
-  if (s.problem.exact) {
-    out.point_data.push_back(std::move(exact));
-    out.point_data.push_back(std::move(error));
-  }
-  NamedArray eta{"error_indicator", 1, {}}, marked{"marked", 1, {}};
-  for (std::size_t i = 0; i < s.fe.triangles.size(); ++i) {
-    out.triangle_level.push_back(static_cast<std::uint8_t>(s.mesh.level(s.fe.triangle[i])));
-    out.triangle_color.push_back(s.mesh.color(s.fe.triangle[i]));
-    eta.values.push_back(s.estimate.eta[i]);
-    marked.values.push_back(s.marked[i] ? 1.0 : 0.0);
-  }
-  out.cell_data.push_back(std::move(eta));
-  out.cell_data.push_back(std::move(marked));
-  return out;
-}
-
 std::string cycles_json(const std::vector<adapt::CycleReport>& reports, bool dynamic) {
   std::string out = "[";
   for (std::size_t i = 0; i < reports.size(); ++i) {
@@ -143,7 +105,7 @@ int run_adapt(const AdaptArgs& a) {
   auto on_cycle = [&](const adapt::CycleState& s) {
     const auto& r = s.report;
     const std::string file = (moving ? "step_" : "cycle_") + number(r.cycle, "%03.0f") + ".vtp";
-    write_mesh(dir / file, cycle_snapshot(s));
+    write_mesh(dir / file, adapt::snapshot(s));
     series.emplace_back(moving ? r.time : r.cycle, file);
     write_pvd(dir / "solution.pvd", series);  // after every cycle: usable while running
     if (!a.quiet) {
@@ -160,7 +122,11 @@ int run_adapt(const AdaptArgs& a) {
     adapt::AdaptOptions start = o;
     start.coarsen_below = 0;
     start.max_cycles = 8;
-    adapt::run_cycles(mesh, adapt::moving_peak(0.0), start);
+    start.max_dofs = std::min<std::size_t>(o.max_dofs, 20000);
+    const auto started = adapt::run_cycles(mesh, adapt::moving_peak(0.0), start);
+    // Equidistribution towards the error reached there keeps the size steady.
+    o.marking = adapt::Marking::equidistribution;
+    o.target_estimate = started.back().estimate;
     reports = adapt::run_dynamic(
         mesh, [](double t) { return adapt::moving_peak(t); }, a.steps, 2, o, on_cycle);
   } else {

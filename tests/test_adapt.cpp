@@ -75,9 +75,11 @@ TEST(Adapt, MeshFollowsAMovingPeakAtASteadySize) {
   RgbMesh mesh = icosphere();
   AdaptOptions start = sphere_options(Strategy::adaptive);
   start.max_cycles = 10;
-  run_cycles(mesh, moving_peak(0), start);
+  const auto started = run_cycles(mesh, moving_peak(0), start);
   AdaptOptions o = sphere_options(Strategy::adaptive);
   o.coarsen_below = 0.25;
+  o.marking = Marking::equidistribution;
+  o.target_estimate = started.back().estimate;
   int invalid = 0;
   const auto steps = run_dynamic(
       mesh, [](double t) { return moving_peak(t); }, 12, 2, o,

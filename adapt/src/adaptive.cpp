@@ -98,7 +98,7 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
     std::fill(marked.begin(), marked.end(), 1);
     r = selective_refinement(mesh, UniformLevel(std::min(mesh.max_level() + 1, options.max_level)), ro);
   } else {
-    marked = mark(c.estimate.eta, options.marking, options.theta);
+    marked = mark(c.estimate.eta, options.marking, options.theta, options.target_estimate);
     std::vector<double> triangle_values(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
     for (std::size_t i = 0; i < marked.size(); ++i) {
       if (marked[i]) triangle_values[c.fe.triangle[i].idx] = 1.0;
@@ -133,9 +133,14 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
 
 }  // namespace
 
-std::vector<char> mark(const std::vector<double>& eta, Marking marking, double theta) {
+std::vector<char> mark(const std::vector<double>& eta, Marking marking, double theta, double target) {
   std::vector<char> marked(eta.size(), 0);
   if (eta.empty()) return marked;
+  if (marking == Marking::equidistribution) {
+    const double limit = target / std::sqrt(static_cast<double>(eta.size()));
+    for (std::size_t i = 0; i < eta.size(); ++i) marked[i] = eta[i] > limit ? 1 : 0;
+    return marked;
+  }
   std::vector<std::size_t> order(eta.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&eta](std::size_t a, std::size_t b) { return eta[a] > eta[b]; });
@@ -200,10 +205,45 @@ std::vector<CycleReport> run_dynamic(RgbMesh& mesh, const std::function<fem::Pro
     c.report.adapt_seconds = adapted.adapt_seconds;
     c.report.seconds = seconds_since(t0);
     reports.push_back(c.report);
-    const std::vector<char> marked = mark(c.estimate.eta, options.marking, options.theta);
+    const std::vector<char> marked = mark(c.estimate.eta, options.marking, options.theta, options.target_estimate);
     if (on_step) on_step({reports.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked});
   }
   return reports;
+}
+
+MeshSnapshot snapshot(const CycleState& s) {
+  MeshSnapshot out;
+  const std::size_t n = s.fe.num_dofs();
+  out.points = s.fe.points;
+  out.triangles = s.fe.triangles;
+  out.vertex_handle = s.fe.vertex;
+  out.triangle_handle = s.fe.triangle;
+  NamedArray u{"solution", 1, {}}, exact{"exact_solution", 1, {}}, error{"error", 1, {}};
+  for (std::size_t i = 0; i < n; ++i) {
+    out.vertex_level.push_back(static_cast<std::uint8_t>(s.mesh.level(s.fe.vertex[i])));
+    const double uh = s.u[static_cast<Eigen::Index>(i)];
+    u.values.push_back(uh);
+    if (s.problem.exact) {
+      const double ue = s.problem.exact->value(s.fe.lift(s.fe.points[i]));
+      exact.values.push_back(ue);
+      error.values.push_back(ue - uh);
+    }
+  }
+  out.point_data.push_back(std::move(u));
+  if (s.problem.exact) {
+    out.point_data.push_back(std::move(exact));
+    out.point_data.push_back(std::move(error));
+  }
+  NamedArray eta{"error_indicator", 1, {}}, marked{"marked", 1, {}};
+  for (std::size_t i = 0; i < s.fe.triangles.size(); ++i) {
+    out.triangle_level.push_back(static_cast<std::uint8_t>(s.mesh.level(s.fe.triangle[i])));
+    out.triangle_color.push_back(s.mesh.color(s.fe.triangle[i]));
+    eta.values.push_back(s.estimate.eta[i]);
+    marked.values.push_back(s.marked[i] ? 1.0 : 0.0);
+  }
+  out.cell_data.push_back(std::move(eta));
+  out.cell_data.push_back(std::move(marked));
+  return out;
 }
 
 fem::Problem moving_peak(double t, double kappa) {

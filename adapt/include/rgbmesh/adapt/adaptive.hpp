@@ -18,6 +18,9 @@ enum class Strategy { adaptive, uniform };
 enum class Marking {
   dorfler,         // the fewest triangles carrying a fraction θ of Σ η_T² (bulk chasing)
   fixed_fraction,  // the fraction θ of the triangles with the largest η_T
+  // every triangle with η_T > target_estimate / sqrt(number of triangles): equidistribution
+  // towards a fixed total, which keeps the mesh at a steady size for moving features
+  equidistribution,
 };
 enum class EstimatorKind { residual, zz };
 
@@ -73,7 +76,9 @@ std::vector<CycleReport> run_cycles(RgbMesh& mesh, const fem::Problem& problem, 
 
 // A moving source: problem_at(t) gives the problem at time t. Each of the `steps` time steps
 // t = 0, 1/steps, ... solves and adapts `cycles_per_step` times (refining where the feature
-// is and coarsening where it was), and reports its last cycle.
+// is and coarsening where it was), and reports its last cycle. With Dörfler or fixed-fraction
+// marking the mesh keeps growing; equidistribution towards a fixed target (for instance the
+// estimate reached by run_cycles on the first position) keeps its size steady.
 std::vector<CycleReport> run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& problem_at, int steps,
                                      int cycles_per_step, const AdaptOptions& options, const CycleCallback& on_step = {});
 
@@ -81,7 +86,12 @@ std::vector<CycleReport> run_dynamic(RgbMesh& mesh, const std::function<fem::Pro
 // 0 to 1, with c = 1 (the moving-peak problem).
 fem::Problem moving_peak(double t, double kappa = 100.0);
 
-// Marks triangles (per FE triangle) by the chosen strategy.
-std::vector<char> mark(const std::vector<double>& eta, Marking marking, double theta);
+// The cycle's mesh for output: the finite-element geometry (limit or projected positions)
+// with point data "solution", and "exact_solution" and "error" where the exact solution is
+// known, plus the insertion level; cell data "error_indicator", "marked", "level", "color".
+MeshSnapshot snapshot(const CycleState& state);
+
+// Marks triangles (per FE triangle) by the chosen strategy (target: for equidistribution).
+std::vector<char> mark(const std::vector<double>& eta, Marking marking, double theta, double target = 0);
 
 }  // namespace rgbmesh::adapt
