@@ -1,6 +1,7 @@
 // Finite-element assembly and solve time per degree of freedom, 10^4 to 10^6 DOFs, for each
 // solver: -Δu + u = f (the sphere-peak problem) on the unit sphere, from an octahedron
-// refined uniformly (levels 6 to 9: 16,386 to 1,048,578 DOFs).
+// refined uniformly (levels 6 to 9: 16,386 to 1,048,578 DOFs); and the cost of the whole
+// adaptive cycle, with the share of mesh adaptation, up to 10^5 DOFs.
 //
 //   build/bin/bench_fem        (scripts/run-bench.sh runs it too)
 
@@ -9,7 +10,9 @@
 #include <map>
 #include <memory>
 
+#include "rgbmesh/adapt/adaptive.hpp"
 #include "rgbmesh/fem/solver.hpp"
+#include "rgbmesh/shapes.hpp"
 #include "rgbmesh/refinement.hpp"
 
 namespace {
@@ -67,6 +70,30 @@ void Sizes(benchmark::internal::Benchmark* b) {
   }
 }
 BENCHMARK(BM_AssembleAndSolve)->Apply(Sizes)->Unit(benchmark::kSecond)->Iterations(1);
+
+// The whole adaptive cycle (mesh update + solve + estimate) for sphere-peak, run until the
+// mesh reaches about N unknowns: the last cycle's cost per unknown, and the share of it spent
+// adapting the mesh (marking, refining and coarsening through the queues, transfer).
+void BM_AdaptiveCycle(benchmark::State& state) {
+  const auto target = static_cast<std::size_t>(state.range(0));
+  adapt::CycleReport last;
+  for (auto _ : state) {
+    const TriangleMeshData ico = icosahedron();
+    RgbMesh mesh = RgbMesh::from_triangles(ico.points, ico.triangles);
+    adapt::AdaptOptions o;
+    o.projection = Projection(project_to_unit_sphere);
+    o.max_cycles = 60;
+    o.max_dofs = target;
+    const auto reports = adapt::run_cycles(mesh, sphere_peak(), o);
+    last = reports.back();  // it solved, estimated and adapted (to the mesh past the target)
+  }
+  state.counters["dofs"] = static_cast<double>(last.dofs);
+  state.counters["cycle_s"] = last.seconds;
+  state.counters["us_per_dof"] = 1e6 * last.seconds / static_cast<double>(last.dofs);
+  state.counters["adapt_share"] = last.adapt_seconds / last.seconds;
+  state.counters["solve_share"] = last.solve_seconds / last.seconds;
+}
+BENCHMARK(BM_AdaptiveCycle)->Arg(10000)->Arg(30000)->Arg(100000)->Unit(benchmark::kSecond)->Iterations(1);
 
 }  // namespace
 
