@@ -22,6 +22,7 @@
 #include <map>
 
 #include "adapt_command.hpp"
+#include "fit_command.hpp"
 #include "json.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/soup.hpp"
@@ -282,6 +283,24 @@ int main(int argc, char** argv) {
   adapt_cmd->add_option("--out", adapt_args.out, "Output directory")->capture_default_str();
   adapt_cmd->add_option("--report", adapt_args.report, "Write a JSON report of the cycles to this file");
 
+  // fit
+  auto* fit_cmd = app.add_subcommand(
+      "fit", "Fit a Loop subdivision surface to points: move the base mesh's control points so that the\n"
+             "limit surface passes through the targets (Ceres). Writes fitted_base.obj and limit_surface.vtp.");
+  FitArgs fit_args;
+  fit_cmd->add_option("--target", fit_args.target, "Target points: any mesh rgbmesh reads, or .xyz")->required();
+  auto* fit_base = fit_cmd->add_option("--base", fit_args.base, "Base mesh (its points are the starting controls)");
+  fit_cmd->add_option("--base-faces", fit_args.base_faces, "Without --base: decimate the target mesh to N faces")
+      ->capture_default_str()
+      ->excludes(fit_base);
+  fit_cmd->add_option("--levels", fit_args.levels, "Uniform level of the limit surface used in the fit")
+      ->capture_default_str();
+  fit_cmd->add_option("--loss", fit_args.loss, "huber, cauchy or none")->capture_default_str();
+  fit_cmd->add_option("--smooth", fit_args.smooth, "Weight of the control-net smoothness term")->capture_default_str();
+  fit_cmd->add_option("--iterations", fit_args.iterations, "Maximum outer iterations")->capture_default_str();
+  fit_cmd->add_option("--out", fit_args.out, "Output directory")->capture_default_str();
+  fit_cmd->add_option("--report", fit_args.report, "Write a JSON report to this file");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -326,6 +345,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (adapt_cmd->parsed()) return run_adapt(adapt_args);
+    if (fit_cmd->parsed()) return run_fit(fit_args);
     // The main job: rgbmesh adapt with its defaults.
     AdaptArgs defaults;
     defaults.out = default_out;

@@ -159,6 +159,31 @@ TEST_F(Cli, AdaptWritesCyclesSeriesAndReport) {
   EXPECT_EQ(read_vtp_arrays(path("g") + "/cycle_001.vtp").point_arrays.count("exact_solution"), 0u);
 }
 
+TEST_F(Cli, FitWritesTheFittedBaseTheLimitSurfaceAndAReport) {
+  const std::string bunny = std::string(RGBMESH_DATA_DIR) + "/bunny.obj";
+  const RunResult r = run("fit --target " + bunny + " --base-faces 600 --levels 2 --out " + path("f") + " --report " +
+                          path("f/r.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto base = rgbmesh::read_mesh(path("f") + "/fitted_base.obj");
+  EXPECT_NEAR(static_cast<double>(base.triangles.size()), 600.0, 20.0);
+  VtpArrays limit = read_vtp_arrays(path("f") + "/limit_surface.vtp");
+  EXPECT_EQ(limit.cells, static_cast<vtkIdType>(base.triangles.size() * 16));
+  EXPECT_EQ(limit.point_arrays["distance"], 1);
+  std::ifstream report(path("f/r.json"));
+  std::stringstream rs;
+  rs << report.rdbuf();
+  for (const char* key : {"\"iterations\": [", "\"rms\"", "\"max\"", "\"rms_relative\"", "\"max_relative\"", "\"seconds\""})
+    EXPECT_NE(rs.str().find(key), std::string::npos) << key;
+  const double rel = std::stod(rs.str().substr(rs.str().find("\"rms_relative\": ") + 16));
+  EXPECT_LT(rel, 0.003);
+  // Bad arguments: exit code 2 and a message.
+  for (const std::string& args : {"--target " + path("none.xyz"), "--target " + bunny + " --loss square",
+                                 "--target " + bunny + " --levels 9"}) {
+    const RunResult bad = run("fit " + args + " --out " + path("g"));
+    EXPECT_EQ(bad.code, 2) << args << ": " << bad.err;
+  }
+}
+
 TEST_F(Cli, AdaptRejectsBadArguments) {
   for (const char* args : {"--problem nope", "--strategy sometimes", "--theta 2", "--solver magic", "--geometry flat",
                            "--cycles 0"}) {
@@ -353,7 +378,7 @@ TEST_F(Cli, InvalidMeshesAreRejectedWithTheElement) {
 }
 
 TEST_F(Cli, EverySubcommandHasHelp) {
-  for (const std::string sub : {"", "info", "convert", "refine", "adapt"}) {
+  for (const std::string sub : {"", "info", "convert", "refine", "adapt", "fit"}) {
     const RunResult r = run(sub + " --help");
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
