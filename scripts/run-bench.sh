@@ -8,9 +8,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh test
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DRGBMESH_BUILD_TESTS=ON -DRGBMESH_BUILD_BENCH=ON
-cmake --build build --target bench_refinement bench_fem rgbmesh_cli
+cmake --build build --target bench_refinement bench_fem bench_fit rgbmesh_cli
 build/bin/bench_refinement --benchmark_min_time=1 "$@"
 build/bin/bench_fem
+build/bin/bench_fit
 echo
 echo "bunny, uniform level 5:"
 build/bin/rgbmesh refine data/bunny.obj - --uniform 5 --stats 2>/dev/null | tail -n 1

@@ -383,7 +383,12 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
       }
     }
     ceres::Solver::Options so;
-    so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    // Conjugate gradients on the normal equations: the factorization's symbolic phase (forming
+    // the structure of JᵀJ for residuals that touch some twenty control points each) costs more
+    // than the solve, and would be redone every outer iteration.
+    so.linear_solver_type = ceres::CGNR;
+    so.preconditioner_type = ceres::JACOBI;
+    so.max_linear_solver_iterations = 50;
     so.max_num_iterations = options.ceres_iterations;
     so.num_threads = 2;
     so.logging_type = ceres::SILENT;
