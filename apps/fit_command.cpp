@@ -58,14 +58,19 @@ int run_fit(const FitArgs& a) {
   // The fitted base mesh, and the limit surface with each vertex's distance to the targets.
   const RgbMesh fitted = RgbMesh::from_triangles(r.control_points, base.triangles);
   write_mesh(fs::path(a.out) / "fitted_base.obj", fitted.snapshot());
-  MeshSnapshot limit;
-  limit.points = r.stencils.evaluate(r.control_points);
-  limit.triangles = r.stencils.triangles;
-  limit.vertex_level.assign(limit.points.size(), 0);
-  limit.triangle_level.assign(limit.triangles.size(), 0);
-  limit.triangle_color.assign(limit.triangles.size(), Color::green);
-  limit.point_data.push_back({"distance", 1, r.distance});
-  write_mesh(fs::path(a.out) / "limit_surface.vtp", limit);
+  auto limit_snapshot = [&](const std::vector<Vec3>& controls, std::vector<double> distance) {
+    MeshSnapshot limit;
+    limit.points = r.stencils.evaluate(controls);
+    limit.triangles = r.stencils.triangles;
+    limit.vertex_level.assign(limit.points.size(), 0);
+    limit.triangle_level.assign(limit.triangles.size(), 0);
+    limit.triangle_color.assign(limit.triangles.size(), Color::green);
+    if (!distance.empty()) limit.point_data.push_back({"distance", 1, std::move(distance)});
+    return limit;
+  };
+  write_mesh(fs::path(a.out) / "limit_surface.vtp", limit_snapshot(r.control_points, r.distance));
+  // The limit surface of the starting base, for comparison (subdivision shrinks a coarse base).
+  write_mesh(fs::path(a.out) / "initial_limit_surface.vtp", limit_snapshot(base.points, {}));
 
   if (!a.report.empty()) {
     std::string its = "[";

@@ -19,7 +19,8 @@ struct FitArgs {
 };
 
 // Runs the fit and writes DIR/fitted_base.obj, DIR/limit_surface.vtp (point data "distance":
-// to the nearest target) and the report; returns the exit code. InputError on bad input.
+// to the nearest target), DIR/initial_limit_surface.vtp (the starting base's limit surface)
+// and the report; returns the exit code. InputError on bad input.
 int run_fit(const FitArgs& args);
 
 }  // namespace rgbmesh::cli

@@ -5,7 +5,7 @@
       error against unknowns, log-log, from two `rgbmesh adapt --report` files
   scripts/figures.py mesh CYCLE.vtp OUT.svg [VX VY VZ]
       the triangles of a VTP file written by rgbmesh, seen from direction V (orthographic),
-      colored by the cell array `level`
+      colored by the cell array `level` (or shaded by the light, if all levels are equal)
 
 The VTP reader handles what rgbmesh writes: appended raw data, zlib-compressed, UInt32 headers.
 """
@@ -115,9 +115,19 @@ def mesh_picture(vtp, out, view=(1.0, 0.8, 1.2)):
     for t in range(len(conn) // 3):
         i, j, k = conn[3 * t], conn[3 * t + 1], conn[3 * t + 2]
         (x0, y0, z0), (x1, y1, z1), (x2, y2, z2) = proj[i], proj[j], proj[k]
-        if (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0) <= 0:
+        cross_z = (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0)
+        if cross_z <= 0:
             continue  # facing away
-        tris.append(((z0 + z1 + z2) / 3, (x0, y0, x1, y1, x2, y2), levels[t]))
+        # The cosine between the triangle's normal and the direction to the viewer.
+        a3, b3, c3 = pts[i], pts[j], pts[k]
+        n3 = [(b3[1] - a3[1]) * (c3[2] - a3[2]) - (b3[2] - a3[2]) * (c3[1] - a3[1]),
+              (b3[2] - a3[2]) * (c3[0] - a3[0]) - (b3[0] - a3[0]) * (c3[2] - a3[2]),
+              (b3[0] - a3[0]) * (c3[1] - a3[1]) - (b3[1] - a3[1]) * (c3[0] - a3[0])]
+        nn = math.sqrt(sum(q * q for q in n3)) or 1.0
+        light = [v[m] + 0.6 * ex[m] + 0.5 * ey[m] for m in range(3)]  # from the upper left of the viewer
+        ln = math.sqrt(sum(q * q for q in light))
+        shade = abs(sum(n3[m] * light[m] for m in range(3))) / (nn * ln)
+        tris.append(((z0 + z1 + z2) / 3, (x0, y0, x1, y1, x2, y2), levels[t], shade))
     tris.sort()
     svg = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{size + 130}" height="{size}" font-family="sans-serif" font-size="12">',
            f'<rect width="{size + 130}" height="{size}" fill="white"/>']
@@ -127,10 +137,15 @@ def mesh_picture(vtp, out, view=(1.0, 0.8, 1.2)):
         r, g, b = int(40 + 215 * s), int(60 + 170 * s), int(160 - 120 * s)
         return f"rgb({r},{g},{b})"
 
-    for _, c, level in tris:
+    shaded = max(levels) == min(levels)
+    for _, c, level, shade in tris:
         pts2 = " ".join(f"{size / 2 + (c[2 * m] - cx) * scale:.1f},{size / 2 - (c[2 * m + 1] - cy) * scale:.1f}" for m in range(3))
-        svg.append(f'<polygon points="{pts2}" fill="{color(level)}" stroke="#222" stroke-width="0.3"/>')
-    for level in range(lmax + 1):
+        if shaded:  # one level: grey shading by the angle to the viewer, thin edges
+            grey = int(70 + 170 * shade)
+            svg.append(f'<polygon points="{pts2}" fill="rgb({grey},{grey},{grey + 10})" stroke="rgb({grey},{grey},{grey + 10})" stroke-width="0.4"/>')
+        else:
+            svg.append(f'<polygon points="{pts2}" fill="{color(level)}" stroke="#222" stroke-width="0.3"/>')
+    for level in range(0 if not shaded else lmax + 1, lmax + 1):
         y = 30 + 22 * level
         svg.append(f'<rect x="{size + 20}" y="{y - 12}" width="16" height="16" fill="{color(level)}" stroke="#222" stroke-width="0.5"/>')
         svg.append(f'<text x="{size + 42}" y="{y + 1}">level {level}</text>')

@@ -2,6 +2,7 @@
 # Regenerates the README's figures from real runs of the command-line tool:
 #   docs/convergence.svg   H1 and L2 errors against unknowns, adaptive and uniform (sphere-peak)
 #   docs/adapted-mesh.svg  the last adaptive mesh, colored by level
+#   docs/fit-before.svg, docs/fit-after.svg  the bunny fit: limit surfaces of the base before and after
 # Needs python3 (standard library only) and a built tool (scripts/run-main.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -19,3 +20,8 @@ import json; c = json.load(open('$tmp/adaptive.json'))['cycles']
 print(min(c, key=lambda r: abs(r['dofs'] - 3000))['cycle'])")
 python3 scripts/figures.py mesh "$tmp/adaptive/cycle_$(printf %03d "$cycle").vtp" docs/adapted-mesh.svg 0.48 0.6 0.64
 echo "wrote docs/convergence.svg and docs/adapted-mesh.svg"
+# Fitting: the bunny from a 500-face base, limit surfaces before and after (level 2).
+build/bin/rgbmesh fit --target data/bunny.obj --base-faces 500 --levels 2 --out "$tmp/fit" >/dev/null
+python3 scripts/figures.py mesh "$tmp/fit/initial_limit_surface.vtp" docs/fit-before.svg 0 0 -1
+python3 scripts/figures.py mesh "$tmp/fit/limit_surface.vtp" docs/fit-after.svg 0 0 -1
+echo "wrote docs/fit-before.svg and docs/fit-after.svg"
