@@ -129,6 +129,19 @@ TEST(Fit, ReadsPointCloudsWithClearErrors) {
     EXPECT_NE(std::string(e.what()).find("bad.xyz:2"), std::string::npos) << e.what();
   }
   EXPECT_THROW(read_points((dir / "missing.xyz").string()), InputError);
+  // A VTP point cloud with vertex cells (what VTK's tools write for points).
+  {
+    std::ofstream f(dir / "cloud.vtp");
+    f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      << "<PolyData><Piece NumberOfPoints=\"2\" NumberOfVerts=\"2\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n"
+      << "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 2 3</DataArray></Points>\n"
+      << "<Verts><DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">0 1</DataArray>"
+      << "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">1 2</DataArray></Verts>\n"
+      << "</Piece></PolyData></VTKFile>\n";
+  }
+  const std::vector<Vec3> cloud = read_points((dir / "cloud.vtp").string());
+  ASSERT_EQ(cloud.size(), 2u);
+  EXPECT_EQ(cloud[1], Vec3(1, 2, 3));
   std::filesystem::remove_all(dir);
 }
 

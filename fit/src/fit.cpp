@@ -10,6 +10,7 @@
 #include <vtkSmartPointer.h>
 #include <vtkStaticCellLocator.h>
 #include <vtkStaticPointLocator.h>
+#include <vtkXMLPolyDataReader.h>
 
 #include <algorithm>
 #include <chrono>
@@ -441,6 +442,24 @@ std::vector<Vec3> read_points(const std::string& path) {
       if (!(s >> p.x >> p.y >> p.z)) throw InputError(path + ":" + std::to_string(n) + ": expected three numbers");
       if (!is_finite(p)) throw InputError(path + ":" + std::to_string(n) + ": non-finite coordinate");
       out.push_back(p);
+    }
+    if (out.empty()) throw InputError(path + ": no points");
+    return out;
+  }
+  if (ext == ".vtp") {
+    // A point cloud in VTK's format usually carries vertex cells, which mesh reading rejects:
+    // take the points and ignore the cells.
+    auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+    if (!reader->CanReadFile(path.c_str())) throw InputError(path + ": not a readable VTK XML PolyData file");
+    reader->SetFileName(path.c_str());
+    reader->Update();
+    vtkPolyData* pd = reader->GetOutput();
+    std::vector<Vec3> out;
+    for (vtkIdType i = 0; pd != nullptr && i < pd->GetNumberOfPoints(); ++i) {
+      double p[3];
+      pd->GetPoint(i, p);
+      out.emplace_back(p[0], p[1], p[2]);
+      if (!is_finite(out.back())) throw InputError(path + ": point " + std::to_string(i) + " is not finite");
     }
     if (out.empty()) throw InputError(path + ": no points");
     return out;
