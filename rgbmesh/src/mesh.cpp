@@ -968,8 +968,12 @@ VertexHandle RgbMesh::split_edge(EdgeHandle e) {
     if (!coarser.valid()) break;
     split_edge(coarser);
   }
-  const VertexHandle m = split_refinable(e);
-  stabilize_around(m);
+  const SplitKind kind = split_kind(e);
+  if (kind == SplitKind::not_refinable) fail("split_edge", "internal error: " + describe(e) + " is still not refinable");
+  const VertexHandle m = split_checked_edge(e, kind, "split_edge");
+  // Only a red triangle's bisection makes a blue one: GG and green boundary splits cannot
+  // leave an unstable pair.
+  if (kind != SplitKind::gg && kind != SplitKind::g_boundary) stabilize_around(m);
   return m;
 }
 
