@@ -1,12 +1,14 @@
 #include "adapt_command.hpp"
 
 #include <cstdio>
+#include <initializer_list>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
 
 #include "json.hpp"
 #include "rgbmesh/adapt/adaptive.hpp"
+#include "rgbmesh/geometry.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/shapes.hpp"
 #include "rgbmesh/vtk_io.hpp"
@@ -40,6 +42,17 @@ std::string cycles_json(const std::vector<adapt::CycleReport>& reports, bool dyn
   return out + "]";
 }
 
+// The value of a named choice; InputError listing the names otherwise.
+template <class T>
+T choose(const char* option, const std::string& value, std::initializer_list<std::pair<const char*, T>> names) {
+  std::string known;
+  for (const auto& [name, v] : names) {
+    if (value == name) return v;
+    known += (known.empty() ? "" : ", ") + std::string(name);
+  }
+  throw InputError(std::string(option) + ": '" + value + "' is not one of " + known);
+}
+
 std::string number(double x, const char* format) {
   char buf[32];
   std::snprintf(buf, sizeof buf, format, x);
@@ -59,24 +72,10 @@ int run_adapt(const AdaptArgs& a) {
   if (geometry != "sphere" && geometry != "loop")
     throw InputError("--geometry: '" + geometry + "' is neither loop nor sphere");
   adapt::AdaptOptions o;
-  if (a.strategy == "adaptive")
-    o.strategy = adapt::Strategy::adaptive;
-  else if (a.strategy == "uniform")
-    o.strategy = adapt::Strategy::uniform;
-  else
-    throw InputError("--strategy: '" + a.strategy + "' is neither adaptive nor uniform");
-  if (a.marking == "dorfler")
-    o.marking = adapt::Marking::dorfler;
-  else if (a.marking == "fraction")
-    o.marking = adapt::Marking::fixed_fraction;
-  else
-    throw InputError("--marking: '" + a.marking + "' is neither dorfler nor fraction");
-  if (a.estimator == "residual")
-    o.estimator = adapt::EstimatorKind::residual;
-  else if (a.estimator == "zz")
-    o.estimator = adapt::EstimatorKind::zz;
-  else
-    throw InputError("--estimator: '" + a.estimator + "' is neither residual nor zz");
+  o.strategy = choose<adapt::Strategy>("--strategy", a.strategy, {{"adaptive", adapt::Strategy::adaptive}, {"uniform", adapt::Strategy::uniform}});
+  o.marking = choose<adapt::Marking>("--marking", a.marking, {{"dorfler", adapt::Marking::dorfler}, {"fraction", adapt::Marking::fixed_fraction}});
+  o.estimator =
+      choose<adapt::EstimatorKind>("--estimator", a.estimator, {{"residual", adapt::EstimatorKind::residual}, {"zz", adapt::EstimatorKind::zz}});
   if (!(a.theta > 0 && a.theta <= 1)) throw InputError("--theta: must be in (0, 1], got " + std::to_string(a.theta));
   if (a.cycles < 1) throw InputError("--cycles: must be at least 1");
   o.theta = a.theta;
@@ -133,12 +132,7 @@ int run_adapt(const AdaptArgs& a) {
     fem::Problem problem = a.problem == "gaussian" ? fem::Problem() : fem::builtin_problem(a.problem);
     if (a.problem == "gaussian") {
       // A localized source: a Gaussian of width 1/20 of the mesh's size at its first vertex.
-      Vec3 lo = base.points[0], hi = base.points[0];
-      for (const Vec3& p : base.points) {
-        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-      }
-      problem = fem::gaussian_source(mesh.limit_position(VertexHandle(0)), distance(lo, hi) / 20.0);
+      problem = fem::gaussian_source(mesh.limit_position(VertexHandle(0)), bounding_box_diagonal(base.points) / 20.0);
     }
     reports = adapt::run_cycles(mesh, problem, o, on_cycle);
   }

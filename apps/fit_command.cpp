@@ -6,6 +6,7 @@
 
 #include "json.hpp"
 #include "rgbmesh/fit/fit.hpp"
+#include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/vtk_io.hpp"
 
@@ -41,16 +42,8 @@ int run_fit(const FitArgs& a) {
   std::printf("rgbmesh fit: %zu target points, base %zu vertices / %zu triangles, limit surface at level %d\n",
               targets.size(), base.points.size(), base.triangles.size(), a.levels);
   std::printf("iteration         rms         max   rms/diag   seconds\n");
-  double diagonal = 0;
+  const double diagonal = bounding_box_diagonal(targets);
   const fit::FitResult r = fit::fit(base, targets, o, [&](const fit::IterationReport& it) {
-    if (diagonal == 0) {
-      Vec3 lo = targets[0], hi = targets[0];
-      for (const Vec3& p : targets) {
-        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-      }
-      diagonal = distance(lo, hi);
-    }
     std::printf("%9d  %10.4e  %10.4e  %9.2e  %8.3f\n", it.iteration, it.rms, it.max, it.rms / diagonal, it.seconds);
     std::fflush(stdout);
   });

@@ -8,6 +8,7 @@
 
 #include "rgbmesh/adapt/adaptive.hpp"
 #include "rgbmesh/refinement.hpp"
+#include "test_rates.hpp"
 #include "rgbmesh/shapes.hpp"
 
 namespace rgbmesh::adapt {
@@ -27,16 +28,6 @@ AdaptOptions sphere_options(Strategy strategy) {
   o.max_cycles = 40;
   o.max_dofs = 20000;
   return o;
-}
-
-double rate(const std::vector<double>& x, const std::vector<double>& y) {
-  const std::size_t n = x.size();
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double lx = std::log(x[i]), ly = std::log(y[i]);
-    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
 TEST(Adapt, AdaptivityBeatsUniformRefinementOnThePeak) {
@@ -68,7 +59,7 @@ TEST(Adapt, AdaptivityBeatsUniformRefinementOnThePeak) {
     h1.push_back(*r.error_h1);
   }
   ASSERT_GE(dofs.size(), 4u);
-  EXPECT_NEAR(rate(dofs, h1), -0.5, 0.15);
+  EXPECT_NEAR(testing::log_log_slope(dofs, h1), -0.5, 0.15);
 }
 
 TEST(Adapt, MeshFollowsAMovingPeakAtASteadySize) {

@@ -38,6 +38,22 @@ std::set<std::array<std::int32_t, 3>> oriented_triangle_set(
   return out;
 }
 
+// A VTP file as VTK's own XML reader sees it.
+vtkSmartPointer<vtkPolyData> read_vtp(const std::string& file) {
+  auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  return reader->GetOutput();
+}
+
+// A whole text file.
+std::string read_text(const std::string& file) {
+  std::ifstream in(file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 struct RunResult {
   int code = -1;
   std::string out, err;
@@ -66,10 +82,7 @@ class Cli : public ::testing::Test {
     while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) r.out.append(buf, n);
     const int status = ::pclose(pipe);
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream in(err_file);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    r.err = ss.str();
+    r.err = read_text(err_file);
     return r;
   }
 
@@ -113,10 +126,7 @@ struct VtpArrays {
   std::map<std::string, int> point_arrays, cell_arrays;
 };
 VtpArrays read_vtp_arrays(const std::string& file) {
-  auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
-  reader->SetFileName(file.c_str());
-  reader->Update();
-  vtkPolyData* pd = reader->GetOutput();
+  const vtkSmartPointer<vtkPolyData> pd = read_vtp(file);
   VtpArrays out;
   out.points = pd->GetNumberOfPoints();
   out.cells = pd->GetNumberOfCells();
@@ -137,14 +147,9 @@ TEST_F(Cli, AdaptWritesCyclesSeriesAndReport) {
     for (const char* name : {"solution", "exact_solution", "error", "level"}) EXPECT_EQ(a.point_arrays[name], 1) << name;
     for (const char* name : {"error_indicator", "marked", "level", "color"}) EXPECT_EQ(a.cell_arrays[name], 1) << name;
   }
-  std::ifstream pvd(path("a") + "/solution.pvd");
-  std::stringstream ps;
-  ps << pvd.rdbuf();
-  EXPECT_NE(ps.str().find("cycle_003.vtp"), std::string::npos) << ps.str();
-  std::ifstream report(path("a/r.json"));
-  std::stringstream rs;
-  rs << report.rdbuf();
-  const std::string json = rs.str();
+  const std::string pvd = read_text(path("a") + "/solution.pvd");
+  EXPECT_NE(pvd.find("cycle_003.vtp"), std::string::npos) << pvd;
+  const std::string json = read_text(path("a/r.json"));
   for (const char* key : {"\"problem\": \"sphere-peak\"", "\"strategy\": \"adaptive\"", "\"cycles\": [", "\"error_h1\"",
                           "\"estimate\"", "\"dofs\"", "\"seconds\""})
     EXPECT_NE(json.find(key), std::string::npos) << key << " in " << json;
@@ -152,10 +157,8 @@ TEST_F(Cli, AdaptWritesCyclesSeriesAndReport) {
   const RunResult g = run("adapt --mesh " + write_octahedron("octa.off") + " --problem gaussian --cycles 2 --out " +
                           path("g") + " --report " + path("g/r.json"));
   ASSERT_EQ(g.code, 0) << g.err;
-  std::ifstream greport(path("g/r.json"));
-  std::stringstream gs;
-  gs << greport.rdbuf();
-  EXPECT_EQ(gs.str().find("error_h1"), std::string::npos) << gs.str();
+  const std::string gjson = read_text(path("g/r.json"));
+  EXPECT_EQ(gjson.find("error_h1"), std::string::npos) << gjson;
   EXPECT_EQ(read_vtp_arrays(path("g") + "/cycle_001.vtp").point_arrays.count("exact_solution"), 0u);
 }
 
@@ -169,12 +172,10 @@ TEST_F(Cli, FitWritesTheFittedBaseTheLimitSurfaceAndAReport) {
   VtpArrays limit = read_vtp_arrays(path("f") + "/limit_surface.vtp");
   EXPECT_EQ(limit.cells, static_cast<vtkIdType>(base.triangles.size() * 16));
   EXPECT_EQ(limit.point_arrays["distance"], 1);
-  std::ifstream report(path("f/r.json"));
-  std::stringstream rs;
-  rs << report.rdbuf();
+  const std::string report = read_text(path("f/r.json"));
   for (const char* key : {"\"iterations\": [", "\"rms\"", "\"max\"", "\"rms_relative\"", "\"max_relative\"", "\"seconds\""})
-    EXPECT_NE(rs.str().find(key), std::string::npos) << key;
-  const double rel = std::stod(rs.str().substr(rs.str().find("\"rms_relative\": ") + 16));
+    EXPECT_NE(report.find(key), std::string::npos) << key;
+  const double rel = std::stod(report.substr(report.find("\"rms_relative\": ") + 16));
   EXPECT_LT(rel, 0.003);
   // Bad arguments: exit code 2 and a message.
   for (const std::string& args : {"--target " + path("none.xyz"), "--target " + bunny + " --loss square",
@@ -198,10 +199,7 @@ struct VtpPoints {
   std::vector<std::array<double, 3>> points, control, limit;
 };
 VtpPoints read_vtp_points(const std::string& file) {
-  auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
-  reader->SetFileName(file.c_str());
-  reader->Update();
-  vtkPolyData* pd = reader->GetOutput();
+  const vtkSmartPointer<vtkPolyData> pd = read_vtp(file);
   VtpPoints out;
   for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i) {
     std::array<double, 3> p;

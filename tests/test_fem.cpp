@@ -11,6 +11,7 @@
 #include "rgbmesh/fem/estimators.hpp"
 #include "rgbmesh/fem/solver.hpp"
 #include "rgbmesh/refinement.hpp"
+#include "test_rates.hpp"
 #include "rgbmesh/soup.hpp"
 #include "test_meshes.hpp"
 
@@ -22,17 +23,6 @@ SurfaceMesh sphere(int level) {
   RgbMesh m = testing::icosahedron().build();
   selective_refinement(m, UniformLevel(level));
   return build_surface_mesh(m, Projection(project_to_unit_sphere));
-}
-
-// Least-squares slope of log(y) against log(x).
-double rate(const std::vector<double>& x, const std::vector<double>& y) {
-  const std::size_t n = x.size();
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double lx = std::log(x[i]), ly = std::log(y[i]);
-    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
 double factorial(int k) { return k <= 1 ? 1.0 : k * factorial(k - 1); }
@@ -92,7 +82,7 @@ TEST(Fem, CoordinateFunctionsBehaveAsTheoryPredicts) {
     dofs.push_back(static_cast<double>(mesh.num_dofs()));
     err.push_back(std::abs(kk / mm - 2.0));
   }
-  EXPECT_NEAR(rate(dofs, err), -1.0, 0.15);
+  EXPECT_NEAR(testing::log_log_slope(dofs, err), -1.0, 0.15);
 }
 
 struct Convergence {
@@ -118,8 +108,8 @@ void expect_rates_and_effectivity(const Convergence& c, const std::string& what)
   const std::size_t n = c.dofs.size();
   // Asymptotic rates from the last three meshes: L2 ~ h² ~ N^-1, H1 ~ h ~ N^-1/2.
   const std::vector<double> d(c.dofs.end() - 3, c.dofs.end());
-  EXPECT_NEAR(rate(d, {c.l2.end() - 3, c.l2.end()}), -1.0, 0.15) << what;
-  EXPECT_NEAR(rate(d, {c.h1.end() - 3, c.h1.end()}), -0.5, 0.15) << what;
+  EXPECT_NEAR(testing::log_log_slope(d, {c.l2.end() - 3, c.l2.end()}), -1.0, 0.15) << what;
+  EXPECT_NEAR(testing::log_log_slope(d, {c.h1.end() - 3, c.h1.end()}), -0.5, 0.15) << what;
   // Effectivity indices η / ‖∇(u - u_h)‖ stay in a fixed band (a factor 1.5 from first to
   // last) over the refinements.
   for (const auto* eta : {&c.eta_residual, &c.eta_zz}) {

@@ -15,6 +15,7 @@
 #include <memory>
 #include <set>
 
+#include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/vtk_io.hpp"
@@ -64,12 +65,7 @@ class LoopReference {
     limit_.resize(points_[levels].size());
     primvar.Limit(points_[levels], limit_);
 
-    Vec3 lo = base.points[0], hi = base.points[0];
-    for (const auto& q : base.points) {
-      lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
-      hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
-    }
-    tolerance_ = 1e-12 * distance(lo, hi);
+    tolerance_ = 1e-12 * bounding_box_diagonal(base.points);
   }
 
   int levels() const { return levels_; }

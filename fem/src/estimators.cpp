@@ -28,6 +28,23 @@ std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
+// Each triangle's geometry and the (constant) gradient of u_h on it.
+struct TriangleFields {
+  std::vector<TriangleGeometry> geo;
+  std::vector<Vec3> grad;
+};
+TriangleFields triangle_fields(const SurfaceMesh& mesh, const Eigen::VectorXd& u) {
+  TriangleFields f;
+  f.geo.resize(mesh.triangles.size());
+  f.grad.resize(mesh.triangles.size());
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
+    f.geo[i] = triangle_geometry(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
+    f.grad[i] = gradient(f.geo[i], t, u);
+  }
+  return f;
+}
+
 Estimate finish(std::vector<double> eta_squared, std::vector<double> geometric) {
   Estimate e;
   double sum = 0;
@@ -77,13 +94,10 @@ ErrorNorms error_norms(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const 
 Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, const Eigen::VectorXd& u) {
   const std::size_t nt = mesh.triangles.size();
   const auto& rule = triangle_quadrature();
-  std::vector<TriangleGeometry> geo(nt);
-  std::vector<Vec3> grad(nt);
+  const auto [geo, grad] = triangle_fields(mesh, u);
   std::vector<double> h(nt), eta2(nt, 0.0), geometric(nt, 0.0), delta(nt, 0.0);
   for (std::size_t i = 0; i < nt; ++i) {
     const auto& t = mesh.triangles[i];
-    geo[i] = triangle_geometry(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
-    grad[i] = gradient(geo[i], t, u);
     h[i] = longest_edge(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
   }
   // Element residuals (and, with a projection, the distance to the surface).
@@ -153,12 +167,9 @@ Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u) {
   const std::size_t nt = mesh.triangles.size();
   std::vector<Vec3> recovered(mesh.num_dofs());
   std::vector<double> weight(mesh.num_dofs(), 0.0);
-  std::vector<TriangleGeometry> geo(nt);
-  std::vector<Vec3> grad(nt);
+  const auto [geo, grad] = triangle_fields(mesh, u);
   for (std::size_t i = 0; i < nt; ++i) {
     const auto& t = mesh.triangles[i];
-    geo[i] = triangle_geometry(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
-    grad[i] = gradient(geo[i], t, u);
     for (std::int32_t v : t) {
       recovered[v] += geo[i].area * grad[i];
       weight[v] += geo[i].area;

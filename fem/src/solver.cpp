@@ -140,12 +140,6 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   Eigen::VectorXd b = load_vector(mesh, problem);
   if (!b.allFinite())
     throw InputError("problem '" + problem.name + "': the source or flux is not finite somewhere on the mesh");
-  Eigen::VectorXd area = Eigen::VectorXd::Zero(n);  // ∫ φi
-  for (const auto& t : mesh.triangles) {
-    const double a = triangle_geometry(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]).area;
-    for (std::int32_t v : t) area[v] += a / 3.0;
-  }
-
   std::vector<char> fixed = dirichlet_dofs(mesh, problem);
   Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
   bool any_dirichlet = false;
@@ -154,22 +148,23 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
     any_dirichlet = true;
     u[i] = problem.dirichlet ? problem.dirichlet(mesh.lift(mesh.points[i])) : 0.0;
   }
+  double mean_load = 0;  // ∫f + ∫h, removed in the zero-mean case
   if (!any_dirichlet && problem.c == 0) {
     // Closed surface (or all Neumann) with c = 0: solutions differ by constants, and exist
-    // only if ∫f + ∫h = 0. Check it, make it exact for the discrete system, fix one value and
-    // shift the result to zero mean.
+    // only if ∫f + ∫h = 0. Check it, make it exact for the discrete system (below, once the
+    // vertex areas are known), fix one value and shift the result to zero mean.
     sol.zero_mean = true;
     const double total = b.sum(), scale = b.cwiseAbs().sum();
     if (std::abs(total) > problem.mean_tolerance * scale)
       throw InputError("problem '" + problem.name + "': on a closed surface with c = 0 the source must have zero mean, but ∫f = " +
                        std::to_string(total) + " (relative " + std::to_string(scale > 0 ? total / scale : 0.0) +
                        "); use c > 0, or subtract the mean");
-    b -= (total / area.sum()) * area;
+    mean_load = total;
     fixed[0] = 1;
   }
 
   // The system K + cM on the free DOFs, assembled directly, with the fixed values moved to
-  // the right-hand side.
+  // the right-hand side; the same pass sums the vertex areas ∫ φi.
   std::vector<Eigen::Index> index(static_cast<std::size_t>(n), -1);
   Eigen::Index nf = 0;
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -180,10 +175,12 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   for (Eigen::Index i = 0; i < n; ++i) {
     if (index[i] >= 0) rhs[index[i]] = b[i];
   }
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(n);
   std::vector<Triplet> trip;
   trip.reserve(mesh.triangles.size() * 9);
   for (const auto& t : mesh.triangles) {
     const TriangleGeometry g = triangle_geometry(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
+    for (std::int32_t v : t) area[v] += g.area / 3.0;
     for (int i = 0; i < 3; ++i) {
       const Eigen::Index ri = index[t[i]];
       if (ri < 0) continue;
@@ -195,6 +192,13 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
         else
           rhs[ri] -= value * u[t[j]];
       }
+    }
+  }
+  if (sol.zero_mean) {
+    // The compatible load b - (∫f / |Γ|) ∫φi (its free rows; the fixed row is dropped).
+    const double shift = mean_load / area.sum();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (index[i] >= 0) rhs[index[i]] -= shift * area[i];
     }
   }
   SparseMatrix a(nf, nf);

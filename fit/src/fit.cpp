@@ -20,6 +20,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/vtk_io.hpp"
@@ -65,15 +66,6 @@ std::vector<std::int32_t> ball(const std::vector<std::vector<std::int32_t>>& adj
     frontier.swap(next);
   }
   return out;
-}
-
-Vec3 bbox_diagonal_of(const std::vector<Vec3>& p) {
-  Vec3 lo = p.front(), hi = p.front();
-  for (const Vec3& q : p) {
-    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
-    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
-  }
-  return hi - lo;
 }
 
 // The limit surface as VTK data, for the locators.
@@ -288,7 +280,7 @@ LimitStencils limit_stencils(const TriangleMeshData& base, int level) {
   }
   // The check: the stencils reproduce the limit positions of the real mesh.
   const std::vector<Vec3> approx = st.evaluate(base.points);
-  const double diagonal = norm(bbox_diagonal_of(base.points));
+  const double diagonal = bounding_box_diagonal(base.points);
   for (std::size_t i = 0; i < vertices.size(); ++i) {
     if (distance(approx[i], real.limit_position(vertices[i])) > 1e-9 * diagonal)
       throw std::logic_error("limit_stencils: the stencils do not reproduce the limit surface");
@@ -301,7 +293,7 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
   if (targets.empty()) throw InputError("fit: no target points");
   const auto t_start = std::chrono::steady_clock::now();
   FitResult res;
-  res.diagonal = norm(bbox_diagonal_of(targets));
+  res.diagonal = bounding_box_diagonal(targets);
   res.stencils = limit_stencils(base, options.levels);
   const LimitStencils& st = res.stencils;
   const auto adj = adjacency(base);

@@ -1,5 +1,7 @@
 #include "rgbmesh/geometry.hpp"
 
+#include <algorithm>
+
 namespace rgbmesh {
 
 Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -23,6 +25,16 @@ Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, cons
   const double sum = va + vb + vc;
   if (!(sum > 0)) return a;  // degenerate triangle
   return a + (vb / sum) * ab + (vc / sum) * ac;
+}
+
+double bounding_box_diagonal(const std::vector<Vec3>& points) {
+  if (points.empty()) return 0.0;
+  Vec3 lo = points.front(), hi = points.front();
+  for (const Vec3& p : points) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  return distance(lo, hi);
 }
 
 }  // namespace rgbmesh
