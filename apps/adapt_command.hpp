@@ -2,31 +2,40 @@
 // `rgbmesh adapt`: error-driven adaptive cycles written for ParaView. It is also the job that
 // `rgbmesh` runs without arguments (all defaults).
 
-#include <cstddef>
+#include <cstdint>
+#include <set>
 #include <string>
+#include <vector>
 
 namespace rgbmesh::cli {
 
 struct AdaptArgs {
-  std::string mesh;                    // empty: the embedded icosahedron
-  std::string problem = "sphere-peak";  // sphere-harmonic, sphere-peak, moving-peak, gaussian
-  std::string strategy = "adaptive";    // adaptive, uniform
-  std::string marking = "dorfler";      // dorfler, fraction
-  std::string estimator = "residual";   // residual, zz
-  std::string geometry;                 // loop, sphere; empty: sphere for the sphere problems
+  std::string mesh;                   // empty: the embedded icosahedron
+  bool triangulate = false;           // fan-split the mesh's polygons
+  std::string problem;                // sphere-harmonic, sphere-peak, moving-peak, gaussian;
+                                      // empty: sphere-peak, or gaussian with a --mesh
+  std::string strategy = "adaptive";  // adaptive, uniform
+  std::string marking;                // dorfler, fraction, equidistribution; empty: dorfler,
+                                      // or equidistribution for moving-peak
+  std::string estimator = "residual";  // residual, zz
+  std::string geometry;                // loop, sphere; empty: sphere for the sphere problems
   std::string solver = "auto";
   double theta = 0.5;
   double coarsen = -1;  // < 0: the problem's default (0.25 for moving-peak, else none)
-  int cycles = 20;
-  int steps = 24;  // moving-peak time steps
+  int cycles = 0;       // 0: 20, or 8 for moving-peak (the cycles adapting to the start)
+  int steps = 24;       // moving-peak time steps
   double target_error = 0;
-  std::size_t max_dofs = 100000;
+  std::int64_t max_dofs = 100000;
+  std::vector<double> center;  // gaussian: the source's centre; empty: the first vertex's limit
+  double width = 0;            // gaussian: sigma; 0: 1/20 of the bounding-box diagonal
   std::string out = "out";
   std::string report;  // JSON report path; empty: none
-  bool quiet = false;
+  std::set<std::string> given;  // the options the user gave ("--theta", ...), for refusals
+  std::string command_line;     // for the report
 };
 
-// Runs and writes everything; returns the exit code. Throws InputError on bad arguments.
+// Checks the arguments against each other and the mesh, runs, writes everything; returns the
+// exit code. Throws InputError on bad arguments or input.
 int run_adapt(const AdaptArgs& args);
 
 }  // namespace rgbmesh::cli

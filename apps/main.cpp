@@ -20,6 +20,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <sstream>
 
 #include "adapt_command.hpp"
 #include "fit_command.hpp"
@@ -72,6 +73,13 @@ void check_output_path(const std::string& out) {
     throw InputError(out + ": the directory " + dir.string() + " does not exist");
 }
 
+std::string vec_json(const Vec3& p) {
+  std::ostringstream o;
+  o.precision(17);
+  o << "[" << p.x << ", " << p.y << ", " << p.z << "]";
+  return o.str();
+}
+
 void print_statistics(const std::string& name, const RgbMesh& mesh, bool json) {
   const MeshStatistics s = compute_statistics(mesh);
   if (json) {
@@ -100,6 +108,9 @@ void print_statistics(const std::string& name, const RgbMesh& mesh, bool json) {
                      .add("max_level", s.max_level)
                      .add("red_edges", static_cast<std::uint64_t>(s.red_edges))
                      .add("shortest_edge", s.shortest_edge)
+                     .raw("bbox_min", vec_json(s.bbox_min))
+                     .raw("bbox_max", vec_json(s.bbox_max))
+                     .add("bbox_diagonal", s.bbox_diagonal)
                      .add("longest_edge", s.longest_edge)
                      .raw("valence_histogram", histogram(s.valence_histogram))
                      .raw("vertices_per_level", histogram(s.vertices_per_level))
@@ -117,6 +128,8 @@ void print_statistics(const std::string& name, const RgbMesh& mesh, bool json) {
             << "Euler characteristic: " << s.euler_characteristic << "\n"
             << "genus:                " << s.genus << "\n"
             << "edge length:          " << s.shortest_edge << " .. " << s.longest_edge << "\n"
+            << "bounding box:         (" << s.bbox_min.x << ", " << s.bbox_min.y << ", " << s.bbox_min.z << ") .. ("
+            << s.bbox_max.x << ", " << s.bbox_max.y << ", " << s.bbox_max.z << "), diagonal " << s.bbox_diagonal << "\n"
             << "valence histogram:   ";
   for (const auto& [v, n] : s.valence_histogram) std::cout << " " << v << ":" << n;
   std::cout << "\nvertices per level:  ";
@@ -180,10 +193,12 @@ int main(int argc, char** argv) {
       "conforming at every step, with the limit surface of Loop subdivision.\n"
       "Without a subcommand, runs the default job (see `rgbmesh --help`)."};
   app.require_subcommand(0, 1);
-  app.set_version_flag("--version", "rgbmesh 0.1.0");
-  std::string default_out = "out";
-  app.add_option("--out", default_out, "Output directory of the default job (rgbmesh adapt with its defaults)")
-      ->capture_default_str();
+  app.set_version_flag("--version", "rgbmesh " RGBMESH_VERSION);
+  std::string global_out = "out";
+  auto* global_out_option =
+      app.add_option("--out", global_out,
+                     "Output directory of the default job, and of adapt and fit when given before the subcommand")
+          ->capture_default_str();
 
   // info
   auto* info = app.add_subcommand("info",
@@ -261,27 +276,51 @@ int main(int argc, char** argv) {
       "Writes one .vtp per cycle (or time step) and a .pvd series for ParaView into --out.");
   AdaptArgs adapt_args;
   adapt_cmd->add_option("--mesh", adapt_args.mesh, "Base mesh (default: an embedded icosahedron)");
-  adapt_cmd->add_option("--problem", adapt_args.problem, "sphere-harmonic, sphere-peak, moving-peak or gaussian")
-      ->capture_default_str();
+  adapt_cmd->add_flag("--triangulate", adapt_args.triangulate, "Fan-split the mesh's polygons with more than three vertices");
+  adapt_cmd->add_option("--problem", adapt_args.problem,
+                        "sphere-harmonic, sphere-peak, moving-peak (exact solutions on the unit sphere) or gaussian "
+                        "(a source on any surface) [default: sphere-peak; gaussian with --mesh]");
   adapt_cmd->add_option("--strategy", adapt_args.strategy, "adaptive or uniform")->capture_default_str();
-  adapt_cmd->add_option("--marking", adapt_args.marking, "dorfler (bulk) or fraction (fixed fraction)")
-      ->capture_default_str();
-  adapt_cmd->add_option("--theta", adapt_args.theta, "Marking parameter")->capture_default_str();
+  adapt_cmd->add_option("--marking", adapt_args.marking,
+                        "dorfler (bulk), fraction (fixed fraction) or equidistribution (needs --target-error) "
+                        "[default: dorfler; equidistribution for moving-peak]");
+  adapt_cmd->add_option("--theta", adapt_args.theta, "Marking parameter of dorfler and fraction, in (0, 1]")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-12, 1.0));
   adapt_cmd->add_option("--estimator", adapt_args.estimator, "residual or zz")->capture_default_str();
-  adapt_cmd->add_option("--coarsen", adapt_args.coarsen,
-                        "Remove vertices whose star indicator is below this times the mean "
-                        "(default: 0.25 for moving-peak, else 0)");
-  adapt_cmd->add_option("--cycles", adapt_args.cycles, "Maximum number of cycles")->capture_default_str();
-  adapt_cmd->add_option("--steps", adapt_args.steps, "Time steps of moving-peak")->capture_default_str();
-  adapt_cmd->add_option("--target-error", adapt_args.target_error, "Stop once the estimate is at most this")
-      ->capture_default_str();
-  adapt_cmd->add_option("--max-dofs", adapt_args.max_dofs, "Stop once the mesh has more vertices")
-      ->capture_default_str();
+  adapt_cmd
+      ->add_option("--coarsen", adapt_args.coarsen,
+                   "Remove vertices whose largest indicator over their star is below this times the refinement "
+                   "threshold, in [0, 1) [default: 0.25 for moving-peak, else 0]")
+      ->check(CLI::Range(0.0, 0.999999));
+  adapt_cmd
+      ->add_option("--cycles", adapt_args.cycles,
+                   "Maximum number of cycles; for moving-peak, the cycles adapting to the start [default: 20; 8]")
+      ->check(CLI::Range(1, 1000000));
+  adapt_cmd->add_option("--steps", adapt_args.steps, "Time steps of moving-peak")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  adapt_cmd
+      ->add_option("--target-error", adapt_args.target_error,
+                   "Stop once the estimate is at most this; for moving-peak and equidistribution, the error every "
+                   "step is kept at [moving-peak: the estimate reached at the start]")
+      ->check(CLI::NonNegativeNumber);
+  adapt_cmd->add_option("--max-dofs", adapt_args.max_dofs, "Never solve on a mesh with more unknowns")
+      ->capture_default_str()
+      ->check(CLI::Range(std::int64_t(1), std::int64_t(1) << 40));
   adapt_cmd->add_option("--geometry", adapt_args.geometry,
-                        "loop (vertices on the limit surface) or sphere (projected; default for the sphere problems)");
+                        "loop (vertices on the Loop limit surface) or sphere (projected onto the unit sphere) "
+                        "[default: sphere for the sphere problems, else loop]");
+  adapt_cmd->add_option("--center", adapt_args.center, "gaussian: the source's centre [default: the first vertex]")
+      ->delimiter(',')
+      ->type_name("X,Y,Z")
+      ->expected(3);
+  adapt_cmd->add_option("--width", adapt_args.width, "gaussian: the source's width sigma [default: diagonal / 20]")
+      ->check(CLI::PositiveNumber);
   adapt_cmd->add_option("--solver", adapt_args.solver, "auto, ldlt, cg or cholmod")->capture_default_str();
-  adapt_cmd->add_option("--out", adapt_args.out, "Output directory")->capture_default_str();
-  adapt_cmd->add_option("--report", adapt_args.report, "Write a JSON report of the cycles to this file");
+  auto* adapt_out = adapt_cmd->add_option("--out", adapt_args.out, "Output directory")->capture_default_str();
+  adapt_cmd->add_option("--report", adapt_args.report,
+                        "Write a JSON report (settings, cycles, why the run stopped) to this file, after every cycle");
 
   // fit
   auto* fit_cmd = app.add_subcommand(
@@ -298,14 +337,37 @@ int main(int argc, char** argv) {
   fit_cmd->add_option("--loss", fit_args.loss, "huber, cauchy or none")->capture_default_str();
   fit_cmd->add_option("--smooth", fit_args.smooth, "Weight of the control-net smoothness term")->capture_default_str();
   fit_cmd->add_option("--iterations", fit_args.iterations, "Maximum outer iterations")->capture_default_str();
-  fit_cmd->add_option("--out", fit_args.out, "Output directory")->capture_default_str();
+  auto* fit_out = fit_cmd->add_option("--out", fit_args.out, "Output directory")->capture_default_str();
   fit_cmd->add_option("--report", fit_args.report, "Write a JSON report to this file");
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    std::cerr << "rgbmesh: error: " << e.what() << " (see --help)\n";
+    return 2;
+  }
+  // Global options work wherever they stand: `rgbmesh --out D adapt` is `rgbmesh adapt --out D`.
+  const bool global_out_given = global_out_option->count() > 0;
+  if (global_out_given) {
+    if (adapt_cmd->parsed() && adapt_out->count() == 0) adapt_args.out = global_out;
+    if (fit_cmd->parsed() && fit_out->count() == 0) fit_args.out = global_out;
+    for (const CLI::App* sub : {info, convert, refine}) {
+      if (sub->parsed()) {
+        std::cerr << "rgbmesh: error: --out: " << sub->get_name() << " writes no output folder\n";
+        return 2;
+      }
+    }
+  }
+  for (const char* name : {"--mesh", "--problem", "--strategy", "--marking", "--theta", "--estimator", "--coarsen",
+                           "--cycles", "--steps", "--target-error", "--max-dofs", "--geometry", "--center", "--width",
+                           "--solver"}) {
+    if (adapt_cmd->count(name) > 0) adapt_args.given.insert(name);
+  }
+  {
+    std::string line = "rgbmesh";
+    for (int i = 1; i < argc; ++i) line += std::string(" ") + argv[i];
+    adapt_args.command_line = line;
   }
 
   try {
@@ -348,7 +410,8 @@ int main(int argc, char** argv) {
     if (fit_cmd->parsed()) return run_fit(fit_args);
     // The main job: rgbmesh adapt with its defaults.
     AdaptArgs defaults;
-    defaults.out = default_out;
+    defaults.out = global_out;
+    defaults.command_line = adapt_args.command_line;
     return run_adapt(defaults);
   } catch (const InputError& e) {
     std::cerr << "rgbmesh: error: " << e.what() << "\n";

@@ -6,8 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 
+#include "rgbmesh/geometry.hpp"
 #include "rgbmesh/soup.hpp"
 
 namespace rgbmesh::cli {
@@ -79,6 +81,47 @@ class Progress {
   double next_ = 0;
 };
 
+// Why a stage changed nothing, for the warning: the user may have mistyped a value.
+std::string why_nothing_changed(const RgbMesh& mesh, const Stage& s, int cap, std::size_t triangles_before) {
+  const std::string capped = " (or --max-level " + std::to_string(cap) + " stops it)";
+  switch (s.kind) {
+    case Stage::uniform:
+      return "the mesh is already at level " + std::to_string(s.level) + " everywhere" +
+             (s.level > cap ? capped : std::string());
+    case Stage::ball: {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (TriangleHandle t : mesh.triangles()) {
+        const auto c = mesh.triangle_vertices(t);
+        nearest = std::min(nearest, point_triangle_distance(Vec3(s.x, s.y, s.z), mesh.control_point(c[0]),
+                                                            mesh.control_point(c[1]), mesh.control_point(c[2])));
+      }
+      if (nearest > s.radius) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "the ball misses the surface: its nearest point is %.6g away, radius %.6g",
+                      nearest, s.radius);
+        return std::string(buf) + " (`rgbmesh info` prints the bounding box)";
+      }
+      return "every triangle that meets the ball is already at level " + std::to_string(s.level) + " or finer" +
+             (s.level > cap ? capped : std::string());
+    }
+    case Stage::max_edge:
+      return "no edge is longer than " + s.text.substr(s.text.find(' ') + 1) + capped;
+    case Stage::geometric_tol:
+      return "the surface is already resolved to " + s.text.substr(s.text.find(' ') + 1) + capped;
+    case Stage::budget:
+      return triangles_before >= s.count ? "the mesh already has " + std::to_string(triangles_before) +
+                                               " triangles, at least the budget of " + std::to_string(s.count)
+                                         : "no edge could be split" + capped;
+    case Stage::coarsen_all:
+      return "the mesh is already its base mesh";
+    case Stage::random_walk:
+      return s.count == 0 ? "it has no steps" : "no operation was possible";
+    case Stage::max_level:
+      break;
+  }
+  return "";
+}
+
 }  // namespace
 
 Stage parse_uniform(const std::string& value) {
@@ -144,6 +187,7 @@ StageTotals run_stages(RgbMesh& mesh, const std::vector<Stage>& stages) {
   for (std::size_t i = 0; i < stages.size(); ++i) {
     const Stage& s = stages[i];
     const auto stage_start = std::chrono::steady_clock::now();
+    const std::size_t triangles_before = mesh.num_triangles();
     Progress progress("stage " + std::to_string(i + 1) + "/" + std::to_string(stages.size()) + " " + s.text);
     RefinementOptions options;
     options.max_level = cap;
@@ -185,6 +229,9 @@ StageTotals run_stages(RgbMesh& mesh, const std::vector<Stage>& stages) {
       }
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start).count();
+    if (s.kind != Stage::max_level && r.splits == 0 && r.removals == 0)
+      std::fprintf(stderr, "rgbmesh: warning: stage %s changed nothing: %s\n", s.text.c_str(),
+                   why_nothing_changed(mesh, s, cap, triangles_before).c_str());
     totals.splits += r.splits;
     totals.removals += r.removals;
     if (s.kind != Stage::max_level) totals.stages.push_back({s.text, r.splits, r.removals, seconds});

@@ -84,8 +84,8 @@ void BM_AdaptiveCycle(benchmark::State& state) {
     o.projection = Projection(project_to_unit_sphere);
     o.max_cycles = 60;
     o.max_dofs = target;
-    const auto reports = adapt::run_cycles(mesh, sphere_peak(), o);
-    last = reports.back();  // it solved, estimated and adapted (to the mesh past the target)
+    const auto run = adapt::run_cycles(mesh, sphere_peak(), o);
+    last = run.cycles.back();  // it solved, estimated and adapted (to the mesh past the target)
   }
   state.counters["dofs"] = static_cast<double>(last.dofs);
   state.counters["cycle_s"] = last.seconds;

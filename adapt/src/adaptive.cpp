@@ -86,6 +86,11 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   return c;
 }
 
+// The number of vertices after one more uniform level: every green edge of the finest level
+// gains a vertex. Exact for a uniform mesh (V + E); for a selectively refined one, a lower
+// bound of what UniformLevel(max_level + 1) inserts.
+std::size_t vertices_after_uniform_level(const RgbMesh& mesh) { return mesh.num_vertices() + mesh.num_edges(); }
+
 // Marks, then refines and coarsens the mesh through the queues; returns the marks per FE
 // triangle and counts the operations in the report.
 std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOptions& options, CycleReport& report) {
@@ -106,20 +111,15 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
     std::vector<double> vertex_values;
     double threshold = 0;
     if (options.coarsen_below > 0) {
+      // Each vertex's largest indicator over its star, against the refinement threshold.
       std::vector<double> star(c.fe.num_dofs(), 0.0);
       for (std::size_t i = 0; i < c.fe.triangles.size(); ++i) {
-        const double e2 = c.estimate.eta[i] * c.estimate.eta[i];
-        for (std::int32_t v : c.fe.triangles[i]) star[v] += e2;
+        for (std::int32_t v : c.fe.triangles[i]) star[v] = std::max(star[v], c.estimate.eta[i]);
       }
       vertex_values.assign(static_cast<std::size_t>(mesh.vertex_slots()), 1e300);
-      double mean = 0;
-      for (std::size_t v = 0; v < star.size(); ++v) {
-        star[v] = std::sqrt(star[v]);
-        mean += star[v];
-        vertex_values[c.fe.vertex[v].idx] = star[v];
-      }
-      mean /= static_cast<double>(std::max<std::size_t>(1, star.size()));
-      threshold = options.coarsen_below * mean;
+      for (std::size_t v = 0; v < star.size(); ++v) vertex_values[c.fe.vertex[v].idx] = star[v];
+      threshold = options.coarsen_below *
+                  refinement_threshold(c.estimate.eta, marked, options.marking, options.target_estimate);
     }
     r = selective_refinement(mesh, FieldCriterion(std::move(triangle_values), 0.5, std::move(vertex_values), threshold),
                              ro);
@@ -132,6 +132,16 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
 }
 
 }  // namespace
+
+const char* to_string(StopReason reason) {
+  switch (reason) {
+    case StopReason::cycles: return "cycles";
+    case StopReason::target_error: return "target-error";
+    case StopReason::max_dofs: return "max-dofs";
+    case StopReason::steps: return "steps";
+  }
+  return "?";
+}
 
 std::vector<char> mark(const std::vector<double>& eta, Marking marking, double theta, double target) {
   std::vector<char> marked(eta.size(), 0);
@@ -159,44 +169,111 @@ std::vector<char> mark(const std::vector<double>& eta, Marking marking, double t
   return marked;
 }
 
-std::vector<CycleReport> run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
-                                    const CycleCallback& on_cycle) {
+double refinement_threshold(const std::vector<double>& eta, const std::vector<char>& marked, Marking marking,
+                            double target) {
+  if (eta.empty()) return 0;
+  if (marking == Marking::equidistribution) return target / std::sqrt(static_cast<double>(eta.size()));
+  double smallest = 0;
+  bool any = false;
+  for (std::size_t i = 0; i < eta.size(); ++i) {
+    if (!marked[i]) continue;
+    smallest = any ? std::min(smallest, eta[i]) : eta[i];
+    any = true;
+  }
+  return smallest;
+}
+
+AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
+                    const CycleCallback& on_cycle) {
   SolutionTransfer transfer(mesh);
-  std::vector<CycleReport> reports;
+  AdaptRun run;
   for (int cycle = 0; cycle < options.max_cycles; ++cycle) {
     const auto t0 = std::chrono::steady_clock::now();
     SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer);
     c.report.cycle = cycle;
-    const bool last = cycle + 1 == options.max_cycles || c.estimate.total <= options.target_estimate;
+    bool last = true;
+    if (cycle + 1 == options.max_cycles)
+      run.stopped = StopReason::cycles;
+    else if (c.estimate.total <= options.target_estimate)
+      run.stopped = StopReason::target_error;
+    else if (options.strategy == Strategy::uniform && vertices_after_uniform_level(mesh) > options.max_dofs)
+      run.stopped = StopReason::max_dofs;  // predicted: the next mesh is never built
+    else
+      last = false;
     std::vector<char> marked(c.fe.triangles.size(), 0);
     if (!last) {
       transfer.store(c.fe, c.solution.u);
       marked = adapt_mesh(mesh, c, options, c.report);
     }
     c.report.seconds = seconds_since(t0);
-    reports.push_back(c.report);
-    if (on_cycle) on_cycle({reports.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked});
-    if (last || mesh.num_vertices() > options.max_dofs) break;
+    run.cycles.push_back(c.report);
+    if (on_cycle) on_cycle({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked});
+    if (last) break;
+    if (mesh.num_vertices() > options.max_dofs) {
+      run.stopped = StopReason::max_dofs;
+      break;
+    }
   }
-  return reports;
+  return run;
 }
 
-std::vector<CycleReport> run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& problem_at, int steps,
-                                     int cycles_per_step, const AdaptOptions& options, const CycleCallback& on_step) {
+AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& problem_at,
+                     const AdaptOptions& options, const DynamicOptions& dynamic, const CycleCallback& on_step) {
+  AdaptRun run;
+  // Adapt to the start, refinement only.
+  AdaptOptions start = options;
+  start.coarsen_below = 0;
+  start.max_cycles = std::max(1, dynamic.start_cycles);
+  if (start.marking == Marking::equidistribution && !(start.target_estimate > 0)) start.marking = Marking::dorfler;
+  AdaptRun started = run_cycles(mesh, problem_at(0.0), start);
+  run.start = std::move(started.cycles);
+  if (started.stopped == StopReason::max_dofs && mesh.num_vertices() > options.max_dofs) {
+    run.stopped = StopReason::max_dofs;  // even the start needs more than max_dofs
+    return run;
+  }
+  AdaptOptions o = options;
+  if (o.marking == Marking::equidistribution && !(o.target_estimate > 0)) o.target_estimate = run.start.back().estimate;
+  run.target_estimate = o.target_estimate;
+  if (dynamic.on_started) dynamic.on_started(run.start, run.target_estimate);
+
   SolutionTransfer transfer(mesh);
-  std::vector<CycleReport> reports;
-  for (int step = 0; step <= steps; ++step) {
+  // Settle the start under the steps' own marking and coarsening (equidistribution towards a
+  // target reached by Dörfler marking is a different balance), so that the size is steady
+  // from the first step on: until an adaptation changes the size by less than 2%.
+  if (o.strategy == Strategy::adaptive && o.marking == Marking::equidistribution) {
+    const fem::Problem problem = problem_at(0.0);
+    for (int k = 0; k < 10; ++k) {
+      SolvedCycle c = solve_and_estimate(mesh, problem, o, transfer);
+      transfer.store(c.fe, c.solution.u);
+      const std::size_t before = mesh.num_vertices();
+      CycleReport settled;
+      adapt_mesh(mesh, c, o, settled);
+      if (mesh.num_vertices() > o.max_dofs) {
+        run.stopped = StopReason::max_dofs;
+        return run;
+      }
+      const double change = std::abs(static_cast<double>(mesh.num_vertices()) - static_cast<double>(before));
+      if (change < 0.02 * static_cast<double>(before)) break;
+    }
+  }
+  run.stopped = StopReason::steps;
+  for (int step = 0; step <= dynamic.steps; ++step) {
     const auto t0 = std::chrono::steady_clock::now();
-    const double t = steps > 0 ? static_cast<double>(step) / steps : 0.0;
+    const double t = dynamic.steps > 0 ? static_cast<double>(step) / dynamic.steps : 0.0;
     const fem::Problem problem = problem_at(t);
     CycleReport adapted;
-    // Adapt to the feature where it is now: refine there, coarsen where it was.
-    for (int k = 0; k < cycles_per_step; ++k) {
-      SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer);
+    // Adapt to the feature where it is now: refine there, coarsen where it was (a uniform
+    // mesh stays as the start made it).
+    for (int k = 0; o.strategy == Strategy::adaptive && k < dynamic.cycles_per_step; ++k) {
+      SolvedCycle c = solve_and_estimate(mesh, problem, o, transfer);
       transfer.store(c.fe, c.solution.u);
-      adapt_mesh(mesh, c, options, adapted);
+      adapt_mesh(mesh, c, o, adapted);
+      if (mesh.num_vertices() > o.max_dofs) {
+        run.stopped = StopReason::max_dofs;
+        return run;
+      }
     }
-    SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer);
+    SolvedCycle c = solve_and_estimate(mesh, problem, o, transfer);
     transfer.store(c.fe, c.solution.u);
     c.report.cycle = step;
     c.report.time = t;
@@ -204,11 +281,13 @@ std::vector<CycleReport> run_dynamic(RgbMesh& mesh, const std::function<fem::Pro
     c.report.removals = adapted.removals;
     c.report.adapt_seconds = adapted.adapt_seconds;
     c.report.seconds = seconds_since(t0);
-    reports.push_back(c.report);
-    const std::vector<char> marked = mark(c.estimate.eta, options.marking, options.theta, options.target_estimate);
-    if (on_step) on_step({reports.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked});
+    run.cycles.push_back(c.report);
+    const std::vector<char> marked = o.strategy == Strategy::adaptive
+                                         ? mark(c.estimate.eta, o.marking, o.theta, o.target_estimate)
+                                         : std::vector<char>(c.fe.triangles.size(), 0);
+    if (on_step) on_step({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked});
   }
-  return reports;
+  return run;
 }
 
 MeshSnapshot snapshot(const CycleState& s) {

@@ -7,6 +7,7 @@
 // (paper, section V). Every step is written as a VTP file and listed in a .pvd collection,
 // which ParaView plays as an animation.
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -18,6 +19,7 @@
 
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/refinement.hpp"
+#include "rgbmesh/shapes.hpp"
 #include "rgbmesh/vtk_io.hpp"
 
 namespace {
@@ -57,27 +59,19 @@ class BandAroundPlane final : public rgbmesh::LodCriterion {
   int fine_;
 };
 
-// A unit icosahedron: 12 vertices of valence 5, 20 triangles.
-RgbMesh icosahedron() {
-  const double g = (1.0 + std::sqrt(5.0)) / 2.0, s = 1.0 / std::sqrt(1.0 + g * g);
-  std::vector<Vec3> p = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
-                         {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
-  for (Vec3& q : p) q *= s;
-  const std::vector<std::array<std::int32_t, 3>> t = {
-      {0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-      {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-      {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  return RgbMesh::from_triangles(p, t);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   namespace fs = std::filesystem;
-  const fs::path out_dir = argc > 1 ? argv[1] : "out/01_moving_front";
+  CLI::App app{"Example 01: a band of fine levels follows a plane across an icosahedron (RGB queues alone)."};
+  std::string out = "out/01_moving_front";
+  app.add_option("OUT", out, "Output folder (one .vtp per step and front.pvd)")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  const fs::path out_dir = out;
   fs::create_directories(out_dir);
 
-  RgbMesh mesh = icosahedron();
+  const rgbmesh::TriangleMeshData ico = rgbmesh::icosahedron();
+  RgbMesh mesh = RgbMesh::from_triangles(ico.points, ico.triangles);
   const int steps = 24, fine = 6;
   const double half_width = 0.08;
   std::vector<std::pair<double, std::string>> series;

@@ -8,6 +8,7 @@
 // once; vertices are projected onto the sphere (exact geometry), so the errors against the
 // exact solution measure the discretization alone.
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -39,11 +40,15 @@ std::vector<adapt::CycleReport> run(adapt::Strategy strategy, const std::filesys
     write_mesh(dir / file, adapt::snapshot(s));
     series.emplace_back(s.report.cycle, file);
     write_pvd(dir / "solution.pvd", series);
-  });
+  }).cycles;
 }
 
 int main(int argc, char** argv) {
-  const std::filesystem::path out = argc > 1 ? argv[1] : "out/02_adaptive_sphere";
+  CLI::App app{"Example 02: adaptive versus uniform refinement for a sharp peak on the unit sphere."};
+  std::string out_dir = "out/02_adaptive_sphere";
+  app.add_option("OUT", out_dir, "Output folder (uniform/ and adaptive/ series)")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  const std::filesystem::path out = out_dir;
   const auto uniform = run(adapt::Strategy::uniform, out / "uniform");
   const auto adaptive = run(adapt::Strategy::adaptive, out / "adaptive");
 

@@ -7,6 +7,7 @@
 // -Δu + u = f for a narrow Gaussian source f on the bunny's back and let the adaptive loop
 // concentrate the mesh around it.
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -17,8 +18,18 @@
 using namespace rgbmesh;
 
 int main(int argc, char** argv) {
-  const std::string input = argc > 1 ? argv[1] : "data/bunny.obj";
-  const std::filesystem::path out = argc > 2 ? argv[2] : "out/04_bunny_source";
+  CLI::App app{"Example 04: adaptive finite elements for a heat source on the bunny's Loop limit surface."};
+  std::string input = RGBMESH_EXAMPLE_DATA_DIR "/bunny.obj";  // the repository's copy, wherever we run
+  std::string out_dir = "out/04_bunny_source";
+  app.add_option("MESH", input, "The bunny (data/bunny.obj in the rgbmesh repository)")->capture_default_str();
+  app.add_option("OUT", out_dir, "Output folder (one .vtp per cycle and bunny.pvd)")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  const std::filesystem::path out = out_dir;
+  if (!std::filesystem::exists(input)) {
+    std::fprintf(stderr, "example_04_bunny_source: %s does not exist: give the path of data/bunny.obj of the rgbmesh "
+                 "repository as the first argument\n", input.c_str());
+    return 2;
+  }
   std::filesystem::create_directories(out);
 
   const TriangleMeshData bunny = read_mesh(input);

@@ -15,6 +15,20 @@ double SurfaceMesh::total_area() const {
   return a;
 }
 
+double SurfaceMesh::lift_area_factor(const Vec3& x, const Vec3& n, double size) const {
+  if (!projection) return 1.0;
+  // An orthonormal basis of the plane: e1 across the largest-magnitude axis of n.
+  const Vec3 a = std::abs(n.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  Vec3 e1 = cross(n, a);
+  e1 = e1 * (1.0 / norm(e1));
+  const Vec3 e2 = cross(n, e1);
+  // A step well inside the triangle's scale, far above rounding: the O(δ²) error is ~1e-10.
+  const double d = 1e-5 * size;
+  const Vec3 d1 = ((*projection)(x + d * e1) - (*projection)(x - d * e1)) * (0.5 / d);
+  const Vec3 d2 = ((*projection)(x + d * e2) - (*projection)(x - d * e2)) * (0.5 / d);
+  return norm(cross(d1, d2));
+}
+
 TriangleGeometry triangle_geometry(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
   TriangleGeometry g;
   const Vec3 n = cross(p1 - p0, p2 - p0);

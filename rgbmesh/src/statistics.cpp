@@ -48,11 +48,17 @@ MeshStatistics compute_statistics(const RgbMesh& m) {
     s.longest_edge = std::max(s.longest_edge, l);
   }
   if (s.edges == 0) s.shortest_edge = 0;
+  bool first = true;
   for (VertexHandle v : m.vertices()) {
+    const Vec3 p = m.control_point(v);
+    s.bbox_min = first ? p : Vec3(std::min(s.bbox_min.x, p.x), std::min(s.bbox_min.y, p.y), std::min(s.bbox_min.z, p.z));
+    s.bbox_max = first ? p : Vec3(std::max(s.bbox_max.x, p.x), std::max(s.bbox_max.y, p.y), std::max(s.bbox_max.z, p.z));
+    first = false;
     ++s.valence_histogram[valence[v.idx]];
     ++s.vertices_per_level[m.level(v)];
     s.max_level = std::max(s.max_level, m.level(v));
   }
+  s.bbox_diagonal = norm(s.bbox_max - s.bbox_min);
   for (TriangleHandle t : m.triangles()) {
     ++s.triangles_per_level[m.level(t)][static_cast<int>(m.color(t))];
   }

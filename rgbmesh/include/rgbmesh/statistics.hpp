@@ -24,6 +24,9 @@ struct MeshStatistics {
   // triangles_per_level[level][color]: color 0 green, 1 red, 2 blue.
   std::map<int, std::array<std::size_t, 3>> triangles_per_level;
   double shortest_edge = 0, longest_edge = 0;
+  // The axis-aligned bounding box of the control points shown (zero for an empty mesh).
+  Vec3 bbox_min, bbox_max;
+  double bbox_diagonal = 0;
 };
 
 MeshStatistics compute_statistics(const RgbMesh& mesh);

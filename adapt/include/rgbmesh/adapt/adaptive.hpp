@@ -29,11 +29,15 @@ struct AdaptOptions {
   Marking marking = Marking::dorfler;
   double theta = 0.5;
   EstimatorKind estimator = EstimatorKind::residual;
-  // Coarsening: removable vertices whose star indicator sqrt(Σ η_T² over the star) is below
-  // coarsen_below times the mean star indicator are removed (0: no coarsening).
+  // Coarsening, in [0, 1): removable vertices whose largest indicator over their star is below
+  // coarsen_below times the refinement threshold (the smallest indicator marked for
+  // refinement; with equidistribution the limit target_estimate / sqrt(N)) are removed. The
+  // same scale for both halves puts the coarsest fine triangles where refinement would stop,
+  // so that a moving feature leaves as much refinement behind as it finds ahead. 0: none.
   double coarsen_below = 0.0;
-  // Stops: after max_cycles, when the estimate is at most target_estimate, or when the next
-  // cycle would exceed max_dofs (checked after each solve).
+  // Stops: after max_cycles, when the estimate is at most target_estimate, or when the mesh
+  // would exceed max_dofs (uniform refinement predicts the next size and stops before it;
+  // adaptive refinement stops once a refined mesh has more, before solving on it).
   int max_cycles = 10;
   double target_estimate = 0.0;
   std::size_t max_dofs = 1000000;
@@ -41,6 +45,16 @@ struct AdaptOptions {
   fem::SolveOptions solve;
   std::optional<fem::Projection> projection;  // exact-geometry mode (e.g. the unit sphere)
 };
+
+// Why a run ended.
+enum class StopReason {
+  cycles,        // max_cycles done
+  target_error,  // the estimate reached target_estimate
+  max_dofs,      // the next mesh would exceed max_dofs
+  steps,         // every time step done (run_dynamic)
+};
+// "cycles", "target-error", "max-dofs", "steps".
+const char* to_string(StopReason reason);
 
 struct CycleReport {
   int cycle = 0;
@@ -68,19 +82,40 @@ struct CycleState {
 };
 using CycleCallback = std::function<void(const CycleState&)>;
 
-// Runs adaptive (or uniform) cycles on the mesh for a stationary problem. The mesh ends as
-// adapted after the last cycle's marking only if a further cycle would run: the last cycle's
-// solution stays on its mesh.
-std::vector<CycleReport> run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
-                                    const CycleCallback& on_cycle = {});
+// The cycles of a run and why it ended.
+struct AdaptRun {
+  std::vector<CycleReport> cycles;  // one per cycle (run_cycles) or time step (run_dynamic)
+  std::vector<CycleReport> start;   // run_dynamic: the cycles that adapted to the start
+  StopReason stopped = StopReason::cycles;
+  double target_estimate = 0;       // run_dynamic: the equidistribution target used
+};
 
-// A moving source: problem_at(t) gives the problem at time t. Each of the `steps` time steps
-// t = 0, 1/steps, ... solves and adapts `cycles_per_step` times (refining where the feature
-// is and coarsening where it was), and reports its last cycle. With Dörfler or fixed-fraction
-// marking the mesh keeps growing; equidistribution towards a fixed target (for instance the
-// estimate reached by run_cycles on the first position) keeps its size steady.
-std::vector<CycleReport> run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& problem_at, int steps,
-                                     int cycles_per_step, const AdaptOptions& options, const CycleCallback& on_step = {});
+// Runs adaptive (or uniform) cycles on the mesh for a stationary problem. The last solved
+// mesh stays as it is, except when the run stops at max_dofs after adaptive refinement: the
+// mesh is then the refined one that was not solved.
+AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
+                    const CycleCallback& on_cycle = {});
+
+struct DynamicOptions {
+  int steps = 24;           // time steps t = 0, 1/steps, ..., 1 (steps + 1 solves)
+  int cycles_per_step = 2;  // adaptations to each new time before it is solved and reported
+  int start_cycles = 8;     // cycles that adapt the mesh to the problem at t = 0 first
+  // Called once the start is adapted, with its cycles and the target of the steps.
+  std::function<void(const std::vector<CycleReport>& start, double target_estimate)> on_started;
+};
+
+// A moving source: problem_at(t) gives the problem at time t. The mesh is first adapted to
+// the problem at t = 0 (start_cycles cycles with the options' strategy; equidistribution
+// starts with Dörfler marking unless a target is given); then each time step adapts
+// cycles_per_step times to the problem at its time (refining where the feature is, coarsening
+// where it was), solves and reports. With equidistribution marking and no target_estimate,
+// the target is the estimate reached at the start, which keeps the mesh at a steady size
+// (the start is then settled under that marking, so the size is steady from the first step);
+// Dörfler and fixed-fraction marking refine at every step, until max_dofs. The uniform
+// strategy refines at the start only and keeps that mesh. The run stops early if an
+// adaptation would exceed max_dofs.
+AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& problem_at,
+                     const AdaptOptions& options, const DynamicOptions& dynamic, const CycleCallback& on_step = {});
 
 // The peak of fem::sphere_peak moving along a great circle by a quarter turn as t goes from
 // 0 to 1, with c = 1 (the moving-peak problem).
@@ -93,5 +128,10 @@ MeshSnapshot snapshot(const CycleState& state);
 
 // Marks triangles (per FE triangle) by the chosen strategy (target: for equidistribution).
 std::vector<char> mark(const std::vector<double>& eta, Marking marking, double theta, double target = 0);
+
+// The refinement threshold of a marking: the smallest marked indicator (the equidistribution
+// limit target / sqrt(N) for that marking; 0 if nothing is marked).
+double refinement_threshold(const std::vector<double>& eta, const std::vector<char>& marked, Marking marking,
+                            double target = 0);
 
 }  // namespace rgbmesh::adapt

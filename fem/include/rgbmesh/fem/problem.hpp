@@ -3,7 +3,7 @@
 //
 // On a closed surface with c = 0 the solution is defined up to a constant: rgbmesh returns the
 // solution of zero mean, and requires a source of zero mean (the compatibility condition,
-// checked). On open surfaces, the boundary is Dirichlet (u = g) except where `is_neumann`
+// checked on the surface, then enforced on the discrete load). On open surfaces, the boundary is Dirichlet (u = g) except where `is_neumann`
 // says otherwise (du/dn = h there, n the outward conormal); with c = 0 and no Dirichlet part
 // the zero-mean treatment applies, and the compatibility condition includes the flux h.
 
@@ -34,9 +34,14 @@ struct Problem {
   std::function<bool(const Vec3&)> is_neumann;  // at a boundary edge's midpoint; none if empty
   ScalarField neumann_flux;                    // h; zero if empty
   std::optional<ExactSolution> exact;
-  // Relative tolerance of the zero-mean check |∫f + ∫h| <= tol ∫(|f| + |h|).
+  // Relative tolerance of the zero-mean check |∫f + ∫h| <= tol ∫(|f| + |h|), with the
+  // integrals over the surface (lifted when a projection is known, else over the flat
+  // triangles); the discrete load is then made exactly compatible by removing its mean.
   double mean_tolerance = 1e-3;
 };
+
+// The problems with exact solutions take them as Dirichlet data, so that they also hold on an
+// open patch of the sphere.
 
 // u = xyz on the unit sphere: a spherical harmonic of degree 3, so -Δu = 12 xyz (c = 0).
 Problem sphere_harmonic();

@@ -41,6 +41,10 @@ struct SurfaceMesh {
   std::size_t num_dofs() const { return points.size(); }
   // The point of the surface that x on the flat triangles stands for.
   Vec3 lift(const Vec3& x) const { return projection ? (*projection)(x) : x; }
+  // The ratio of the surface's area element to the flat triangle's at x (in the triangle with
+  // unit normal n): 1 without a projection, else |dP e1 × dP e2| for an orthonormal basis
+  // (e1, e2) of the triangle's plane, by central differences of the projection P.
+  double lift_area_factor(const Vec3& x, const Vec3& n, double size) const;
   double total_area() const;
 };
 
