@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -71,6 +72,20 @@ void check_output_path(const std::string& out) {
   const fs::path dir = fs::path(out).parent_path();
   if (!dir.empty() && !fs::is_directory(dir))
     throw InputError(out + ": the directory " + dir.string() + " does not exist");
+}
+
+// A CLI11 check that the option's value is a number accepted by `ok`; the message names what
+// is expected and what was given ("--theta: must be a number in (0, 1], got 0").
+CLI::Validator number_in(const std::string& what, bool (*ok)(double)) {
+  return CLI::Validator(
+      [what, ok](std::string& value) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(value.c_str(), &end);
+        if (value.empty() || end != value.c_str() + value.size() || !ok(x))
+          return "must be " + what + ", got '" + value + "'";
+        return "";
+      },
+      what);
 }
 
 std::string vec_json(const Vec3& p) {
@@ -286,28 +301,28 @@ int main(int argc, char** argv) {
                         "[default: dorfler; equidistribution for moving-peak]");
   adapt_cmd->add_option("--theta", adapt_args.theta, "Marking parameter of dorfler and fraction, in (0, 1]")
       ->capture_default_str()
-      ->check(CLI::Range(1e-12, 1.0));
+      ->check(number_in("a number in (0, 1]", [](double x) { return x > 0 && x <= 1; }));
   adapt_cmd->add_option("--estimator", adapt_args.estimator, "residual or zz")->capture_default_str();
   adapt_cmd
       ->add_option("--coarsen", adapt_args.coarsen,
                    "Remove vertices whose largest indicator over their star is below this times the refinement "
                    "threshold, in [0, 1) [default: 0.25 for moving-peak, else 0]")
-      ->check(CLI::Range(0.0, 0.999999));
+      ->check(number_in("a number in [0, 1)", [](double x) { return x >= 0 && x < 1; }));
   adapt_cmd
       ->add_option("--cycles", adapt_args.cycles,
                    "Maximum number of cycles; for moving-peak, the cycles adapting to the start [default: 20; 8]")
-      ->check(CLI::Range(1, 1000000));
+      ->check(number_in("an integer in [1, 1000000]", [](double x) { return x >= 1 && x <= 1e6; }));
   adapt_cmd->add_option("--steps", adapt_args.steps, "Time steps of moving-peak")
       ->capture_default_str()
-      ->check(CLI::Range(1, 1000000));
+      ->check(number_in("an integer in [1, 1000000]", [](double x) { return x >= 1 && x <= 1e6; }));
   adapt_cmd
       ->add_option("--target-error", adapt_args.target_error,
                    "Stop once the estimate is at most this; for moving-peak and equidistribution, the error every "
                    "step is kept at [moving-peak: the estimate reached at the start]")
-      ->check(CLI::NonNegativeNumber);
+      ->check(number_in("a finite number >= 0", [](double x) { return x >= 0 && std::isfinite(x); }));
   adapt_cmd->add_option("--max-dofs", adapt_args.max_dofs, "Never solve on a mesh with more unknowns")
       ->capture_default_str()
-      ->check(CLI::Range(std::int64_t(1), std::int64_t(1) << 40));
+      ->check(number_in("an integer in [1, 2^40]", [](double x) { return x >= 1 && x <= 1099511627776.0; }));
   adapt_cmd->add_option("--geometry", adapt_args.geometry,
                         "loop (vertices on the Loop limit surface) or sphere (projected onto the unit sphere) "
                         "[default: sphere for the sphere problems, else loop]");
@@ -316,7 +331,7 @@ int main(int argc, char** argv) {
       ->type_name("X,Y,Z")
       ->expected(3);
   adapt_cmd->add_option("--width", adapt_args.width, "gaussian: the source's width sigma [default: diagonal / 20]")
-      ->check(CLI::PositiveNumber);
+      ->check(number_in("a finite number > 0", [](double x) { return x > 0 && std::isfinite(x); }));
   adapt_cmd->add_option("--solver", adapt_args.solver, "auto, ldlt, cg or cholmod")->capture_default_str();
   auto* adapt_out = adapt_cmd->add_option("--out", adapt_args.out, "Output directory")->capture_default_str();
   adapt_cmd->add_option("--report", adapt_args.report,
