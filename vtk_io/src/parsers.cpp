@@ -377,6 +377,7 @@ struct PlyLayout {
   int vertex = -1, face = -1;  // element indices
   int xyz[3] = {-1, -1, -1};   // property indices in the vertex element
   int indices = -1;            // property index of the face's vertex list
+  int normal[3] = {-1, -1, -1};  // nx, ny, nz in the vertex element, when all three are scalars
 };
 
 PlyLayout ply_layout(const PlyHeader& header, const std::string& path) {
@@ -393,6 +394,13 @@ PlyLayout ply_layout(const PlyHeader& header, const std::string& path) {
     if (layout.xyz[k] < 0 || vertex.properties[layout.xyz[k]].is_list)
       throw InputError(path + ": the PLY 'vertex' element has no scalar property '" + name + "'");
   }
+  int normal[3];
+  bool has_normals = true;
+  for (int k = 0; k < 3; ++k) {
+    normal[k] = property_index(vertex, k == 0 ? "nx" : k == 1 ? "ny" : "nz");
+    has_normals = has_normals && normal[k] >= 0 && !vertex.properties[normal[k]].is_list;
+  }
+  if (has_normals) std::copy(normal, normal + 3, layout.normal);
   if (layout.face >= 0) {
     const PlyElement& face = header.elements[layout.face];
     layout.indices = property_index(face, "vertex_indices");
@@ -410,7 +418,7 @@ InputError ply_truncated(const std::string& path, const PlyElement& element, std
 }
 
 void read_binary_element(Cursor& c, const PlyHeader& header, const PlyLayout& layout, int e,
-                         const std::string& path, PolygonSoup& soup) {
+                         const std::string& path, PolygonSoup& soup, std::vector<Vec3>* normals) {
   const PlyElement& element = header.elements[e];
   const bool is_vertex = e == layout.vertex, is_face = e == layout.face;
   std::size_t row = 0;  // bytes per item when there are no lists
@@ -431,7 +439,7 @@ void read_binary_element(Cursor& c, const PlyHeader& header, const PlyLayout& la
   }
   if (is_vertex) soup.points.reserve(static_cast<std::size_t>(element.count));
   for (std::int64_t item = 0; item < element.count; ++item) {
-    double xyz[3] = {0, 0, 0};
+    double xyz[3] = {0, 0, 0}, normal[3] = {0, 0, 0};
     std::vector<std::int64_t> face;
     for (std::size_t k = 0; k < element.properties.size(); ++k) {
       const PlyProperty& p = element.properties[k];
@@ -439,8 +447,11 @@ void read_binary_element(Cursor& c, const PlyHeader& header, const PlyLayout& la
         const char* value = c.take(size_of(p.type));
         if (value == nullptr) throw ply_truncated(path, element, item);
         if (is_vertex)
-          for (int axis = 0; axis < 3; ++axis)
+          for (int axis = 0; axis < 3; ++axis) {
             if (layout.xyz[axis] == static_cast<int>(k)) xyz[axis] = load_double(value, p.type, header.swap);
+            if (layout.normal[axis] == static_cast<int>(k))
+              normal[axis] = load_double(value, p.type, header.swap);
+          }
         continue;
       }
       const char* count_bytes = c.take(size_of(p.count_type));
@@ -461,13 +472,15 @@ void read_binary_element(Cursor& c, const PlyHeader& header, const PlyLayout& la
       }
     }
     if (is_vertex) soup.points.emplace_back(xyz[0], xyz[1], xyz[2]);
+    if (is_vertex && normals != nullptr && layout.normal[0] >= 0)
+      normals->emplace_back(normal[0], normal[1], normal[2]);
     if (is_face) soup.faces.push_back(std::move(face));
   }
 }
 
 // ASCII PLY has one item per line.
 void read_ascii_element(Cursor& c, const PlyHeader& header, const PlyLayout& layout, int e,
-                        const std::string& path, PolygonSoup& soup) {
+                        const std::string& path, PolygonSoup& soup, std::vector<Vec3>* normals) {
   const PlyElement& element = header.elements[e];
   if (element.properties.empty()) return;
   const bool is_vertex = e == layout.vertex, is_face = e == layout.face;
@@ -482,7 +495,7 @@ void read_ascii_element(Cursor& c, const PlyHeader& header, const PlyLayout& lay
       if (next >= tokens.size()) throw c.error("too few values for element '" + element.name + "'");
       return tokens[next++];
     };
-    double xyz[3] = {0, 0, 0};
+    double xyz[3] = {0, 0, 0}, normal[3] = {0, 0, 0};
     std::vector<std::int64_t> face;
     for (std::size_t k = 0; k < element.properties.size(); ++k) {
       const PlyProperty& p = element.properties[k];
@@ -490,7 +503,8 @@ void read_ascii_element(Cursor& c, const PlyHeader& header, const PlyLayout& lay
         const std::string_view value = token();
         if (is_vertex)
           for (int axis = 0; axis < 3; ++axis)
-            if (layout.xyz[axis] == static_cast<int>(k) && !parse_number(value, xyz[axis]))
+            if ((layout.xyz[axis] == static_cast<int>(k) && !parse_number(value, xyz[axis])) ||
+                (layout.normal[axis] == static_cast<int>(k) && !parse_number(value, normal[axis])))
               throw c.error("'" + printable(value) + "' is not a number");
         continue;
       }
@@ -510,6 +524,8 @@ void read_ascii_element(Cursor& c, const PlyHeader& header, const PlyLayout& lay
       }
     }
     if (is_vertex) soup.points.emplace_back(xyz[0], xyz[1], xyz[2]);
+    if (is_vertex && normals != nullptr && layout.normal[0] >= 0)
+      normals->emplace_back(normal[0], normal[1], normal[2]);
     if (is_face) soup.faces.push_back(std::move(face));
   }
 }
@@ -550,7 +566,8 @@ bool legacy_scalar(std::string_view name, Scalar& type) {
 
 class LegacyReader {
  public:
-  LegacyReader(std::string_view data, const std::string& path) : c_(data, path), path_(path) {}
+  LegacyReader(std::string_view data, const std::string& path, const ReadOptions& options)
+      : c_(data, path), path_(path), options_(options) {}
 
   PolygonSoup read() {
     const std::string_view first = c_.line();
@@ -608,12 +625,12 @@ class LegacyReader {
       }
     }
     if (kind == "polydata") {
-      append_poly_data_cells(verts, lines, polys, strips, path_, soup);
+      append_poly_data_cells(verts, lines, polys, strips, path_, soup, options_);
     } else {
       if (types.size() != cells.size())
         throw InputError(path_ + ": " + std::to_string(cells.size()) + " cells but " +
                          std::to_string(types.size()) + " cell types");
-      append_grid_cells(cells, types, path_, soup);
+      append_grid_cells(cells, types, path_, soup, options_);
     }
     return soup;
   }
@@ -747,6 +764,7 @@ class LegacyReader {
 
   Cursor c_;
   const std::string& path_;
+  const ReadOptions& options_;
   bool binary_ = false;
   const bool swap_ = !host_is_big_endian();  // legacy binary data is big-endian
 };
@@ -864,7 +882,7 @@ PolygonSoup parse_off(std::string_view text, const std::string& path) {
   return soup;
 }
 
-PolygonSoup parse_obj(std::string_view text, const std::string& path) {
+PolygonSoup parse_obj(std::string_view text, const std::string& path, const ReadOptions& options) {
   check_text(text, path);
   TokenLines lines(text, path);
   PolygonSoup soup;
@@ -905,6 +923,8 @@ PolygonSoup parse_obj(std::string_view text, const std::string& path) {
         face.push_back(index);
       }
       soup.faces.push_back(std::move(face));
+    } else if (command == "p" && options.skip_vertex_cells) {
+      continue;
     } else if (command == "l" || command == "p" || command == "curv" || command == "curv2" ||
                command == "surf") {
       const char* what = command == "l" ? "polylines" : command == "p" ? "points" : "free-form geometry";
@@ -920,27 +940,28 @@ PolygonSoup parse_obj(std::string_view text, const std::string& path) {
   return soup;
 }
 
-PolygonSoup parse_ply(std::string_view data, const std::string& path) {
+PolygonSoup parse_ply(std::string_view data, const std::string& path, const ReadOptions& options) {
   Cursor c(data, path);
   const PlyHeader header = parse_ply_header(c, path);
   const PlyLayout layout = ply_layout(header, path);
   PolygonSoup soup;
   for (std::size_t e = 0; e < header.elements.size(); ++e) {
     if (header.ascii)
-      read_ascii_element(c, header, layout, static_cast<int>(e), path, soup);
+      read_ascii_element(c, header, layout, static_cast<int>(e), path, soup, options.normals);
     else
-      read_binary_element(c, header, layout, static_cast<int>(e), path, soup);
+      read_binary_element(c, header, layout, static_cast<int>(e), path, soup, options.normals);
   }
   return soup;
 }
 
-PolygonSoup parse_legacy_vtk(std::string_view data, const std::string& path) {
-  return LegacyReader(data, path).read();
+PolygonSoup parse_legacy_vtk(std::string_view data, const std::string& path, const ReadOptions& options) {
+  return LegacyReader(data, path, options).read();
 }
 
 void append_poly_data_cells(const CellList& verts, const CellList& lines, const CellList& polys,
-                            const CellList& strips, const std::string& path, PolygonSoup& soup) {
-  if (!verts.empty())
+                            const CellList& strips, const std::string& path, PolygonSoup& soup,
+                            const ReadOptions& options) {
+  if (!verts.empty() && !options.skip_vertex_cells)
     throw not_a_surface_cell(path, 0, verts.front().size() <= 1 ? VTK_VERTEX : VTK_POLY_VERTEX);
   if (!lines.empty()) throw not_a_surface_cell(path, 0, lines.front().size() <= 2 ? VTK_LINE : VTK_POLY_LINE);
   soup.faces.insert(soup.faces.end(), polys.begin(), polys.end());
@@ -948,7 +969,7 @@ void append_poly_data_cells(const CellList& verts, const CellList& lines, const 
 }
 
 void append_grid_cells(const CellList& cells, const std::vector<int>& types, const std::string& path,
-                       PolygonSoup& soup) {
+                       PolygonSoup& soup, const ReadOptions& options) {
   for (std::size_t c = 0; c < cells.size(); ++c) {
     const auto& ids = cells[c];
     switch (types[c]) {
@@ -965,6 +986,10 @@ void append_grid_cells(const CellList& cells, const std::vector<int>& types, con
         break;
       case VTK_TRIANGLE_STRIP:
         append_strip(ids, soup);
+        break;
+      case VTK_VERTEX:
+      case VTK_POLY_VERTEX:
+        if (!options.skip_vertex_cells) throw not_a_surface_cell(path, c, types[c]);
         break;
       default:
         throw not_a_surface_cell(path, c, types[c]);

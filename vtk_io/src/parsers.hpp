@@ -12,24 +12,43 @@
 #include <vector>
 
 #include "rgbmesh/soup.hpp"
+#include "rgbmesh/vec3.hpp"
 
 namespace rgbmesh::detail {
 
+// What a reader keeps besides the surface polygons. The defaults are those of mesh reading.
+struct ReadOptions {
+  // Point clouds: vertex cells (VTK vertices and poly-vertices, OBJ 'p' elements) are skipped
+  // instead of being an error, since they are how most tools mark points for display.
+  bool skip_vertex_cells = false;
+  // When set, receives one normal per point where the file has them (PLY nx, ny, nz); left
+  // empty otherwise.
+  std::vector<Vec3>* normals = nullptr;
+};
+
 PolygonSoup parse_off(std::string_view text, const std::string& path);
-PolygonSoup parse_obj(std::string_view text, const std::string& path);
-PolygonSoup parse_ply(std::string_view data, const std::string& path);
-PolygonSoup parse_legacy_vtk(std::string_view data, const std::string& path);
+PolygonSoup parse_obj(std::string_view text, const std::string& path, const ReadOptions& options = {});
+PolygonSoup parse_ply(std::string_view data, const std::string& path, const ReadOptions& options = {});
+PolygonSoup parse_legacy_vtk(std::string_view data, const std::string& path, const ReadOptions& options = {});
+
+// A point cloud as text (.xyz, .pwn): one point per line, "x y z" or "x y z nx ny nz", the same
+// number of columns on every line; empty lines and '#' comments are skipped. Errors name the
+// line as "path:line: ...". Normals go to `normals` when the file has them.
+PolygonSoup parse_xyz(std::string_view text, const std::string& path, std::vector<Vec3>& normals);
 
 using CellList = std::vector<std::vector<std::int64_t>>;
 
 // Cells of a polygonal data set in VTK's numbering (vertices, lines, polygons, strips): polygons
-// become faces, strips triangles; any vertex or line cell is an InputError naming it.
+// become faces, strips triangles; any vertex or line cell is an InputError naming it (vertex
+// cells are skipped when options.skip_vertex_cells).
 void append_poly_data_cells(const CellList& verts, const CellList& lines, const CellList& polys,
-                            const CellList& strips, const std::string& path, PolygonSoup& soup);
+                            const CellList& strips, const std::string& path, PolygonSoup& soup,
+                            const ReadOptions& options = {});
 
 // Cells of an unstructured grid with their VTK cell types: triangles, quads, pixels, polygons and
-// strips become faces; any other type is an InputError naming the cell.
+// strips become faces; any other type is an InputError naming the cell (vertex and poly-vertex
+// cells are skipped when options.skip_vertex_cells).
 void append_grid_cells(const CellList& cells, const std::vector<int>& types, const std::string& path,
-                       PolygonSoup& soup);
+                       PolygonSoup& soup, const ReadOptions& options = {});
 
 }  // namespace rgbmesh::detail

@@ -9,6 +9,7 @@
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
+#include <vtkDataArray.h>
 #include <vtkDataSet.h>
 #include <vtkDoubleArray.h>
 #include <vtkErrorCode.h>
@@ -55,6 +56,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* input_extensions[] = {".obj", ".off", ".ply", ".stl", ".vtk", ".vtp", ".vtu"};
+constexpr const char* point_cloud_extensions[] = {".obj", ".off", ".ply", ".pwn", ".stl",
+                                                  ".vtk", ".vtp", ".vtu", ".xyz"};
 constexpr const char* output_extensions[] = {".obj", ".off", ".ply", ".stl", ".vtp", ".vtu"};
 
 std::string joined(const char* const* begin, const char* const* end) {
@@ -226,16 +229,30 @@ void append_points(vtkPoints* points, PolygonSoup& soup) {
   }
 }
 
-PolygonSoup soup_of(vtkPolyData& data, const fs::path& path) {
+// The data set's point normals, when asked for and present with one 3-vector per point.
+void append_normals(vtkDataSet& data, const PolygonSoup& soup, const detail::ReadOptions& options) {
+  vtkDataArray* normals = data.GetPointData() != nullptr ? data.GetPointData()->GetNormals() : nullptr;
+  if (options.normals == nullptr || normals == nullptr || normals->GetNumberOfComponents() != 3 ||
+      normals->GetNumberOfTuples() != static_cast<vtkIdType>(soup.points.size()))
+    return;
+  for (vtkIdType i = 0; i < normals->GetNumberOfTuples(); ++i) {
+    double n[3];
+    normals->GetTuple(i, n);
+    options.normals->emplace_back(n[0], n[1], n[2]);
+  }
+}
+
+PolygonSoup soup_of(vtkPolyData& data, const fs::path& path, const detail::ReadOptions& options) {
   PolygonSoup soup;
   append_points(data.GetPoints(), soup);
   detail::append_poly_data_cells(cells_of(data.GetVerts(), path), cells_of(data.GetLines(), path),
                                  cells_of(data.GetPolys(), path), cells_of(data.GetStrips(), path),
-                                 path.string(), soup);
+                                 path.string(), soup, options);
+  append_normals(data, soup, options);
   return soup;
 }
 
-PolygonSoup soup_of(vtkUnstructuredGrid& grid, const fs::path& path) {
+PolygonSoup soup_of(vtkUnstructuredGrid& grid, const fs::path& path, const detail::ReadOptions& options) {
   PolygonSoup soup;
   append_points(grid.GetPoints(), soup);
   const detail::CellList cells = cells_of(grid.GetCells(), path);
@@ -245,7 +262,8 @@ PolygonSoup soup_of(vtkUnstructuredGrid& grid, const fs::path& path) {
   if (types.size() != cells.size())
     throw InputError(path.string() + ": cannot read: " + std::to_string(cells.size()) + " cells but " +
                      std::to_string(types.size()) + " cell types");
-  detail::append_grid_cells(cells, types, path.string(), soup);
+  detail::append_grid_cells(cells, types, path.string(), soup, options);
+  append_normals(grid, soup, options);
   return soup;
 }
 
@@ -413,7 +431,7 @@ void check_xml_sizes(const fs::path& path, std::string_view data) {
   }
 }
 
-PolygonSoup read_with_vtk(const fs::path& path, const std::string& ext) {
+PolygonSoup read_with_vtk(const fs::path& path, const std::string& ext, const detail::ReadOptions& options) {
   if (ext == ".stl") {
     check_binary_stl_length(path);
     vtkNew<vtkSTLReader> reader;
@@ -422,7 +440,7 @@ PolygonSoup read_with_vtk(const fs::path& path, const std::string& ext) {
     // duplicates are merged below instead.
     reader->SetMerging(false);
     run_reader(*reader, path);
-    PolygonSoup soup = soup_of(*reader->GetOutput(), path);
+    PolygonSoup soup = soup_of(*reader->GetOutput(), path, options);
     merge_equal_points(soup);
     return soup;
   }
@@ -431,12 +449,36 @@ PolygonSoup read_with_vtk(const fs::path& path, const std::string& ext) {
     vtkNew<vtkXMLPolyDataReader> reader;
     reader->SetFileName(path.c_str());
     run_reader(*reader, path);
-    return soup_of(*reader->GetOutput(), path);
+    return soup_of(*reader->GetOutput(), path, options);
   }
   vtkNew<vtkXMLUnstructuredGridReader> reader;
   reader->SetFileName(path.c_str());
   run_reader(*reader, path);
-  return soup_of(*reader->GetOutput(), path);
+  return soup_of(*reader->GetOutput(), path, options);
+}
+
+// The checks and the dispatch by extension shared by mesh and point-cloud reading.
+template <std::size_t N>
+PolygonSoup read_soup(const fs::path& path, const char* const (&extensions)[N], const char* kind,
+                      const detail::ReadOptions& options, std::vector<Vec3>& xyz_normals) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (!fs::exists(status)) throw InputError(path.string() + ": file does not exist");
+  if (fs::is_directory(status)) throw InputError(path.string() + ": is a directory, not a mesh file");
+  const std::string ext = lowercase_extension(path);
+  if (std::find(std::begin(extensions), std::end(extensions), ext) == std::end(extensions))
+    throw InputError(path.string() + ": unknown " + kind + " format '" + ext +
+                     "' (supported: " + joined(std::begin(extensions), std::end(extensions)) + ")");
+  // VTK's readers report an unreadable file with a message that does not say why.
+  if (!std::ifstream(path, std::ios::binary))
+    throw InputError(path.string() + ": cannot open the file: " + std::strerror(errno));
+  if (ext == ".stl" || ext == ".vtp" || ext == ".vtu") return read_with_vtk(path, ext, options);
+  const std::string contents = file_contents(path);
+  if (ext == ".off") return detail::parse_off(contents, path.string());
+  if (ext == ".obj") return detail::parse_obj(contents, path.string(), options);
+  if (ext == ".ply") return detail::parse_ply(contents, path.string(), options);
+  if (ext == ".xyz" || ext == ".pwn") return detail::parse_xyz(contents, path.string(), xyz_normals);
+  return detail::parse_legacy_vtk(contents, path.string(), options);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -749,23 +791,39 @@ std::string supported_output_extensions() {
 }
 
 PolygonSoup read_polygon_soup(const fs::path& path) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (!fs::exists(status)) throw InputError(path.string() + ": file does not exist");
-  if (fs::is_directory(status)) throw InputError(path.string() + ": is a directory, not a mesh file");
-  const std::string ext = lowercase_extension(path);
-  if (std::find(std::begin(input_extensions), std::end(input_extensions), ext) == std::end(input_extensions))
-    throw InputError(path.string() + ": unknown mesh format '" + ext +
-                     "' (supported: " + supported_input_extensions() + ")");
-  // VTK's readers report an unreadable file with a message that does not say why.
-  if (!std::ifstream(path, std::ios::binary))
-    throw InputError(path.string() + ": cannot open the file: " + std::strerror(errno));
-  if (ext == ".stl" || ext == ".vtp" || ext == ".vtu") return read_with_vtk(path, ext);
-  const std::string contents = file_contents(path);
-  if (ext == ".off") return detail::parse_off(contents, path.string());
-  if (ext == ".obj") return detail::parse_obj(contents, path.string());
-  if (ext == ".ply") return detail::parse_ply(contents, path.string());
-  return detail::parse_legacy_vtk(contents, path.string());
+  std::vector<Vec3> unused;
+  return read_soup(path, input_extensions, "mesh", {}, unused);
+}
+
+std::string supported_point_cloud_extensions() {
+  return joined(std::begin(point_cloud_extensions), std::end(point_cloud_extensions));
+}
+
+PointCloud read_point_cloud(const fs::path& path) {
+  PointCloud cloud;
+  detail::ReadOptions options;
+  options.skip_vertex_cells = true;
+  options.normals = &cloud.normals;
+  PolygonSoup soup = read_soup(path, point_cloud_extensions, "point-cloud", options, cloud.normals);
+  cloud.points = std::move(soup.points);
+  cloud.faces = std::move(soup.faces);
+  if (cloud.points.empty()) throw InputError(path.string() + ": no points");
+  for (std::size_t i = 0; i < cloud.points.size(); ++i)
+    if (!is_finite(cloud.points[i]))
+      throw InputError(path.string() + ": point " + std::to_string(i) + " is not finite");
+  // Some tools write placeholder normals (all zero); a normal that gives no direction makes the
+  // set unusable, since the users of normals need every point's.
+  if (!cloud.normals.empty()) {
+    std::size_t unusable = 0;
+    for (const Vec3& n : cloud.normals) unusable += !is_finite(n) || norm(n) == 0;
+    if (unusable > 0 || cloud.normals.size() != cloud.points.size()) {
+      cloud.notes.push_back(path.string() + ": " + std::to_string(unusable) + " of " +
+                            std::to_string(cloud.normals.size()) +
+                            " normals are zero or not finite: the file's normals are ignored");
+      cloud.normals.clear();
+    }
+  }
+  return cloud;
 }
 
 TriangleMeshData read_mesh(const fs::path& path, const SoupOptions& options) {
@@ -791,6 +849,36 @@ void write_mesh(const fs::path& path, const MeshSnapshot& mesh) {
       write_obj(temp, mesh);
     else
       write_with_vtk(temp, ext, mesh);
+  });
+}
+
+void write_point_cloud(const fs::path& path, const std::vector<Vec3>& points,
+                       const std::vector<NamedArray>& point_data) {
+  if (lowercase_extension(path) != ".vtp")
+    throw InputError(path.string() + ": point clouds are written as .vtp, not '" + lowercase_extension(path) +
+                     "'");
+  MeshSnapshot cloud;  // for the shared checks and conversions; it has no triangles
+  cloud.points = points;
+  cloud.point_data = point_data;
+  check_snapshot(cloud, path);
+  const auto n = static_cast<vtkIdType>(points.size());
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfValues(n + 1);
+  connectivity->SetNumberOfValues(n);
+  for (vtkIdType i = 0; i <= n; ++i) offsets->SetValue(i, i);
+  for (vtkIdType i = 0; i < n; ++i) connectivity->SetValue(i, i);
+  vtkNew<vtkCellArray> vertices;
+  vertices->SetData(offsets, connectivity);
+  vtkNew<vtkPolyData> data;
+  data->SetPoints(vtk_points(cloud));
+  data->SetVerts(vertices);
+  add_arrays(*data, cloud);
+  replace_atomically(path, [&](const fs::path& temp) {
+    vtkNew<vtkXMLPolyDataWriter> writer;
+    configure_xml(*writer);
+    writer->SetInputData(data);
+    writer->SetFileName(temp.c_str());
+    run_writer(*writer);
   });
 }
 

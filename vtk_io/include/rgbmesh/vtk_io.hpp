@@ -15,6 +15,7 @@
 // failing to write is a std::runtime_error naming the path. VTK's own messages are captured while
 // it works, never printed.
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -41,6 +42,35 @@ PolygonSoup read_polygon_soup(const std::filesystem::path& path);
 
 // read_polygon_soup + prepare_triangle_mesh, with the file path prefixed to any InputError.
 TriangleMeshData read_mesh(const std::filesystem::path& path, const SoupOptions& options = {});
+
+// Points to fit a surface to: a point cloud, or the vertices (and faces) of a mesh file.
+struct PointCloud {
+  std::vector<Vec3> points;
+  // One per point when the file has usable normals (.xyz/.pwn with 6 columns, PLY nx ny nz,
+  // VTP/VTU point normals); empty otherwise.
+  std::vector<Vec3> normals;
+  // The file's surface polygons exactly as read_polygon_soup gives them (unchecked: the caller
+  // decides whether they make a surface); empty for a point cloud.
+  std::vector<std::vector<std::int64_t>> faces;
+  std::vector<std::string> notes;  // what was ignored, one line each
+};
+
+// For help texts: the mesh input extensions plus ".xyz, .pwn".
+std::string supported_point_cloud_extensions();
+
+// Reads a point cloud through the same validated readers as read_polygon_soup (same checks,
+// same messages), except that vertex cells (VTK vertices and poly-vertices, OBJ 'p') are
+// skipped instead of rejected and a file without faces is fine. Also reads .xyz and .pwn:
+// "x y z" or "x y z nx ny nz" per line. InputError naming the file (and the line, for text
+// formats) for any reading error, no points, or a non-finite coordinate. Normals that are zero
+// or not finite make the whole set unusable: they are dropped, with a note.
+PointCloud read_point_cloud(const std::filesystem::path& path);
+
+// Writes points as VTK XML PolyData (.vtp only), one vertex cell per point so that ParaView
+// shows them, with every NamedArray as Float64 point data. Atomic, like write_mesh. InputError
+// for another extension; std::invalid_argument for arrays of the wrong size.
+void write_point_cloud(const std::filesystem::path& path, const std::vector<Vec3>& points,
+                       const std::vector<NamedArray>& point_data);
 
 // Writes by extension: .obj, .ply (binary), .stl (binary), .off, .vtp, .vtu. The XML formats are
 // appended raw binary, zlib-compressed, with point data "level" (UInt8), cell data "level" and
