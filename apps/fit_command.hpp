@@ -7,8 +7,9 @@
 namespace rgbmesh::cli {
 
 struct FitArgs {
-  std::string target;
-  std::string base;            // empty: decimate the target mesh to base_faces
+  std::string target;        // points: a point cloud (.xyz, .pwn, or a mesh format without faces) or a mesh
+  std::string base;          // empty: built from the target (decimated, or reconstructed and decimated)
+  bool triangulate = false;  // fan-split the polygons of --target's and --base's faces
   std::size_t base_faces = 1000;
   int levels = 3;
   std::string loss = "huber";  // huber, cauchy, none
@@ -16,11 +17,20 @@ struct FitArgs {
   int iterations = 30;
   std::string out = "out";
   std::string report;
+  std::string command_line;  // for the report; may be empty
 };
 
-// Runs the fit and writes DIR/fitted_base.obj, DIR/limit_surface.vtp (point data "distance":
-// to the nearest target), DIR/initial_limit_surface.vtp (the starting base's limit surface)
-// and the report; returns the exit code. InputError on bad input.
+// Reads the target, builds or reads the base, runs the fit and writes, into DIR (after removing
+// a previous run's outputs, see output_dir.hpp):
+//   base.obj                   the starting base (given, the target, decimated or reconstructed)
+//   fitted_base.obj            the fitted control points on the base's triangles
+//   initial_limit_surface.vtp  the starting base's limit surface
+//   limit_surface.vtp          the fitted limit surface, with cell data "targets" (targets whose
+//                              closest point lies in the triangle) and "rms_distance" (their RMS
+//                              distance to the surface; 0 where there are none)
+//   targets.vtp                the targets as vertices, with point data "distance" (to the fitted
+//                              limit surface: the figures the RMS and maximum come from)
+// and the JSON report; returns the exit code. InputError on bad arguments or input.
 int run_fit(const FitArgs& args);
 
 }  // namespace rgbmesh::cli

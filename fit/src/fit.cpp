@@ -1,33 +1,30 @@
 #include "rgbmesh/fit/fit.hpp"
 
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <ceres/ceres.h>
-#include <vtkCellArray.h>
-#include <vtkGenericCell.h>
-#include <vtkIdList.h>
-#include <vtkPoints.h>
-#include <vtkPolyData.h>
-#include <vtkQuadricDecimation.h>
-#include <vtkSmartPointer.h>
-#include <vtkStaticCellLocator.h>
-#include <vtkStaticPointLocator.h>
-#include <vtkXMLPolyDataReader.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <fstream>
+#include <cstdio>
 #include <map>
-#include <sstream>
-#include <unordered_map>
 
+#include "point_cloud.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/refinement.hpp"
-#include "rgbmesh/vtk_io.hpp"
 
 namespace rgbmesh::fit {
 
 namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Triangle = Kernel::Triangle_3;
+using TriangleTree = CGAL::AABB_tree<
+    CGAL::AABB_traits<Kernel, CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>>>;
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -68,24 +65,6 @@ std::vector<std::int32_t> ball(const std::vector<std::vector<std::int32_t>>& adj
   return out;
 }
 
-// The limit surface as VTK data, for the locators.
-vtkSmartPointer<vtkPolyData> polydata(const std::vector<Vec3>& points,
-                                      const std::vector<std::array<std::int32_t, 3>>& triangles) {
-  auto pts = vtkSmartPointer<vtkPoints>::New();
-  pts->SetDataTypeToDouble();
-  pts->SetNumberOfPoints(static_cast<vtkIdType>(points.size()));
-  for (std::size_t i = 0; i < points.size(); ++i) pts->SetPoint(static_cast<vtkIdType>(i), points[i].x, points[i].y, points[i].z);
-  auto cells = vtkSmartPointer<vtkCellArray>::New();
-  for (const auto& t : triangles) {
-    const vtkIdType ids[3] = {t[0], t[1], t[2]};
-    cells->InsertNextCell(3, ids);
-  }
-  auto pd = vtkSmartPointer<vtkPolyData>::New();
-  pd->SetPoints(pts);
-  if (!triangles.empty()) pd->SetPolys(cells);
-  return pd;
-}
-
 struct Footpoint {
   std::int32_t triangle;
   std::array<double, 3> barycentric;
@@ -93,28 +72,35 @@ struct Footpoint {
   double distance;
 };
 
-// Closest points of the targets on the triangle mesh (limit positions at the refined level).
+// Closest points of the targets on the triangle mesh (limit positions at the refined level),
+// with CGAL's AABB tree. (VTK's static cell locator, used before, sorts its bins in parallel, so
+// that between equally close triangles, along shared edges, it picked one or the other from run
+// to run, with their different normals: the fit was not reproducible.)
 std::vector<Footpoint> footpoints(const std::vector<Vec3>& surface, const std::vector<std::array<std::int32_t, 3>>& tris,
                                   const std::vector<Vec3>& targets) {
-  auto pd = polydata(surface, tris);
-  auto locator = vtkSmartPointer<vtkStaticCellLocator>::New();
-  locator->SetDataSet(pd);
-  locator->BuildLocator();
-  auto cell = vtkSmartPointer<vtkGenericCell>::New();
+  std::vector<Triangle> triangles;
+  triangles.reserve(tris.size());
+  const auto point = [](const Vec3& p) { return Kernel::Point_3(p.x, p.y, p.z); };
+  for (const auto& t : tris)
+    triangles.emplace_back(point(surface[t[0]]), point(surface[t[1]]), point(surface[t[2]]));
+  TriangleTree tree(triangles.begin(), triangles.end());
+  tree.accelerate_distance_queries();
   std::vector<Footpoint> out(targets.size());
   for (std::size_t i = 0; i < targets.size(); ++i) {
-    double q[3] = {targets[i].x, targets[i].y, targets[i].z}, c[3];
-    vtkIdType id = -1;
-    int sub = 0;
-    double d2 = 0;
-    locator->FindClosestPoint(q, c, cell, id, sub, d2);
-    const auto& t = tris[static_cast<std::size_t>(id)];
-    const Vec3 a = surface[t[0]], b = surface[t[1]], d = surface[t[2]], p(c[0], c[1], c[2]);
+    const Kernel::Point_3 q = point(targets[i]);
+    const auto [closest, primitive] = tree.closest_point_and_primitive(q);
+    const auto id = static_cast<std::size_t>(primitive - triangles.begin());
+    const auto& t = tris[id];
+    const Vec3 a = surface[t[0]], b = surface[t[1]], d = surface[t[2]],
+               p(closest.x(), closest.y(), closest.z());
     // Barycentric coordinates of the closest point.
     const Vec3 n = cross(b - a, d - a);
     const double area2 = dot(n, n);
     const double l1 = dot(cross(d - p, a - p), n) / area2, l2 = dot(cross(a - p, b - p), n) / area2;
-    out[i] = {static_cast<std::int32_t>(id), {1 - l1 - l2, l1, l2}, n * (1.0 / std::sqrt(area2)), std::sqrt(d2)};
+    out[i] = {static_cast<std::int32_t>(id),
+              {1 - l1 - l2, l1, l2},
+              n * (1.0 / std::sqrt(area2)),
+              std::sqrt(CGAL::squared_distance(q, closest))};
   }
   return out;
 }
@@ -323,6 +309,30 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
     return r;
   };
 
+  // A noisy scan is a thick shell of points, inside which closest-point fitting keeps finding
+  // closer surfaces by wrinkling: on CGAL's sphere_20k (noise 0.61 times the spacing) the
+  // fitted surface's radius came to vary 6 times more than the sphere's, the RMS falling to half
+  // the noise. The regularisation has to grow with the noise variance: above a noise-to-spacing
+  // ratio r (clean scans and meshes measure at most 0.22 there: their "noise" is curvature) the
+  // weight is multiplied by (ratio / (r/2))², 16.5 on that sphere, where 5 was not enough and
+  // 10 was.
+  double smooth_factor = 1;
+  if (options.noisy_above > 0) {
+    const detail::CloudScale cloud = detail::measure_scale(targets, 18);
+    const double ratio = cloud.spacing > 0 ? cloud.noise / cloud.spacing : 0;
+    if (ratio > options.noisy_above) {
+      smooth_factor = (ratio / (options.noisy_above / 2)) * (ratio / (options.noisy_above / 2));
+      char text[200];
+      std::snprintf(
+          text, sizeof text,
+          "the targets are noisy (%.2g, %.2g times their spacing): the smoothness weight is raised %.3g "
+          "times to keep the surface from wrinkling",
+          cloud.noise, ratio, smooth_factor);
+      res.notes.push_back(text);
+    }
+  }
+  res.smooth = options.smooth * smooth_factor;
+
   auto t0 = std::chrono::steady_clock::now();
   std::vector<Vec3> surface = st.evaluate(control_points());
   std::vector<Footpoint> fp = footpoints(surface, st.triangles, targets);
@@ -337,7 +347,8 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
     scale = std::max(2.5 * 1.4826 * d[d.size() / 2], 1e-9 * res.diagonal);
   }
   // Relative to the data: each control point's regularisation weighs like its share of targets.
-  const double smooth = options.smooth * static_cast<double>(targets.size()) / static_cast<double>(base.points.size());
+  const double smooth =
+      res.smooth * static_cast<double>(targets.size()) / static_cast<double>(base.points.size());
   for (int it = 1; it <= options.max_iterations; ++it) {
     t0 = std::chrono::steady_clock::now();
     ceres::Problem::Options po;
@@ -398,94 +409,41 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
     last = r;
     if (stalled) break;
   }
-  // The best iterate (a last step may overshoot).
-  x = best_x;
-  surface = st.evaluate(control_points());
-  res.control_points = control_points();
-  res.rms = best.rms;
-  res.max = best.max;
-  // Per limit vertex: the distance to the nearest target.
-  auto cloud = polydata(targets, {});
-  auto locator = vtkSmartPointer<vtkStaticPointLocator>::New();
-  locator->SetDataSet(cloud);
-  locator->BuildLocator();
-  res.distance.resize(surface.size());
-  for (std::size_t v = 0; v < surface.size(); ++v) {
-    double p[3] = {surface[v].x, surface[v].y, surface[v].z};
-    const vtkIdType id = locator->FindClosestPoint(p);
-    res.distance[v] = distance(surface[v], targets[static_cast<std::size_t>(id)]);
+  // The best iterate (a last step may overshoot), and its distances: the figures reported are
+  // computed from exactly the per-target distances returned.
+  if (best_x != x) {
+    x = best_x;
+    fp = footpoints(st.evaluate(control_points()), st.triangles, targets);
   }
+  res.control_points = control_points();
+  res.distance.resize(targets.size());
+  res.footpoint_triangle.resize(targets.size());
+  double sum = 0;
+  res.max = 0;
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    res.distance[i] = fp[i].distance;
+    res.footpoint_triangle[i] = fp[i].triangle;
+    sum += fp[i].distance * fp[i].distance;
+    res.max = std::max(res.max, fp[i].distance);
+  }
+  res.rms = std::sqrt(sum / static_cast<double>(targets.size()));
   res.seconds = seconds_since(t_start);
   return res;
 }
 
-std::vector<Vec3> read_points(const std::string& path) {
-  std::string ext = path.substr(path.find_last_of('.') == std::string::npos ? path.size() : path.find_last_of('.'));
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext == ".xyz") {
-    std::ifstream in(path);
-    if (!in) throw InputError(path + ": cannot be opened");
-    std::vector<Vec3> out;
-    std::string line;
-    for (int n = 1; std::getline(in, line); ++n) {
-      if (line.empty() || line[0] == '#') continue;
-      std::istringstream s(line);
-      Vec3 p;
-      if (!(s >> p.x >> p.y >> p.z)) throw InputError(path + ":" + std::to_string(n) + ": expected three numbers");
-      if (!is_finite(p)) throw InputError(path + ":" + std::to_string(n) + ": non-finite coordinate");
-      out.push_back(p);
-    }
-    if (out.empty()) throw InputError(path + ": no points");
-    return out;
+TriangleDistances distances_per_triangle(const FitResult& result) {
+  TriangleDistances out;
+  const std::size_t n = result.stencils.triangles.size();
+  out.targets.assign(n, 0.0);
+  out.rms_distance.assign(n, 0.0);
+  for (std::size_t i = 0; i < result.distance.size(); ++i) {
+    const auto t = static_cast<std::size_t>(result.footpoint_triangle[i]);
+    out.targets[t] += 1;
+    out.rms_distance[t] += result.distance[i] * result.distance[i];
   }
-  if (ext == ".vtp") {
-    // A point cloud in VTK's format usually carries vertex cells, which mesh reading rejects:
-    // take the points and ignore the cells.
-    auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
-    if (!reader->CanReadFile(path.c_str())) throw InputError(path + ": not a readable VTK XML PolyData file");
-    reader->SetFileName(path.c_str());
-    reader->Update();
-    vtkPolyData* pd = reader->GetOutput();
-    std::vector<Vec3> out;
-    for (vtkIdType i = 0; pd != nullptr && i < pd->GetNumberOfPoints(); ++i) {
-      double p[3];
-      pd->GetPoint(i, p);
-      out.emplace_back(p[0], p[1], p[2]);
-      if (!is_finite(out.back())) throw InputError(path + ": point " + std::to_string(i) + " is not finite");
-    }
-    if (out.empty()) throw InputError(path + ": no points");
-    return out;
-  }
-  const PolygonSoup soup = read_polygon_soup(path);
-  for (std::size_t i = 0; i < soup.points.size(); ++i) {
-    if (!is_finite(soup.points[i])) throw InputError(path + ": point " + std::to_string(i) + " is not finite");
-  }
-  if (soup.points.empty()) throw InputError(path + ": no points");
-  return soup.points;
-}
-
-TriangleMeshData decimate(const TriangleMeshData& mesh, std::size_t faces) {
-  auto pd = polydata(mesh.points, mesh.triangles);
-  auto dec = vtkSmartPointer<vtkQuadricDecimation>::New();
-  dec->SetInputData(pd);
-  dec->SetTargetReduction(1.0 - std::min(1.0, static_cast<double>(faces) / static_cast<double>(mesh.triangles.size())));
-  dec->VolumePreservationOn();
-  dec->Update();
-  vtkPolyData* out = dec->GetOutput();
-  PolygonSoup soup;
-  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i) {
-    double p[3];
-    out->GetPoint(i, p);
-    soup.points.emplace_back(p[0], p[1], p[2]);
-  }
-  auto ids = vtkSmartPointer<vtkIdList>::New();
-  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c) {
-    out->GetCellPoints(c, ids);
-    std::vector<std::int64_t> face;
-    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) face.push_back(static_cast<std::int64_t>(ids->GetId(k)));
-    soup.faces.push_back(face);
-  }
-  return prepare_triangle_mesh(soup);
+  for (std::size_t t = 0; t < n; ++t)
+    if (out.targets[t] > 0) out.rms_distance[t] = std::sqrt(out.rms_distance[t] / out.targets[t]);
+  return out;
 }
 
 }  // namespace rgbmesh::fit

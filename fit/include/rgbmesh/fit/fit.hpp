@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "rgbmesh/fit/base.hpp"
 #include "rgbmesh/soup.hpp"
 #include "rgbmesh/vec3.hpp"
 
@@ -41,9 +42,13 @@ struct FitOptions {
   double loss_scale = 0;   // 0: from the data (2.5 robust standard deviations of the distances)
   double smooth = 1e-3;    // weight of the control-net Laplacian, relative (see fit())
   double tangential_weight = 0.05;  // of the tangential offset next to the normal one
-  int max_iterations = 20;
+  int max_iterations = 30;
   int ceres_iterations = 2;  // per outer iteration (the problem is nearly linear)
-  double min_improvement = 1e-2;  // stop when the RMS improves by less (relative)
+  double min_improvement = 2e-2;  // stop when the RMS improves by less (relative)
+  // Targets whose noise (measured about local quadric fits) is above this fraction r of their
+  // spacing get `smooth` multiplied by (noise / (r/2 spacing))², at least 4 (see fit.cpp); 0:
+  // never.
+  double noisy_above = 0.3;
 };
 
 struct IterationReport {
@@ -55,12 +60,26 @@ struct IterationReport {
 struct FitResult {
   std::vector<Vec3> control_points;  // the fitted base
   std::vector<IterationReport> iterations;  // iteration 0: the start
-  double rms = 0, max = 0;                  // final
+  double rms = 0, max = 0;                  // final: over `distance`, every target
   double diagonal = 0;                      // of the targets' bounding box
   double seconds = 0;
   LimitStencils stencils;
-  std::vector<double> distance;  // per limit-surface vertex: distance to the nearest target
+  // Per target, for the fitted surface: the distance to the limit surface (at stencils' level)
+  // and the limit-surface triangle (in stencils.triangles) that holds the closest point.
+  std::vector<double> distance;
+  std::vector<std::int32_t> footpoint_triangle;
+  double smooth = 0;               // the smoothness weight used (options.smooth, raised for noise)
+  std::vector<std::string> notes;  // e.g. that noisy targets got more smoothing
 };
+
+// Per limit-surface triangle: how many targets have their closest point in it, and the RMS of
+// their distances (0 where there are none). What the fitted surface's error looks like where it
+// is, instead of the spacing of the samples.
+struct TriangleDistances {
+  std::vector<double> targets;
+  std::vector<double> rms_distance;
+};
+TriangleDistances distances_per_triangle(const FitResult& result);
 
 // Fits the base mesh (its points are the starting control points) to the target points.
 // Each outer iteration finds every target's closest point on the current limit surface (a
@@ -68,15 +87,9 @@ struct FitResult {
 // + smooth · (#targets / #base) Σ_j |P_j - mean of P_j's neighbours|² over the control points
 // P, where s(P) is the footpoint (linear in P through the stencils), n the surface normal
 // there, ε = tangential_weight and ρ the loss (point-to-plane after Marinov and Kobbelt, with
-// a little point-to-point for stability).
+// a little point-to-point for stability). Noisy targets (options.noisy_above) get a larger
+// smoothness weight.
 FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, const FitOptions& options,
               const std::function<void(const IterationReport&)>& on_iteration = {});
-
-// Target points from a file: the vertices of any mesh format rgbmesh reads, or a point cloud
-// (.xyz: "x y z" per line; .ply/.obj/.off/.vtp with or without faces).
-std::vector<Vec3> read_points(const std::string& path);
-
-// A base mesh from a target mesh by VTK's quadric decimation to about `faces` triangles.
-TriangleMeshData decimate(const TriangleMeshData& mesh, std::size_t faces);
 
 }  // namespace rgbmesh::fit

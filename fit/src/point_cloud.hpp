@@ -1,0 +1,32 @@
+#pragma once
+// Point-cloud measures shared by the reconstruction and the fit (private to rgbmesh::fit): the
+// spacing and noise of a cloud, and cell averages that reduce its noise.
+
+#include <vector>
+
+#include "rgbmesh/vec3.hpp"
+
+namespace rgbmesh::fit::detail {
+
+struct CloudScale {
+  double spacing = 0;  // median over the points of the mean distance to their 6 nearest
+  // Median over the points of the spread of their k nearest neighbours about the quadric that
+  // fits them best (see point_cloud.cpp): the noise's standard deviation, roughly.
+  double noise = 0;
+};
+CloudScale measure_scale(const std::vector<Vec3>& points, int neighbours);
+
+// For points noisier than `noisy_above` times their spacing (0: never), the grid cell size whose
+// averages have a third of that left, relative to their own spacing; 0 for other points.
+// Averaging over cells of size h leaves noise ν s / h next to a spacing h (about (h/s)² points
+// per cell, s the spacing and ν the noise), hence h = s √(ν / (s r)) for a ratio r.
+double denoising_cell(const CloudScale& scale, double noisy_above);
+
+// Means of the points over the cells of a grid of size h. With normals, the points of a cell are
+// averaged separately for each orientation met (points whose normals point away from each other
+// are the two sides of a thin part and must stay apart), and the mean normals are returned,
+// normalized, in `mean_normals`.
+std::vector<Vec3> cell_means(const std::vector<Vec3>& points, const std::vector<Vec3>& normals, double h,
+                             std::vector<Vec3>& mean_normals);
+
+}  // namespace rgbmesh::fit::detail
