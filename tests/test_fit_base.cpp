@@ -185,6 +185,26 @@ TEST(Reconstruction, FacesThatAreNotAManifoldAreReplacedByAReconstruction) {
   EXPECT_EQ(decimated.reconstruction_seconds, 0);
 }
 
+TEST(Reconstruction, AFailureAfterUnusableFacesAlsoSaysWhyTheFacesWereNotUsed) {
+  // A quad without --triangulate: too few points to reconstruct, and the quad is the real problem.
+  PolygonSoup quad;
+  quad.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  quad.faces = {{0, 1, 2, 3}};
+  try {
+    make_base(quad, {}, BaseOptions{});
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.rfind("reconstructing a surface from 4 points: too few points", 0), 0u) << message;
+    EXPECT_NE(message.find("the target's faces were not used: face 0 has 4 vertices"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("--triangulate"), std::string::npos) << message;
+  }
+  BaseOptions triangulate;
+  triangulate.triangulate = true;
+  EXPECT_EQ(make_base(quad, {}, triangulate).mesh.triangles.size(), 2u);
+}
+
 TEST(Reconstruction, ErrorsNameTheStage) {
   try {
     reconstruct_surface(sphere_points(5), {});

@@ -74,6 +74,7 @@ Base make_base(const PolygonSoup& target, const std::vector<Vec3>& normals, cons
   Base base;
   TriangleMeshData surface;
   bool has_surface = false;
+  std::string unusable_faces;  // why the target's faces were not used
   if (!target.faces.empty()) {
     try {
       SoupOptions soup_options;
@@ -83,7 +84,8 @@ Base make_base(const PolygonSoup& target, const std::vector<Vec3>& normals, cons
       has_surface = true;
       base.notes.insert(base.notes.end(), surface.notes.begin(), surface.notes.end());
     } catch (const InputError& e) {
-      base.notes.push_back(std::string("the target's faces are not a valid manifold surface (") + e.what() +
+      unusable_faces = e.what();
+      base.notes.push_back("the target's faces are not a valid manifold surface (" + unusable_faces +
                            "): the base is reconstructed from its " + with_thousands(target.points.size()) +
                            " points");
     }
@@ -92,7 +94,13 @@ Base make_base(const PolygonSoup& target, const std::vector<Vec3>& normals, cons
     const auto start = std::chrono::steady_clock::now();
     ReconstructionOptions reconstruction = options.reconstruction;
     reconstruction.faces = std::max(reconstruction.faces, 4 * options.faces);
-    surface = reconstruct_surface(target.points, normals, reconstruction);
+    try {
+      surface = reconstruct_surface(target.points, normals, reconstruction);
+    } catch (const InputError& e) {
+      // The faces' problem may be the one the user has to fix (polygons without --triangulate).
+      if (unusable_faces.empty()) throw;
+      throw InputError(std::string(e.what()) + " (the target's faces were not used: " + unusable_faces + ")");
+    }
     base.reconstruction_seconds = seconds_since(start);
     base.notes.insert(base.notes.end(), surface.notes.begin(), surface.notes.end());
     base.notes.push_back("reconstructed a surface of " + with_thousands(surface.triangles.size()) +
