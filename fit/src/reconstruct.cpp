@@ -97,9 +97,6 @@ PolygonSoup mesh_level_set(const PoissonFunction& function, double angle, double
   const CGAL::Surface_mesh_default_criteria_3<MesherTriangulation> criteria(angle, radius, distance);
   MesherTriangulation triangulation;
   Complex complex(triangulation);
-  // The mesher starts from random points drawn from CGAL's default generator, seeded from the
-  // clock: a fixed seed makes the same cloud give the same base on every run.
-  CGAL::get_default_random() = CGAL::Random(0);
   CGAL::make_surface_mesh(complex, surface, criteria, CGAL::Manifold_tag());
   return facets_of(complex);
 }
@@ -159,6 +156,10 @@ TriangleMeshData reconstruct_surface(const std::vector<Vec3>& points, const std:
   if (!normals.empty() && normals.size() != points.size())
     throw std::invalid_argument("reconstruct_surface: " + std::to_string(normals.size()) + " normals for " +
                                 std::to_string(points.size()) + " points");
+  // CGAL's default random generator (seeded from the clock, advanced by every earlier use in the
+  // process) drives the mesher's starting points and the triangulations' point location: a fixed
+  // seed makes the same cloud give the same surface in every run and whatever ran before.
+  CGAL::get_default_random() = CGAL::Random(0);
   TriangleMeshData result;
   std::vector<PointWithNormal> samples;
   samples.reserve(points.size());
