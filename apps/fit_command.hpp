@@ -15,7 +15,7 @@ struct FitArgs {
   std::string loss = "huber";  // huber, cauchy, none
   double smooth = 1e-3;
   int iterations = 30;
-  std::string out = "out";
+  std::string out = "out-fit";  // apart from adapt's "out", so that the two never clear each other's
   std::string report;
   std::string command_line;  // for the report; may be empty
 };

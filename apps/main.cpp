@@ -340,18 +340,33 @@ int main(int argc, char** argv) {
   // fit
   auto* fit_cmd = app.add_subcommand(
       "fit", "Fit a Loop subdivision surface to points: move the base mesh's control points so that the\n"
-             "limit surface passes through the targets (Ceres). Writes fitted_base.obj and limit_surface.vtp.");
+             "limit surface passes through the targets (Ceres). Writes base.obj, fitted_base.obj,\n"
+             "initial_limit_surface.vtp, limit_surface.vtp and targets.vtp into --out.");
   FitArgs fit_args;
-  fit_cmd->add_option("--target", fit_args.target, "Target points: any mesh rgbmesh reads, or .xyz")->required();
+  fit_cmd
+      ->add_option("--target", fit_args.target,
+                   "Target points: a point cloud (" + supported_point_cloud_extensions() +
+                       ", or a mesh format without faces) or a mesh (its vertices)")
+      ->required();
   auto* fit_base = fit_cmd->add_option("--base", fit_args.base, "Base mesh (its points are the starting controls)");
-  fit_cmd->add_option("--base-faces", fit_args.base_faces, "Without --base: decimate the target mesh to N faces")
+  fit_cmd
+      ->add_option("--base-faces", fit_args.base_faces,
+                   "Without --base: triangles of the base built from the target (decimated, or reconstructed from a "
+                   "cloud and decimated)")
       ->capture_default_str()
+      ->check(number_in("an integer in [4, 10^8]", [](double x) { return x >= 4 && x <= 1e8; }))
       ->excludes(fit_base);
+  fit_cmd->add_flag("--triangulate", fit_args.triangulate, "Fan-split polygons of the --target and --base faces");
   fit_cmd->add_option("--levels", fit_args.levels, "Uniform level of the limit surface used in the fit")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in("an integer in [1, 6]", [](double x) { return x >= 1 && x <= 6; }));
   fit_cmd->add_option("--loss", fit_args.loss, "huber, cauchy or none")->capture_default_str();
-  fit_cmd->add_option("--smooth", fit_args.smooth, "Weight of the control-net smoothness term")->capture_default_str();
-  fit_cmd->add_option("--iterations", fit_args.iterations, "Maximum outer iterations")->capture_default_str();
+  fit_cmd->add_option("--smooth", fit_args.smooth, "Weight of the control-net smoothness term")
+      ->capture_default_str()
+      ->check(number_in("a finite number >= 0", [](double x) { return x >= 0 && std::isfinite(x); }));
+  fit_cmd->add_option("--iterations", fit_args.iterations, "Maximum outer iterations")
+      ->capture_default_str()
+      ->check(number_in("an integer in [1, 1000]", [](double x) { return x >= 1 && x <= 1000; }));
   auto* fit_out = fit_cmd->add_option("--out", fit_args.out, "Output directory")->capture_default_str();
   fit_cmd->add_option("--report", fit_args.report, "Write a JSON report to this file");
 
@@ -383,6 +398,7 @@ int main(int argc, char** argv) {
     std::string line = "rgbmesh";
     for (int i = 1; i < argc; ++i) line += std::string(" ") + argv[i];
     adapt_args.command_line = line;
+    fit_args.command_line = line;
   }
 
   try {

@@ -83,7 +83,8 @@ TEST_F(Cli, FitWritesTheFittedBaseTheLimitSurfaceAndAReport) {
   EXPECT_NEAR(static_cast<double>(base.triangles.size()), 600.0, 20.0);
   VtpArrays limit = read_vtp_arrays(path("f") + "/limit_surface.vtp");
   EXPECT_EQ(limit.cells, static_cast<vtkIdType>(base.triangles.size() * 16));
-  EXPECT_EQ(limit.point_arrays["distance"], 1);
+  EXPECT_EQ(limit.cell_arrays["targets"], 1);
+  EXPECT_EQ(limit.cell_arrays["rms_distance"], 1);
   const std::string report = read_text(path("f/r.json"));
   for (const char* key : {"\"iterations\": [", "\"rms\"", "\"max\"", "\"rms_relative\"", "\"max_relative\"", "\"seconds\""})
     EXPECT_NE(report.find(key), std::string::npos) << key;

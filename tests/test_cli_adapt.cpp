@@ -227,13 +227,36 @@ TEST_F(Cli, GlobalOptionsWorkAnywhereOnTheLine) {
   EXPECT_EQ(info.code, 2) << info.err;
 }
 
-TEST_F(Cli, TriangulateWorksForAdapt) {
-  // 3torus.off has quadrilaterals.
+TEST_F(Cli, TriangulateWorksForAdaptAndFit) {
+  // 3torus.off (genus 3) has quadrilaterals.
   const RunResult no = run("adapt --mesh " + public_data("3torus.off") + " --cycles 1 --out " + path("t"));
   EXPECT_EQ(no.code, 2) << no.err;
   EXPECT_NE(no.err.find("--triangulate"), std::string::npos) << no.err;
   const RunResult yes = run("adapt --mesh " + public_data("3torus.off") + " --triangulate --cycles 2 --out " + path("t"));
   EXPECT_EQ(yes.code, 0) << yes.err;
+  // fit: the quads fan-split, the base is the target itself (fewer faces than asked), genus 3.
+  const RunResult fit = run("fit --target " + public_data("3torus.off") + " --triangulate --iterations 2 --out " +
+                            path("f") + " --report " + path("f.json"));
+  ASSERT_EQ(fit.code, 0) << fit.err;
+  const std::string json = read_text(path("f.json"));
+  EXPECT_NE(json.find("\"genus\": 3"), std::string::npos) << json;
+  EXPECT_TRUE(fs::exists(path("f") + "/targets.vtp"));
+}
+
+TEST_F(Cli, FitAndAdaptHaveSeparateDefaultFoldersAndTakeTheGlobalOne) {
+  fs::create_directories(path("cwd"));
+  const fs::path cwd = fs::current_path();
+  fs::current_path(path("cwd"));
+  const RunResult a = run("adapt --cycles 1");
+  const RunResult f = run("fit --target " + write_octahedron("octa.off") + " --iterations 1");
+  const RunResult g = run("--out " + path("global") + " fit --target " + write_octahedron("octa.off") + " --iterations 1");
+  fs::current_path(cwd);
+  ASSERT_EQ(a.code, 0) << a.err;
+  ASSERT_EQ(f.code, 0) << f.err;
+  ASSERT_EQ(g.code, 0) << g.err;
+  EXPECT_TRUE(fs::exists(path("cwd/out/cycle_000.vtp")));  // fit did not clear adapt's folder
+  EXPECT_TRUE(fs::exists(path("cwd/out-fit/fitted_base.obj")));
+  EXPECT_TRUE(fs::exists(path("global/fitted_base.obj")));
 }
 
 TEST_F(Cli, StagesThatChangeNothingAreReported) {

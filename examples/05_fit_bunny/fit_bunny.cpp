@@ -1,16 +1,20 @@
 // Example 05: a subdivision surface fitted to a scan.
 //
 // The Stanford bunny's 1,839 scanned points are the targets. The base mesh is the scan
-// decimated by VTK's quadric decimation to 1,000 triangles; its own Loop limit surface is
-// visibly shrunk (subdivision smooths a coarse net inwards: thin ears, a flat back). The fit
-// moves the 502 control points so that the limit surface passes through the scan: footpoints on
-// the current surface (a cell locator), point-to-plane residuals through the limit stencils of
-// the control points, a Huber loss, a small control-net smoothness term, Ceres.
+// decimated to 1,000 triangles by topology-preserving edge collapse (CGAL's, with quadric
+// error metrics and a check of the link condition, so the base is a valid manifold with the
+// scan's topology); its own Loop limit surface is visibly shrunk (subdivision smooths a coarse
+// net inwards: thin ears, a flat back). The fit moves the 502 control points so that the limit
+// surface passes through the scan: footpoints on the current surface, point-to-plane residuals
+// through the limit stencils of the control points, a Huber loss, a small control-net
+// smoothness term, Ceres.
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 
+#include "rgbmesh/fit/base.hpp"
 #include "rgbmesh/fit/fit.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/vtk_io.hpp"
@@ -18,12 +22,23 @@
 using namespace rgbmesh;
 
 int main(int argc, char** argv) {
-  const std::string input = argc > 1 ? argv[1] : "data/bunny.obj";
-  const std::filesystem::path out = argc > 2 ? argv[2] : "out/05_fit_bunny";
+  CLI::App app{"Example 05: a Loop subdivision surface fitted to the Stanford bunny scan."};
+  std::string input = RGBMESH_EXAMPLE_DATA_DIR "/bunny.obj";  // the repository's copy, wherever we run
+  std::string out_dir = "out/05_fit_bunny";
+  app.add_option("MESH", input, "The bunny (data/bunny.obj in the rgbmesh repository)")->capture_default_str();
+  app.add_option("OUT", out_dir, "Output folder (base.obj, fitted_base.obj)")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  const std::filesystem::path out = out_dir;
+  if (!std::filesystem::exists(input)) {
+    std::fprintf(stderr, "example_05_fit_bunny: %s does not exist: give the path of data/bunny.obj of the rgbmesh "
+                 "repository as the first argument\n", input.c_str());
+    return 2;
+  }
   std::filesystem::create_directories(out);
 
   const TriangleMeshData scan = read_mesh(input);
-  const TriangleMeshData base = fit::decimate(scan, 1000);
+  const TriangleMeshData base = fit::decimate(scan, 1000, "the bunny");
+  for (const auto& note : base.notes) std::printf("note: %s\n", note.c_str());
 
   fit::FitOptions options;  // level 3 limit surface, Huber loss, smoothness 1e-3
   std::printf("iteration          rms          max\n");
