@@ -50,6 +50,20 @@ Eigen::VectorXd factor_and_solve(Solver& solver, const SparseMatrix& a, const Ei
   return x;
 }
 
+// Calls fn(edge, weight, s, h) at the quadrature points of every Neumann edge: two-point Gauss
+// (exact for cubics along the edge), at the parameter s from e.a to e.b, with the flux h there.
+template <class Fn>
+void for_each_neumann_point(const SurfaceMesh& mesh, const Problem& problem, Fn&& fn) {
+  if (!problem.neumann_flux || !problem.is_neumann) return;
+  const double r = 0.5 / std::sqrt(3.0);
+  for (const auto& e : mesh.boundary_edges) {
+    const Vec3 &pa = mesh.points[e.a], &pb = mesh.points[e.b];
+    if (!problem.is_neumann(mesh.lift(0.5 * (pa + pb)))) continue;
+    const double len = distance(pa, pb);
+    for (double s : {0.5 - r, 0.5 + r}) fn(e, 0.5 * len, s, problem.neumann_flux(mesh.lift((1 - s) * pa + s * pb)));
+  }
+}
+
 // ∫f + ∫h over the surface and ∫|f| + ∫|h|, for the compatibility check: the degree-5 rule on
 // each triangle with the lifted area element (Neumann edges as in the load vector).
 std::pair<double, double> surface_integral_of_data(const SurfaceMesh& mesh, const Problem& problem) {
@@ -69,19 +83,10 @@ std::pair<double, double> surface_integral_of_data(const SurfaceMesh& mesh, cons
       }
     }
   }
-  if (problem.neumann_flux && problem.is_neumann) {
-    const double r = 0.5 / std::sqrt(3.0);
-    for (const auto& e : mesh.boundary_edges) {
-      const Vec3 &pa = mesh.points[e.a], &pb = mesh.points[e.b];
-      if (!problem.is_neumann(mesh.lift(0.5 * (pa + pb)))) continue;
-      const double len = distance(pa, pb);
-      for (double sq : {0.5 - r, 0.5 + r}) {
-        const double h = problem.neumann_flux(mesh.lift((1 - sq) * pa + sq * pb));
-        total += 0.5 * len * h;
-        scale += 0.5 * len * std::abs(h);
-      }
-    }
-  }
+  for_each_neumann_point(mesh, problem, [&](const SurfaceMesh::BoundaryEdge&, double weight, double, double h) {
+    total += weight * h;
+    scale += weight * std::abs(h);
+  });
   return {total, scale};
 }
 
@@ -126,20 +131,10 @@ Eigen::VectorXd load_vector(const SurfaceMesh& mesh, const Problem& problem) {
       }
     }
   }
-  if (problem.neumann_flux && problem.is_neumann) {
-    // Two-point Gauss on each Neumann edge (exact for cubics along the edge).
-    const double r = 0.5 / std::sqrt(3.0);
-    for (const auto& e : mesh.boundary_edges) {
-      const Vec3 &pa = mesh.points[e.a], &pb = mesh.points[e.b];
-      if (!problem.is_neumann(mesh.lift(0.5 * (pa + pb)))) continue;
-      const double len = distance(pa, pb);
-      for (double sq : {0.5 - r, 0.5 + r}) {
-        const double h = problem.neumann_flux(mesh.lift((1 - sq) * pa + sq * pb));
-        load[e.a] += 0.5 * len * h * (1 - sq);
-        load[e.b] += 0.5 * len * h * sq;
-      }
-    }
-  }
+  for_each_neumann_point(mesh, problem, [&](const SurfaceMesh::BoundaryEdge& e, double weight, double s, double h) {
+    load[e.a] += weight * h * (1 - s);
+    load[e.b] += weight * h * s;
+  });
   return load;
 }
 
