@@ -5,7 +5,8 @@
 //   rgbmesh convert IN OUT       format conversion (through the RGB mesh checks)
 //   rgbmesh refine IN OUT ...    selective refinement stages, in the order given
 //
-// Exit codes: 0 success, 1 failure to write or an internal error, 2 bad input or usage.
+// Exit codes: 0 success, 1 an output could not be written, 2 bad input or arguments, 3 out of
+// resources (memory) or an internal failure (rgbmesh/errors.hpp).
 
 #include <sys/resource.h>
 #if defined(__GLIBC__)
@@ -203,6 +204,7 @@ int main(int argc, char** argv) {
   // in the resident size.
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
 #endif
+  remove_temporaries_on_signals();
   CLI::App app{
       "rgbmesh: adaptive RGB subdivision meshes (Puppo & Panozzo, IEEE TVCG 2009),\n"
       "conforming at every step, with the limit surface of Loop subdivision.\n"
@@ -447,8 +449,18 @@ int main(int argc, char** argv) {
   } catch (const InputError& e) {
     std::cerr << "rgbmesh: error: " << e.what() << "\n";
     return 2;
-  } catch (const std::exception& e) {
+  } catch (const OutputError& e) {
     std::cerr << "rgbmesh: error: " << e.what() << "\n";
     return 1;
+  } catch (const ResourceError& e) {
+    std::cerr << "rgbmesh: error: " << e.what() << "\n";
+    return 3;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "rgbmesh: error: out of memory (the work needs more memory than the machine has; see "
+                 "--memory-limit)\n";
+    return 3;
+  } catch (const std::exception& e) {
+    std::cerr << "rgbmesh: internal error: " << e.what() << "\n";
+    return 3;
   }
 }

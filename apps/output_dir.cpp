@@ -3,6 +3,8 @@
 #include <cctype>
 #include <iostream>
 #include <stdexcept>
+
+#include "rgbmesh/errors.hpp"
 #include <system_error>
 #include <vector>
 
@@ -38,17 +40,17 @@ bool is_run_output(const std::string& name) {
 void prepare_output_directory(const fs::path& dir) {
   std::error_code ec;
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-    throw std::runtime_error(dir.string() + ": cannot write the outputs there: it exists and is not a folder");
+    throw OutputError(dir.string() + ": cannot write the outputs there: it exists and is not a folder");
   fs::create_directories(dir, ec);
-  if (ec) throw std::runtime_error(dir.string() + ": cannot create the output folder: " + ec.message());
+  if (ec) throw OutputError(dir.string() + ": cannot create the output folder: " + ec.message());
   std::vector<fs::path> old;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     if (entry.is_regular_file(ec) && is_run_output(entry.path().filename().string())) old.push_back(entry.path());
   }
-  if (ec) throw std::runtime_error(dir.string() + ": cannot list the output folder: " + ec.message());
+  if (ec) throw OutputError(dir.string() + ": cannot list the output folder: " + ec.message());
   for (const auto& p : old) {
     if (!fs::remove(p, ec) || ec)
-      throw std::runtime_error(p.string() + ": cannot remove this output of a previous run: " + ec.message());
+      throw OutputError(p.string() + ": cannot remove this output of a previous run: " + ec.message());
   }
   if (!old.empty())
     std::cerr << "rgbmesh: note: removed " << old.size() << " file" << (old.size() == 1 ? "" : "s")

@@ -16,8 +16,8 @@ namespace rgbmesh::cli {
 bool is_run_output(const std::string& file_name);
 
 // Creates `dir` (and its parents) if needed and removes the outputs of a previous run, with
-// a note on standard error saying how many. std::runtime_error naming the folder if it cannot
-// be created or is not a folder (the CLI's exit code 1).
+// a note on standard error saying how many. OutputError naming the folder if it cannot be
+// created or is not a folder (the CLI's exit code 1).
 void prepare_output_directory(const std::filesystem::path& dir);
 
 }  // namespace rgbmesh::cli

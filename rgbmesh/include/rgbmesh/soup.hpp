@@ -14,15 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "rgbmesh/errors.hpp"  // InputError
 #include "rgbmesh/vec3.hpp"
 
 namespace rgbmesh {
 
-// Bad user input (file or mesh). The CLI maps it to exit code 2.
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 struct PolygonSoup {
   std::vector<Vec3> points;

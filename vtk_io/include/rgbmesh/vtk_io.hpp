@@ -9,10 +9,12 @@
 // more than 255 vertices cut short).
 //
 // Writing is atomic: a temporary file in the target's directory, flushed to disk and renamed
-// onto the target once complete.
+// onto the target once complete; the temporary is removed on failure (and on SIGINT, SIGTERM,
+// SIGHUP, see remove_temporaries_on_signals). A target that is a symbolic link stays a link:
+// the file it leads to is replaced.
 //
 // Errors: bad or unreadable input is an InputError whose message starts with the file path;
-// failing to write is a std::runtime_error naming the path. VTK's own messages are captured while
+// failing to write is an OutputError naming the path (rgbmesh/errors.hpp). VTK's own messages are captured while
 // it works, never printed.
 
 #include <cstdint>
@@ -84,6 +86,12 @@ void write_mesh(const std::filesystem::path& path, const MeshSnapshot& mesh);
 // "limit". Computes the limit positions it needs (RgbMesh::compute_limits leaves the mesh as
 // it was).
 MeshSnapshot snapshot_for_file(RgbMesh& mesh, const std::filesystem::path& path, bool limit_points = false);
+
+// Makes SIGINT, SIGTERM and SIGHUP remove the temporary files of writes in progress before the
+// process dies of the signal (where the host has not set its own handler or ignored the
+// signal), and makes exceeding the file-size limit (SIGXFSZ) a write error instead of death.
+// The CLI calls it first thing; a program embedding rgbmesh may.
+void remove_temporaries_on_signals();
 
 // Replaces `path` by a file holding `contents`, atomically.
 void write_text_atomically(const std::filesystem::path& path, const std::string& contents);

@@ -1,0 +1,46 @@
+#pragma once
+// Small helpers shared by the reading and writing halves of vtk_io.
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+namespace rgbmesh::detail {
+
+inline constexpr const char* input_extensions[] = {".obj", ".off", ".ply", ".stl", ".vtk", ".vtp", ".vtu"};
+inline constexpr const char* point_cloud_extensions[] = {".obj", ".off", ".ply", ".pwn", ".stl",
+                                                         ".vtk", ".vtp", ".vtu", ".xyz"};
+inline constexpr const char* output_extensions[] = {".obj", ".off", ".ply", ".stl", ".vtp", ".vtu"};
+
+// ".obj, .off, ..."
+inline std::string joined(const char* const* begin, const char* const* end) {
+  std::string text;
+  for (auto it = begin; it != end; ++it) text += (it == begin ? "" : ", ") + std::string(*it);
+  return text;
+}
+
+inline std::string lowercase_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+inline bool host_is_big_endian() {
+  const std::uint16_t one = 1;
+  unsigned char first;
+  std::memcpy(&first, &one, 1);
+  return first == 0;
+}
+
+// Shortest text that reads back as the same double.
+inline std::string shortest(double x) {
+  char buf[32];
+  const auto result = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, result.ptr);
+}
+
+}  // namespace rgbmesh::detail
