@@ -217,6 +217,22 @@ void RgbMesh::reserve(std::size_t vertices, std::size_t edges, std::size_t trian
   }
 }
 
+std::size_t RgbMesh::memory_bytes() const {
+  const auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  return bytes(v_edge_) + bytes(v_level_) + bytes(v_parents_) + bytes(v_control_) + bytes(v_limit_index_) +
+         bytes(limits_) + bytes(limits_free_) + bytes(v_flags_) + bytes(v_free_) + bytes(e_vert_) + bytes(e_tri_) +
+         bytes(e_info_) + bytes(e_free_) + bytes(t_edge_) + bytes(t_info_) + bytes(t_free_) + bytes(base_eigenvalue_);
+}
+
+std::size_t RgbMesh::storage_bytes(std::size_t vertices, std::size_t edges, std::size_t triangles) {
+  // Per vertex: its arrays, plus a limit position for about a quarter of them (the side table).
+  const std::size_t vertex = sizeof(EdgeHandle) + sizeof(std::uint8_t) + sizeof(std::array<VertexHandle, 2>) +
+                             sizeof(Vec3) + sizeof(std::int32_t) + sizeof(std::uint8_t) + sizeof(Vec3) / 4;
+  const std::size_t edge = sizeof(std::array<VertexHandle, 2>) + sizeof(std::array<TriangleHandle, 2>) + 1;
+  const std::size_t triangle = sizeof(std::array<EdgeHandle, 3>) + 1;
+  return vertices * vertex + edges * edge + triangles * triangle;
+}
+
 VertexHandle RgbMesh::new_vertex() {
   VertexHandle v;
   if (!v_free_.empty()) {

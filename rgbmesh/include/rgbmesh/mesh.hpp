@@ -195,6 +195,12 @@ class RgbMesh {
   // refinement grows its arrays once instead of by repeated doubling.
   void reserve(std::size_t vertices, std::size_t edges, std::size_t triangles);
 
+  // The bytes the connectivity and geometry arrays hold now (their capacities; vertex
+  // properties excluded), and what arrays for that many vertices, edges and triangles take:
+  // for memory ceilings and for estimating a refinement before it runs.
+  std::size_t memory_bytes() const;
+  static std::size_t storage_bytes(std::size_t vertices, std::size_t edges, std::size_t triangles);
+
   bool alive(VertexHandle v) const { return in_range(v.idx, v_edge_.size()) && v_edge_[v.idx].valid(); }
   bool alive(EdgeHandle e) const { return in_range(e.idx, e_vert_.size()) && e_vert_[e.idx][0].valid(); }
   bool alive(TriangleHandle t) const { return in_range(t.idx, t_edge_.size()) && t_edge_[t.idx][0].valid(); }
