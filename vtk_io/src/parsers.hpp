@@ -1,10 +1,13 @@
 #pragma once
-// Readers of our own, for formats where VTK 9.1 has no reader (OFF) or where its reader crashes or
-// silently misreads bad files (OBJ, PLY, legacy VTK; see vtk_io.hpp), and the conversion of VTK
-// cell lists into faces shared with the VTK-based readers.
+// Readers of our own, for formats where VTK 9.1 has no reader (OFF) or where its reader crashes,
+// accepts damaged files or silently misreads (STL, OBJ, PLY, legacy VTK; see vtk_io.hpp), and the
+// conversion of VTK cell lists into faces shared with the VTK-based readers. One file each:
+// parse_stl.cpp, parse_off.cpp, parse_obj.cpp, parse_ply.cpp, parse_legacy_vtk.cpp, xyz.cpp,
+// cells.cpp; what they share is in parse_common.hpp.
 //
-// Every function throws InputError with a message that starts with `path` (and names the line
-// where there is one).
+// Each parser takes the whole file (mapped, see input_file.hpp; text formats without a UTF-8
+// byte-order mark) and throws InputError with a message that starts with `path` (and names the
+// line where there is one). Memory is reserved only for what the bytes present can hold.
 
 #include <cstdint>
 #include <string>
@@ -26,6 +29,12 @@ struct ReadOptions {
   std::vector<Vec3>* normals = nullptr;
 };
 
+// Every triangle's three corners as separate points, as the file stores them (merging them is the
+// caller's); coordinates single precision, as the format has them. Binary when the file is as long
+// as its triangle count says, ASCII when it starts with "solid" and holds text; any other file,
+// and any ASCII keyword out of place, is an InputError.
+PolygonSoup parse_stl(std::string_view data, const std::string& path);
+// The face count is exact: faces beyond it are an error, not ignored.
 PolygonSoup parse_off(std::string_view text, const std::string& path);
 PolygonSoup parse_obj(std::string_view text, const std::string& path, const ReadOptions& options = {});
 PolygonSoup parse_ply(std::string_view data, const std::string& path, const ReadOptions& options = {});

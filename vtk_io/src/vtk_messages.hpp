@@ -53,15 +53,21 @@ class CapturedVtkMessages {
 
   // The first error that says something, as one printable line. VTK's texts read
   // "ERROR: In <source>, line <n>\n<class> (0x...): <message>\n\n"; the location and the object
-  // address mean nothing to a user. The pipeline's "Algorithm ... returned failure for request"
-  // only repeats that the reader failed, so it is used only when there is nothing else.
+  // address mean nothing to a user. The pipeline's "Algorithm <class> ... returned failure for
+  // request" only repeats that the algorithm (a reader or a writer) failed, so it is used only
+  // when there is nothing else, as "<class> failed without saying why".
   std::string first_error() const {
     std::string fallback;
     for (const std::string& text : collector_->errors) {
       const std::string message = message_of(text);
       if (message.empty()) continue;
       if (message.rfind("Algorithm ", 0) != 0) return message;
-      if (fallback.empty()) fallback = "the VTK reader failed without saying why";
+      if (fallback.empty()) {
+        constexpr std::size_t name_at = sizeof "Algorithm " - 1;
+        const std::size_t name_end = message.find_first_of(" (", name_at);
+        const std::string name = message.substr(name_at, name_end - name_at);
+        fallback = (name.rfind("vtk", 0) == 0 ? name : std::string("VTK")) + " failed without saying why";
+      }
     }
     return fallback;
   }
