@@ -1,13 +1,12 @@
 // VTK cells as faces: shared by the legacy VTK parser and the XML readers.
 
-#include "parsers.hpp"
-
 #include <vtkCellType.h>
 #include <vtkCellTypes.h>
 
 #include <cstring>
 
 #include "parse_common.hpp"
+#include "parsers.hpp"
 
 namespace rgbmesh::detail {
 namespace {
@@ -63,7 +62,6 @@ void append_strip(const std::vector<std::int64_t>& strip, PolygonSoup& soup) {
       soup.faces.push_back({b, a, c});
   }
 }
-
 
 }  // namespace
 

@@ -25,7 +25,9 @@
 
 namespace rgbmesh::detail {
 
-inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
+inline bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
+}
 
 inline void split(std::string_view line, std::vector<std::string_view>& tokens) {
   tokens.clear();
@@ -276,6 +278,5 @@ inline Vec3 parse_point(const TokenLines& lines, std::size_t first) {
       throw lines.error("'" + printable(tokens[first + k]) + "' is not a number");
   return {c[0], c[1], c[2]};
 }
-
 
 }  // namespace rgbmesh::detail

@@ -1,9 +1,8 @@
 // Legacy VTK (.vtk): POLYDATA and UNSTRUCTURED_GRID data sets, ASCII or binary, both cell
 // layouts (before and from file version 5).
 
-#include "parsers.hpp"
-
 #include "parse_common.hpp"
+#include "parsers.hpp"
 
 namespace rgbmesh::detail {
 namespace {

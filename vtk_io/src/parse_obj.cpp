@@ -1,8 +1,7 @@
 // Wavefront OBJ: vertices and faces; every other statement is skipped.
 
-#include "parsers.hpp"
-
 #include "parse_common.hpp"
+#include "parsers.hpp"
 
 namespace rgbmesh::detail {
 

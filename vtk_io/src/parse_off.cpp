@@ -1,9 +1,8 @@
 // OFF (Geomview's Object File Format), ASCII: "OFF", the counts, one vertex per line, one face
 // per line. VTK has no reader for it.
 
-#include "parsers.hpp"
-
 #include "parse_common.hpp"
+#include "parsers.hpp"
 
 namespace rgbmesh::detail {
 namespace {

@@ -1,8 +1,7 @@
 // PLY (the Stanford polygon format), ASCII and binary in both byte orders.
 
-#include "parsers.hpp"
-
 #include "parse_common.hpp"
+#include "parsers.hpp"
 
 namespace rgbmesh::detail {
 namespace {
@@ -48,7 +47,8 @@ struct PlyHeader {
 };
 
 PlyHeader parse_ply_header(Cursor& c, const std::string& path) {
-  if ((!c.starts_with("ply\n") && !c.starts_with("ply\r\n")) || c.line() != "ply") throw InputError(path + ": not a PLY file (it does not start with 'ply')");
+  if ((!c.starts_with("ply\n") && !c.starts_with("ply\r\n")) || c.line() != "ply")
+    throw InputError(path + ": not a PLY file (it does not start with 'ply')");
   PlyHeader header;
   bool have_format = false;
   std::vector<std::string_view> tokens;
@@ -94,9 +94,9 @@ PlyHeader parse_ply_header(Cursor& c, const std::string& path) {
 
 // Which element and properties hold the geometry.
 struct PlyLayout {
-  int vertex = -1, face = -1;  // element indices
-  int xyz[3] = {-1, -1, -1};   // property indices in the vertex element
-  int indices = -1;            // property index of the face's vertex list
+  int vertex = -1, face = -1;    // element indices
+  int xyz[3] = {-1, -1, -1};     // property indices in the vertex element
+  int indices = -1;              // property index of the face's vertex list
   int normal[3] = {-1, -1, -1};  // nx, ny, nz in the vertex element, when all three are scalars
 };
 
@@ -152,10 +152,11 @@ void read_binary_element(Cursor& c, const PlyHeader& header, const PlyLayout& la
   // A count that the bytes left cannot hold is reported before anything is reserved for it.
   if (row > 0 && static_cast<std::uint64_t>(element.count) > c.remaining() / row) {
     if (!has_list) throw ply_truncated(path, element, static_cast<std::int64_t>(c.remaining() / row));
-    throw InputError(path + ": the header announces " + std::to_string(element.count) + " items of element '" +
-                     element.name + "' (at least " + std::to_string(row) + " bytes each), the " +
-                     std::to_string(c.remaining()) + " bytes left in the file hold at most " +
-                     std::to_string(c.remaining() / row) + ": it is truncated or the count is damaged");
+    throw InputError(path + ": the header announces " + std::to_string(element.count) +
+                     " items of element '" + element.name + "' (at least " + std::to_string(row) +
+                     " bytes each), the " + std::to_string(c.remaining()) +
+                     " bytes left in the file hold at most " + std::to_string(c.remaining() / row) +
+                     ": it is truncated or the count is damaged");
   }
   if (!has_list && !is_vertex) {
     // Fixed-size items that are not the points: skipped at once.

@@ -49,7 +49,8 @@ class Words {
 
   void expect(std::string_view keyword) {
     const std::string_view word = next();
-    if (word.empty()) throw error("the file ends where '" + std::string(keyword) + "' should follow: it is truncated");
+    if (word.empty())
+      throw error("the file ends where '" + std::string(keyword) + "' should follow: it is truncated");
     if (!equals_lowercase(word, keyword))
       throw error("expected '" + std::string(keyword) + "', found '" + printable(word) + "'");
   }
@@ -95,8 +96,8 @@ PolygonSoup parse_ascii_stl(std::string_view text, const std::string& path) {
       if (after.empty()) return soup;
       // Several solids may follow each other.
       if (!equals_lowercase(after, "solid"))
-        throw words.error("expected 'solid' or the end of the file after 'endsolid', found '" + printable(after) +
-                          "'");
+        throw words.error("expected 'solid' or the end of the file after 'endsolid', found '" +
+                          printable(after) + "'");
       words.skip_line();
       continue;
     }
@@ -128,8 +129,7 @@ PolygonSoup parse_binary_stl(std::string_view data, std::uint32_t count) {
     const auto first = static_cast<std::int64_t>(soup.points.size());
     for (int corner = 0; corner < 3; ++corner) {
       const char* xyz = corners + 12 * corner;
-      soup.points.push_back(
-          {load<float>(xyz, swap), load<float>(xyz + 4, swap), load<float>(xyz + 8, swap)});
+      soup.points.push_back({load<float>(xyz, swap), load<float>(xyz + 4, swap), load<float>(xyz + 8, swap)});
     }
     soup.faces.push_back({first, first + 1, first + 2});
   }

@@ -21,8 +21,8 @@ class MessageCollector : public vtkOutputWindow {
   static MessageCollector* New();
   vtkTypeMacro(MessageCollector, vtkOutputWindow)  // (a macro that ends its own declarations)
 
-  // vtkOutputWindow routes every message type through DisplayText.
-  void DisplayText(const char* text) override {
+      // vtkOutputWindow routes every message type through DisplayText.
+      void DisplayText(const char* text) override {
     if (text != nullptr && this->GetCurrentMessageType() == MESSAGE_TYPE_ERROR) errors.emplace_back(text);
   }
 
@@ -102,7 +102,6 @@ class CapturedVtkMessages {
     return "";
   }
 };
-
 
 // Runs a reader; any VTK error or error code is an InputError naming the file.
 void run_reader(vtkAlgorithm& reader, const std::filesystem::path& path);

@@ -94,7 +94,8 @@ class XmlReader {
     while (pos_ < end) {
       if (data_[pos_] != '<') {
         if (open.empty()) {
-          if (!is_xml_space(data_[pos_])) throw error("text outside the XML elements at byte " + std::to_string(pos_));
+          if (!is_xml_space(data_[pos_]))
+            throw error("text outside the XML elements at byte " + std::to_string(pos_));
           ++pos_;
           continue;
         }
@@ -121,8 +122,9 @@ class XmlReader {
         if (pos_ >= end || data_[pos_] != '>') throw error("a malformed end tag </" + shown(name) + ">");
         ++pos_;
         if (open.empty() || open.back()->name != name)
-          throw error("the end tag </" + shown(name) + "> does not match " +
-                      (open.empty() ? std::string("any open element") : "<" + std::string(open.back()->name) + ">"));
+          throw error(
+              "the end tag </" + shown(name) + "> does not match " +
+              (open.empty() ? std::string("any open element") : "<" + std::string(open.back()->name) + ">"));
         open.pop_back();
       } else {
         if (root_seen && open.empty()) throw error("more than one root element");
@@ -213,7 +215,8 @@ class XmlReader {
       Attribute a;
       a.name = read_name(end);
       skip_space(end);
-      if (pos_ >= end || data_[pos_] != '=') throw error("malformed attribute in <" + shown(element.name) + ">");
+      if (pos_ >= end || data_[pos_] != '=')
+        throw error("malformed attribute in <" + shown(element.name) + ">");
       ++pos_;
       skip_space(end);
       if (pos_ >= end || (data_[pos_] != '"' && data_[pos_] != '\''))
@@ -286,7 +289,8 @@ bool decode_base64(std::string_view text, std::string& out) {
       digits[k] = base64_digit(c);
       if (digits[k] < 0) return false;
     }
-    const std::uint32_t group = static_cast<std::uint32_t>(digits[0] << 18 | digits[1] << 12 | digits[2] << 6 | digits[3]);
+    const std::uint32_t group =
+        static_cast<std::uint32_t>(digits[0] << 18 | digits[1] << 12 | digits[2] << 6 | digits[3]);
     out += static_cast<char>(group >> 16);
     if (pad < 2) out += static_cast<char>(group >> 8 & 0xFF);
     if (pad < 1) out += static_cast<char>(group & 0xFF);
@@ -319,9 +323,9 @@ struct Word {
 
 const Word* word_type(std::string_view name) {
   static const Word types[] = {
-      {"Int8", 1, true, true},    {"UInt8", 1, true, false},   {"Int16", 2, true, true},
-      {"UInt16", 2, true, false}, {"Int32", 4, true, true},    {"UInt32", 4, true, false},
-      {"Int64", 8, true, true},   {"UInt64", 8, true, false},  {"Float32", 4, false, true},
+      {"Int8", 1, true, true},     {"UInt8", 1, true, false},   {"Int16", 2, true, true},
+      {"UInt16", 2, true, false},  {"Int32", 4, true, true},    {"UInt32", 4, true, false},
+      {"Int64", 8, true, true},    {"UInt64", 8, true, false},  {"Float32", 4, false, true},
       {"Float64", 8, false, true}, {"String", 0, false, false}, {"Bit", 1, true, false}};
   for (const Word& w : types)
     if (w.name == name) return &w;
@@ -333,7 +337,7 @@ const Word* word_type(std::string_view name) {
 
 // One array's data, where the file has it.
 struct ArrayData {
-  u64 values = 0;  // how many values the data hold
+  u64 values = 0;                      // how many values the data hold
   std::vector<std::int64_t> integers;  // decoded, when asked for
 };
 
@@ -344,12 +348,14 @@ class Checker {
 
   void check(std::string_view data_set) {
     const Element& root = doc_.root;
-    if (root.name != "VTKFile") throw error("not a VTK XML file (the root element is <" + shown(root.name) + ">)");
+    if (root.name != "VTKFile")
+      throw error("not a VTK XML file (the root element is <" + shown(root.name) + ">)");
     const std::string_view type = root.attribute("type").value_or("");
     if (type != data_set)
-      throw error("the file holds VTK " + (type.empty() ? std::string("(no type)") : shown(type)) + " data, not " +
-                  std::string(data_set));
-    const std::string_view order = root.attribute("byte_order").value_or(host_is_big_endian() ? "BigEndian" : "LittleEndian");
+      throw error("the file holds VTK " + (type.empty() ? std::string("(no type)") : shown(type)) +
+                  " data, not " + std::string(data_set));
+    const std::string_view order =
+        root.attribute("byte_order").value_or(host_is_big_endian() ? "BigEndian" : "LittleEndian");
     if (order != "LittleEndian" && order != "BigEndian")
       throw error("byte_order=\"" + shown(order) + "\" is neither LittleEndian nor BigEndian");
     swap_ = (order == "BigEndian") != host_is_big_endian();
@@ -417,8 +423,8 @@ class Checker {
       if (const auto text = a.attribute("NumberOfTuples")) {
         u64 n = 0;
         if (!parse_count(*text, n))
-          throw error("field data array '" + shown(a.attribute("Name").value_or("")) + "': NumberOfTuples=\"" +
-                      shown(*text) + "\" is not a count");
+          throw error("field data array '" + shown(a.attribute("Name").value_or("")) +
+                      "': NumberOfTuples=\"" + shown(*text) + "\" is not a count");
         tuples = n;
       }
       check_array(a, tuples, "field data array '" + shown(a.attribute("Name").value_or("")) + "'");
@@ -449,21 +455,26 @@ class Checker {
           coordinates = &a;
           break;
         }
-    if (points > 0 && coordinates == nullptr) throw error(where + " has " + std::to_string(points) + " points but no Points array");
+    if (points > 0 && coordinates == nullptr)
+      throw error(where + " has " + std::to_string(points) + " points but no Points array");
     if (coordinates != nullptr) {
       if (components(*coordinates, where + " points") != 3)
         throw error(where + ": the Points array has " + std::to_string(components(*coordinates, where)) +
                     " components instead of 3");
       check_array(*coordinates, points, where + " points");
     }
-    for (const auto& [data_name, tuples] : {std::pair<std::string_view, u64>{"PointData", points}, {"CellData", cells}}) {
+    for (const auto& [data_name, tuples] :
+         {std::pair<std::string_view, u64>{"PointData", points}, {"CellData", cells}}) {
       if (const Element* data = child(piece, data_name))
         for (const Element& a : data->children)
           if (is_array(a))
-            check_array(a, tuples, where + " " + std::string(data_name) + " array '" + shown(a.attribute("Name").value_or("")) + "'");
+            check_array(a, tuples,
+                        where + " " + std::string(data_name) + " array '" +
+                            shown(a.attribute("Name").value_or("")) + "'");
     }
     if (poly_data) {
-      for (int k = 0; k < 4; ++k) check_cells(child(piece, kinds[k]), per_kind[k], where + " " + std::string(kinds[k]), false);
+      for (int k = 0; k < 4; ++k)
+        check_cells(child(piece, kinds[k]), per_kind[k], where + " " + std::string(kinds[k]), false);
     } else {
       check_cells(child(piece, "Cells"), cells, where + " Cells", true);
     }
@@ -477,24 +488,26 @@ class Checker {
     const Element* offsets = array_named(*cells, "offsets");
     const Element* connectivity = array_named(*cells, "connectivity");
     if (n > 0 && (offsets == nullptr || connectivity == nullptr))
-      throw error(where + ": " + std::to_string(n) + " cells but no " + (offsets == nullptr ? "offsets" : "connectivity") + " array");
+      throw error(where + ": " + std::to_string(n) + " cells but no " +
+                  (offsets == nullptr ? "offsets" : "connectivity") + " array");
     if (offsets == nullptr || connectivity == nullptr) return;
     const ArrayData ids = check_array(*connectivity, std::nullopt, where + " connectivity");
     const ArrayData ends = check_array(*offsets, std::nullopt, where + " offsets", true);
     if (ends.values != n && ends.values != n + 1)
-      throw error(where + ": the offsets array holds " + std::to_string(ends.values) + " values for " + std::to_string(n) +
-                  " cells");
+      throw error(where + ": the offsets array holds " + std::to_string(ends.values) + " values for " +
+                  std::to_string(n) + " cells");
     std::int64_t previous = 0;
     for (std::size_t i = 0; i < ends.integers.size(); ++i) {
       const std::int64_t end = ends.integers[i];
       if (end < previous || static_cast<u64>(end) > ids.values)
-        throw error(where + ": the cell offsets are corrupt at cell " + std::to_string(i) + " (offset " + std::to_string(end) +
-                    ", " + std::to_string(ids.values) + " ids)");
+        throw error(where + ": the cell offsets are corrupt at cell " + std::to_string(i) + " (offset " +
+                    std::to_string(end) + ", " + std::to_string(ids.values) + " ids)");
       previous = end;
     }
     if (with_types) {
       const Element* types = array_named(*cells, "types");
-      if (n > 0 && types == nullptr) throw error(where + ": " + std::to_string(n) + " cells but no types array");
+      if (n > 0 && types == nullptr)
+        throw error(where + ": " + std::to_string(n) + " cells but no types array");
       if (types != nullptr) check_array(*types, n, where + " types");
       // Polyhedra bring face arrays, whose layout VTK reads without checks; they are no surface
       // polygons anyway.
@@ -514,11 +527,13 @@ class Checker {
 
   // Checks one array; `tuples` when the header says how many it must hold. With `decode`, the
   // values are returned as integers (cell offsets).
-  ArrayData check_array(const Element& a, std::optional<u64> tuples, const std::string& what, bool decode = false) {
+  ArrayData check_array(const Element& a, std::optional<u64> tuples, const std::string& what,
+                        bool decode = false) {
     const std::string_view type_name = a.attribute("type").value_or("");
     const Word* type = word_type(type_name);
     if (type == nullptr) throw error(what + ": unsupported type=\"" + shown(type_name) + "\"");
-    if (decode && !type->is_integer) throw error(what + ": type " + std::string(type_name) + " is not an integer type");
+    if (decode && !type->is_integer)
+      throw error(what + ": type " + std::string(type_name) + " is not an integer type");
     const u64 n_components = components(a, what);
     std::optional<u64> expected;  // values
     if (tuples && type->size != 0) {
@@ -538,8 +553,8 @@ class Checker {
       throw error(what + ": format=\"" + shown(format) + "\" is not ascii, binary or appended");
     }
     if (expected && result.values != *expected)
-      throw error(what + ": the array holds " + std::to_string(result.values) + " values, the header announces " +
-                  std::to_string(*expected));
+      throw error(what + ": the array holds " + std::to_string(result.values) +
+                  " values, the header announces " + std::to_string(*expected));
     return result;
   }
 
@@ -584,8 +599,8 @@ class Checker {
     if (!parse_count(text, offset)) throw error(what + ": offset=\"" + shown(text) + "\" is not an offset");
     const u64 available = data_.size() - doc_.appended_begin;
     if (offset >= available)
-      throw error(what + ": offset " + std::to_string(offset) + " is beyond the end of the file (" + std::to_string(available) +
-                  " bytes of appended data)");
+      throw error(what + ": offset " + std::to_string(offset) + " is beyond the end of the file (" +
+                  std::to_string(available) + " bytes of appended data)");
     return {doc_.appended_begin + static_cast<std::size_t>(offset), data_.size(), doc_.appended_base64};
   }
 
@@ -597,7 +612,8 @@ class Checker {
     if (span.base64) {
       const u64 chars = base64_length(bytes);
       if (chars > span.end - span.begin) return false;
-      if (!decode_base64(data_.substr(span.begin, static_cast<std::size_t>(chars)), decoded) || decoded.size() < bytes)
+      if (!decode_base64(data_.substr(span.begin, static_cast<std::size_t>(chars)), decoded) ||
+          decoded.size() < bytes)
         return false;
       raw = decoded;
     } else {
@@ -616,11 +632,12 @@ class Checker {
     return true;
   }
 
-  ArrayData binary_values(const Element& a, const Word& type, const std::string& what, bool decode, bool appended) const {
+  ArrayData binary_values(const Element& a, const Word& type, const std::string& what, bool decode,
+                          bool appended) const {
     const Span span = binary_span(a, what, appended);
     const std::string damaged = what + ": the size header of the binary data is damaged or truncated";
     std::vector<u64> words;
-    u64 bytes = 0;  // uncompressed
+    u64 bytes = 0;        // uncompressed
     std::string payload;  // the uncompressed bytes, when decoding
     if (compressor_ == Compressor::none) {
       if (!header_words(span, 1, words)) throw error(damaged);
@@ -628,11 +645,13 @@ class Checker {
       const u64 available = span.end - span.begin;
       const u64 needed = span.base64 ? base64_length(word_ + std::min<u64>(bytes, available)) : word_ + bytes;
       if (bytes > available || needed > available)
-        throw error(what + ": the data announce " + std::to_string(bytes) + " bytes, more than the file holds");
+        throw error(what + ": the data announce " + std::to_string(bytes) +
+                    " bytes, more than the file holds");
       if (decode) {
         if (span.base64) {
           std::string all;
-          if (!decode_base64(data_.substr(span.begin, static_cast<std::size_t>(needed)), all) || all.size() < word_ + bytes)
+          if (!decode_base64(data_.substr(span.begin, static_cast<std::size_t>(needed)), all) ||
+              all.size() < word_ + bytes)
             throw error(what + ": the base64 data are damaged");
           payload = all.substr(word_, static_cast<std::size_t>(bytes));
         } else {
@@ -643,7 +662,9 @@ class Checker {
       if (!header_words(span, 3, words)) throw error(damaged);
       const u64 blocks = words[0], block_size = words[1], last_size = words[2];
       const u64 available = span.end - span.begin;
-      if (blocks > available / word_) throw error(what + ": the compression header announces " + std::to_string(blocks) + " blocks, more than the file holds");
+      if (blocks > available / word_)
+        throw error(what + ": the compression header announces " + std::to_string(blocks) +
+                    " blocks, more than the file holds");
       if (!header_words(span, static_cast<std::size_t>(3 + blocks), words)) throw error(damaged);
       const u64 header_bytes = (3 + blocks) * word_;
       const u64 data_begin = span.base64 ? base64_length(header_bytes) : header_bytes;
@@ -655,21 +676,25 @@ class Checker {
       }
       const u64 compressed_chars = span.base64 ? base64_length(compressed) : compressed;
       if (data_begin > available || compressed_chars > available - data_begin)
-        throw error(what + ": the compressed blocks announce " + std::to_string(compressed) + " bytes, more than the file holds");
+        throw error(what + ": the compressed blocks announce " + std::to_string(compressed) +
+                    " bytes, more than the file holds");
       // VTK divides by the block size and indexes the blocks by it: 0 blocks or a last block
       // larger than the others would make it read outside its tables.
       if (blocks == 0) {
-        if (last_size != 0) throw error(what + ": the compression header announces 0 blocks with a partial last block");
+        if (last_size != 0)
+          throw error(what + ": the compression header announces 0 blocks with a partial last block");
       } else {
         if (block_size == 0 || last_size > block_size)
-          throw error(what + ": the compression header announces blocks of " + std::to_string(block_size) + " bytes with a last one of " + std::to_string(last_size));
+          throw error(what + ": the compression header announces blocks of " + std::to_string(block_size) +
+                      " bytes with a last one of " + std::to_string(last_size));
         u64 full = 0;
-        if (!checked_multiply(last_size == 0 ? blocks : blocks - 1, block_size, full) || full > std::numeric_limits<u64>::max() - last_size)
+        if (!checked_multiply(last_size == 0 ? blocks : blocks - 1, block_size, full) ||
+            full > std::numeric_limits<u64>::max() - last_size)
           throw error(what + ": the compression header announces more data than the file can hold");
         bytes = full + last_size;
         if (bytes / expansion_limit(compressor_) > compressed + 1024)
-          throw error(what + ": the compression header announces " + std::to_string(bytes) + " bytes from " + std::to_string(compressed) +
-                      " compressed bytes, more than the compressor can produce");
+          throw error(what + ": the compression header announces " + std::to_string(bytes) + " bytes from " +
+                      std::to_string(compressed) + " compressed bytes, more than the compressor can produce");
       }
       if (decode) payload = decompress(span, data_begin, words, block_size, last_size, what);
     }
@@ -680,13 +705,14 @@ class Checker {
     }
     result.values = type.name == "Bit" ? bytes * 8 : bytes / type.size;
     if (type.name != "Bit" && bytes % type.size != 0)
-      throw error(what + ": the data hold " + std::to_string(bytes) + " bytes, not a whole number of " + std::string(type.name) + " values");
+      throw error(what + ": the data hold " + std::to_string(bytes) + " bytes, not a whole number of " +
+                  std::string(type.name) + " values");
     if (decode) result.integers = integers_of(payload, type);
     return result;
   }
 
-  std::string decompress(const Span& span, u64 data_begin, const std::vector<u64>& words, u64 block_size, u64 last_size,
-                         const std::string& what) const {
+  std::string decompress(const Span& span, u64 data_begin, const std::vector<u64>& words, u64 block_size,
+                         u64 last_size, const std::string& what) const {
     // VTK's compressors report a damaged block on VTK's error output.
     CapturedVtkMessages quiet;
     vtkSmartPointer<vtkDataCompressor> compressor;
@@ -706,7 +732,8 @@ class Checker {
     u64 compressed = 0;
     for (u64 b = 0; b < blocks; ++b) compressed += words[3 + b];
     if (span.base64) {
-      if (!decode_base64(data_.substr(span.begin + data_begin, base64_length(compressed)), compressed_bytes) ||
+      if (!decode_base64(data_.substr(span.begin + data_begin, base64_length(compressed)),
+                         compressed_bytes) ||
           compressed_bytes.size() < compressed)
         throw error(what + ": the base64 data are damaged");
     } else {
@@ -719,8 +746,8 @@ class Checker {
       const std::size_t start = out.size();
       out.resize(start + size);
       const std::size_t produced =
-          compressor->Uncompress(reinterpret_cast<const unsigned char*>(compressed_bytes.data() + at), words[3 + b],
-                                 reinterpret_cast<unsigned char*>(out.data() + start), size);
+          compressor->Uncompress(reinterpret_cast<const unsigned char*>(compressed_bytes.data() + at),
+                                 words[3 + b], reinterpret_cast<unsigned char*>(out.data() + start), size);
       if (produced != size) throw error(what + ": compressed block " + std::to_string(b) + " is damaged");
       at += words[3 + b];
     }
@@ -737,7 +764,8 @@ class Checker {
       if (swap_) std::reverse(b, b + type.size);
       u64 raw = 0;
       for (std::size_t i = type.size; i-- > 0;) raw = raw << 8 | b[i];
-      if (type.is_signed && type.size < 8 && (raw >> (8 * type.size - 1)) != 0) raw |= ~u64{0} << (8 * type.size);
+      if (type.is_signed && type.size < 8 && (raw >> (8 * type.size - 1)) != 0)
+        raw |= ~u64{0} << (8 * type.size);
       // An unsigned 64-bit value beyond the signed range reads as negative: a corrupt offset.
       values.push_back(static_cast<std::int64_t>(raw));
     }
