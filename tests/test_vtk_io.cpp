@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -30,6 +31,7 @@
 #include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
+#include <vtkXMLWriter.h>
 
 #include <cmath>
 #include <cstring>
@@ -816,6 +818,250 @@ TEST_F(VtkIo, ReadMeshPrefixesTheFileToMeshErrors) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Issue 10: damaged headers, special files, byte-order marks, and every encoding VTK writes
+
+// A grid as VTK data, for VTK's own writers.
+vtkSmartPointer<vtkPolyData> grid_poly_data(const MeshSnapshot& m) {
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToDouble();
+  for (const Vec3& p : m.points) points->InsertNextPoint(p.x, p.y, p.z);
+  auto polys = vtkSmartPointer<vtkCellArray>::New();
+  for (const auto& t : m.triangles) {
+    const vtkIdType ids[] = {t[0], t[1], t[2]};
+    polys->InsertNextCell(3, ids);
+  }
+  auto data = vtkSmartPointer<vtkPolyData>::New();
+  data->SetPoints(points);
+  data->SetPolys(polys);
+  auto u = vtkSmartPointer<vtkDoubleArray>::New();
+  u->SetName("u");
+  for (std::size_t v = 0; v < m.points.size(); ++v) u->InsertNextValue(0.5 * static_cast<double>(v));
+  data->GetPointData()->AddArray(u);
+  auto level = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  level->SetName("level");
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    level->InsertNextValue(static_cast<unsigned char>(t % 5));
+  data->GetCellData()->AddArray(level);
+  return data;
+}
+
+// Every data mode, appended encoding, compressor, header type and byte order that VTK's XML
+// writers produce passes the validation and reads back exactly; small compression blocks give
+// many blocks with a partial last one.
+TEST_F(VtkIo, XmlFilesInEveryEncodingVtkWritesAreRead) {
+  const MeshSnapshot m = grid_snapshot(8);
+  const vtkSmartPointer<vtkPolyData> poly = grid_poly_data(m);
+  vtkNew<vtkUnstructuredGrid> grid;
+  grid->SetPoints(poly->GetPoints());
+  grid->SetCells(VTK_TRIANGLE, poly->GetPolys());
+  grid->GetPointData()->ShallowCopy(poly->GetPointData());
+  grid->GetCellData()->ShallowCopy(poly->GetCellData());
+  Faces faces;
+  for (const auto& t : m.triangles) faces.push_back({t[0], t[1], t[2]});
+  int written = 0;
+  for (const std::string mode : {"ascii", "binary", "appended-raw", "appended-base64"})
+    for (const int compressor :
+         {vtkXMLWriter::NONE, vtkXMLWriter::ZLIB, vtkXMLWriter::LZ4, vtkXMLWriter::LZMA})
+      for (const bool header64 : {false, true})
+        for (const bool big_endian : {false, true})
+          for (const bool small_blocks : {false, true}) {
+            if (mode == "ascii" &&
+                (compressor != vtkXMLWriter::NONE || header64 || big_endian || small_blocks))
+              continue;
+            const auto configure = [&](vtkXMLWriter& w) {
+              if (mode == "ascii") w.SetDataModeToAscii();
+              if (mode == "binary") w.SetDataModeToBinary();
+              if (mode.rfind("appended", 0) == 0) w.SetDataModeToAppended();
+              w.SetEncodeAppendedData(mode == "appended-base64");
+              w.SetCompressorType(compressor);
+              if (header64) w.SetHeaderTypeToUInt64();
+              if (big_endian) w.SetByteOrderToBigEndian();
+              if (small_blocks) w.SetBlockSize(64);
+            };
+            const std::string what = mode + " compressor " + std::to_string(compressor) +
+                                     (header64 ? " UInt64" : " UInt32") + (big_endian ? " big-endian" : "") +
+                                     (small_blocks ? " 64-byte blocks" : "");
+            vtkNew<vtkXMLPolyDataWriter> poly_writer;
+            poly_writer->SetInputData(poly);
+            poly_writer->SetFileName(path("e.vtp").c_str());
+            configure(*poly_writer);
+            ASSERT_EQ(poly_writer->Write(), 1) << what;
+            vtkNew<vtkXMLUnstructuredGridWriter> grid_writer;
+            grid_writer->SetInputData(grid);
+            grid_writer->SetFileName(path("e.vtu").c_str());
+            configure(*grid_writer);
+            ASSERT_EQ(grid_writer->Write(), 1) << what;
+            for (const char* name : {"e.vtp", "e.vtu"}) {
+              PolygonSoup s;
+              EXPECT_NO_THROW(s = read_polygon_soup(path(name))) << name << " " << what;
+              EXPECT_EQ(s.points, m.points) << name << " " << what;
+              EXPECT_EQ(s.faces, faces) << name << " " << what;
+            }
+            ++written;
+          }
+  EXPECT_EQ(written, 1 + 3 * 4 * 2 * 2 * 2);
+}
+
+// The file as written by rgbmesh, with `from` replaced by `to`.
+std::string edited(const std::string& text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at == std::string::npos) return text;
+  return text.substr(0, at) + to + text.substr(at + from.size());
+}
+
+TEST_F(VtkIo, DamagedXmlHeadersAreNamedBeforeVtkReadsThem) {
+  write_mesh(path("good.vtu"), grid_snapshot(2));
+  write_mesh(path("good.vtp"), grid_snapshot(2));
+  const std::string vtu = contents(path("good.vtu")), vtp = contents(path("good.vtp"));
+  const auto count = [](const std::string& text, const std::string& name) {
+    const auto at = text.find(name + "=\"");
+    return text.substr(at, text.find('"', at + name.size() + 2) + 1 - at);
+  };
+  struct Case {
+    std::string name, text, expect;
+  } cases[] = {
+      // These crashed VTK's reader (exit code 139) or made it resize a vector to 2^64 elements.
+      {"points.vtu", edited(vtu, count(vtu, "NumberOfPoints"), "NumberOfPoints=\"-1\""),
+       "cannot read: piece 0: NumberOfPoints=\"-1\" is not a count (a non-negative integer)"},
+      {"cells.vtu", edited(vtu, count(vtu, "NumberOfCells"), "NumberOfCells=\"-1\""),
+       "NumberOfCells=\"-1\" is not a count"},
+      {"verts.vtp", edited(vtp, count(vtp, "NumberOfVerts"), "NumberOfVerts=\"-2147483648\""),
+       "NumberOfVerts=\"-2147483648\" is not a count"},
+      {"components.vtu", edited(vtu, "NumberOfComponents=\"3\"", "NumberOfComponents=\"-1\""),
+       "CellData array 'grad': NumberOfComponents=\"-1\" is not a positive count"},
+      {"type.vtp", edited(vtp, "type=\"Float64\"", "type=\"Float65\""), "unsupported type=\"Float65\""},
+      {"offset.vtp", edited(vtp, "offset=\"0\"", "offset=\"-1\""), "offset=\"-1\" is not an offset"},
+      {"compressor.vtp", edited(vtp, "vtkZLibDataCompressor", "vtkZipDataCompressor"), "unknown compressor"},
+      {"header.vtp", edited(vtp, "header_type=\"UInt32\"", "header_type=\"UInt8\""), "header_type=\"UInt8\""},
+      {"more.vtp", edited(vtp, count(vtp, "NumberOfPoints"), "NumberOfPoints=\"10\""),
+       "piece 0 points: the array holds 27 values, the header announces 30"},
+  };
+  for (const Case& c : cases) {
+    const fs::path f = write_file(c.name, c.text);
+    expect_names(read_error(f), f, {c.expect});
+  }
+  // A compressed array whose header says 0 blocks (VTK read through a null block table).
+  std::string zero = vtu;
+  const std::size_t data = zero.find('_', zero.find("<AppendedData")) + 1;
+  std::memset(&zero[data], 0, 4);
+  const fs::path f = write_file("zero.vtu", zero);
+  expect_names(
+      read_error(f), f,
+      {"PointData array 'level': the compression header announces 0 blocks with a partial last block"});
+}
+
+TEST_F(VtkIo, SpecialFilesAreRefusedAndNamed) {
+  ASSERT_EQ(::mkfifo(path("fifo.obj").c_str(), 0600), 0);
+  expect_names(read_error(path("fifo.obj")), path("fifo.obj"),
+               {"is a FIFO (named pipe), not a regular file: only regular files are read"});
+  fs::create_symlink("/dev/null", path("null.stl"));
+  expect_names(read_error(path("null.stl")), path("null.stl"), {"is a character device, not a regular file"});
+  fs::create_symlink(path("b.off"), path("a.off"));
+  fs::create_symlink(path("a.off"), path("b.off"));
+  expect_names(read_error(path("a.off")), path("a.off"), {"is a symbolic-link loop"});
+  fs::create_symlink(path("nothing.ply"), path("dangling.ply"));
+  expect_names(read_error(path("dangling.ply")), path("dangling.ply"),
+               {"is a symbolic link to a file that does not exist"});
+  expect_names(read_error(write_file("empty.vtp", "")), path("empty.vtp"), {"the file is empty"});
+  // A symbolic link to a good file is read.
+  write_mesh(path("good.obj"), grid_snapshot(1));
+  fs::create_symlink(path("good.obj"), path("link.obj"));
+  EXPECT_EQ(read_mesh(path("link.obj")).triangles.size(), 2u);
+}
+
+// Some editors start text files with a UTF-8 byte-order mark; it is no part of the first line.
+TEST_F(VtkIo, ByteOrderMarkIsSkippedInEveryTextFormat) {
+  const std::string bom = "\xEF\xBB\xBF";
+  write_mesh(path("m.obj"), grid_snapshot(2));
+  write_mesh(path("m.off"), grid_snapshot(2));
+  const std::string ply =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const std::string stl =
+      "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+      "endloop\nendfacet\nendsolid t\n";
+  const std::string vtk =
+      "# vtk DataFile Version 3.0\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n"
+      "0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 2\n";
+  write_file("m.ply", ply);
+  write_file("m.stl", stl);
+  write_file("m.vtk", vtk);
+  for (const char* name : {"m.obj", "m.off", "m.ply", "m.stl", "m.vtk"}) {
+    const fs::path plain = path(name);
+    const fs::path marked = write_file(std::string("bom_") + name, bom + contents(plain));
+    const PolygonSoup expected = read_polygon_soup(plain), got = read_polygon_soup(marked);
+    EXPECT_EQ(got.points, expected.points) << name;
+    EXPECT_EQ(got.faces, expected.faces) << name;
+  }
+  const fs::path cloud = write_file("c.xyz", bom + "1 2 3\n4 5 6\n");
+  EXPECT_EQ(rgbmesh::read_point_cloud(cloud).points, (std::vector<Vec3>{{1, 2, 3}, {4, 5, 6}}));
+  // The OBJ of the issue: its first vertex was lost, and a face then named an index out of range.
+  const fs::path obj = write_file("issue.obj", bom + "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_EQ(read_polygon_soup(obj).points.size(), 3u);
+}
+
+TEST_F(VtkIo, CountsThatDisagreeWithTheFileAreErrors) {
+  // An OFF face count smaller than the faces: the rest was silently dropped.
+  const fs::path off = write_file("few.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
+  expect_names(
+      read_error(off), off,
+      {"line 8: data after the last of the 1 faces that the header announces: the face count is wrong"});
+  // A binary STL longer than its triangle count says: it was read without complaint.
+  write_mesh(path("long.stl"), grid_snapshot(1));
+  const fs::path stl = write_file("long.stl", contents(path("long.stl")) + std::string(50, '\0'));
+  expect_names(
+      read_error(stl), stl,
+      {"cannot read: the binary STL header announces 2 triangles (184 bytes), the file has 234 bytes: "
+       "the count or the file is damaged"});
+  // A binary PLY announcing 10^12 vertices, with a list property: bad_alloc before.
+  Bytes b;
+  b.data =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000000\nproperty float x\n"
+      "property float y\nproperty float z\nproperty list uchar int extra\nend_header\n";
+  for (int i = 0; i < 5; ++i) b.put(0.f).put(0.f).put(0.f).put(static_cast<std::uint8_t>(0));
+  const fs::path ply = write_file("huge.ply", b.data);
+  expect_names(
+      read_error(ply), ply,
+      {"the header announces 1000000000000 items of element 'vertex' (at least 13 bytes each), the 65 "
+       "bytes left in the file hold at most 5"});
+}
+
+TEST_F(VtkIo, AsciiStlIsReadStrictly) {
+  const std::string facet =
+      "facet normal 0 0 1\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n  vertex 0 1 0\n"
+      " endloop\nendfacet\n";
+  // Keywords in any case, and several solids in one file, as some exporters write them.
+  const fs::path two = write_file("two.stl", "solid a\n" + facet +
+                                                 "endsolid a\nSOLID B\nFACET NORMAL 0 0 1\n"
+                                                 "OUTER LOOP\nVERTEX 0 0 0\nVERTEX 0 1 0\nVERTEX 0 0 1\n"
+                                                 "ENDLOOP\nENDFACET\nENDSOLID B\n");
+  EXPECT_EQ(read_polygon_soup(two).faces, (Faces{{0, 1, 2}, {0, 2, 3}}));
+  struct Case {
+    std::string text, expect;
+  } cases[] = {
+      {"solid a\n" + edited(facet, "endloop", "endlop") + "endsolid a\n",
+       "line 7: expected 'endloop', found 'endlop'"},
+      {"solid a\n" + edited(facet, "normal", "normals") + "endsolid a\n",
+       "line 2: expected 'normal', found 'normals'"},
+      {"solid a\n" + edited(facet, "vertex 1 0 0", "vertex 1 0") + "endsolid a\n",
+       "'vertex' is not a number"},
+      {"solid a\n" + facet, "the file ends before 'endsolid': it is truncated"},
+      {"solid a\n" + facet + "endsolid a\nrubbish\n",
+       "expected 'solid' or the end of the file after 'endsolid'"},
+  };
+  for (const Case& c : cases) {
+    const fs::path f = write_file("bad.stl", c.text);
+    expect_names(read_error(f), f, {c.expect});
+  }
+  // A binary file whose header starts with "solid" is binary.
+  std::string binary = binary_stl({{Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}}});
+  binary.replace(0, 6, "solid ");
+  EXPECT_EQ(read_polygon_soup(write_file("solid.stl", binary)).faces, (Faces{{0, 1, 2}}));
+}
+
+// ---------------------------------------------------------------------------------------------
 // Writing
 
 // Every output format read back gives the same triangles over the same points: exactly for
@@ -987,6 +1233,7 @@ TEST_F(VtkIo, FailedWriteLeavesTheTargetUntouched) {
     }
     ::setrlimit(RLIMIT_FSIZE, &saved);
     EXPECT_EQ(error.rfind(target.string() + ": cannot write: ", 0), 0u) << ext << ": '" << error << "'";
+    EXPECT_EQ(error.find("reader"), std::string::npos) << ext << ": a write failure is no reader's";
     EXPECT_EQ(contents(target), "previous contents") << ext;
     EXPECT_EQ(entries(dir_), std::vector<std::string>{"old" + ext}) << ext;
     fs::remove(target);
