@@ -1,12 +1,18 @@
 #pragma once
 // Mesh files.
 //
-// Reading: STL, VTP and VTU go through VTK's readers (with their failures captured, binary STL
-// length-checked and XML cell offsets validated). OFF (VTK has none), OBJ, PLY and legacy VTK are
-// read by parsers of our own, because VTK 9.1's readers for them read out of bounds or abort the
-// process on bad input (out-of-range indices, truncated files, short cell lists) and silently
-// lose data (OBJ and PLY coordinates in single precision, OBJ "nan" read as 0, PLY polygons with
-// more than 255 vertices cut short).
+// Reading: only regular files are read (a FIFO, device, socket or directory is refused and
+// named, so are symbolic-link loops and dangling links); the file is mapped, not copied, and every
+// count it declares is checked against its size before memory is reserved for it, so a damaged
+// or huge garbage file is refused at once with little memory. Text formats skip a UTF-8 byte-order
+// mark. VTP and VTU go through VTK's XML readers after the whole header has been validated against
+// the file (counts, array attributes, binary size and compression headers, cell offsets), since
+// those readers crash or allocate without limit on damaged headers. STL, OFF (VTK has none), OBJ,
+// PLY and legacy VTK are read by parsers of our own, because VTK 9.1's readers for them read out
+// of bounds or abort the process on bad input (out-of-range indices, truncated files, short cell
+// lists), accept damaged files (an STL whose triangle count disagrees with its length, misspelled
+// keywords) and silently lose data (OBJ and PLY coordinates in single precision, OBJ "nan" read as
+// 0, PLY polygons with more than 255 vertices cut short).
 //
 // Writing is atomic: a temporary file in the target's directory, flushed to disk and renamed
 // onto the target once complete; the temporary is removed on failure (and on SIGINT, SIGTERM,
