@@ -9,6 +9,8 @@
 
 #include "json.hpp"
 #include "output_dir.hpp"
+#include "resources.hpp"
+#include "rgbmesh/errors.hpp"
 #include "rgbmesh/adapt/adaptive.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/refinement.hpp"
@@ -86,6 +88,7 @@ void refuse(const AdaptArgs& a, std::initializer_list<const char*> options, cons
 }
 
 struct Settings {
+  MemoryCeiling ceiling;
   std::string problem, marking, geometry, mesh_name;
   bool moving = false, on_sphere = false;
   adapt::AdaptOptions options;
@@ -97,6 +100,8 @@ struct Settings {
 // Every option checked against the others; the mesh read. InputError on the first conflict.
 Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   Settings s;
+  s.ceiling = MemoryCeiling::from_option(a.memory_limit);
+  s.options.memory_headroom = [ceiling = s.ceiling] { return ceiling.headroom(); };
   s.mesh_name = a.mesh.empty() ? "icosahedron (embedded)" : a.mesh;
   s.problem = !a.problem.empty() ? a.problem : (a.mesh.empty() ? "sphere-peak" : "gaussian");
   choose<int>("--problem", s.problem,
@@ -172,6 +177,9 @@ std::string stop_message(adapt::StopReason reason, const Settings& s, const Adap
       return "the next mesh would have more than --max-dofs " + std::to_string(a.max_dofs) + " unknowns";
     case adapt::StopReason::steps:
       return "all " + std::to_string(s.dynamic.steps) + " time steps done";
+    case adapt::StopReason::memory:
+      return "the next cycle would pass the memory limit of " + s.ceiling.describe() +
+             " (the results so far are written)";
   }
   return "";
 }
@@ -277,6 +285,7 @@ int run_adapt(const AdaptArgs& a) {
   std::cout << "stopped: " << message << "\n"
             << "wrote " << series.size() << " files and " << (dir / "solution.pvd").string()
             << " (open the .pvd in ParaView: color by 'solution', 'error_indicator' or 'level')\n";
+  if (run.stopped == adapt::StopReason::memory) throw ResourceError("adapt: " + message);
   return 0;
 }
 

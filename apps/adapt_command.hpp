@@ -32,6 +32,7 @@ struct AdaptArgs {
   std::string report;  // JSON report path; empty: none
   std::set<std::string> given;  // the options the user gave ("--theta", ...), for refusals
   std::string command_line;     // for the report
+  std::string memory_limit;     // the global --memory-limit ("" for the default)
 };
 
 // Checks the arguments against each other and the mesh, runs, writes everything; returns the

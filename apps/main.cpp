@@ -31,6 +31,7 @@
 #include "rgbmesh/soup.hpp"
 #include "rgbmesh/statistics.hpp"
 #include "rgbmesh/vtk_io.hpp"
+#include "resources.hpp"
 #include "stages.hpp"
 
 namespace fs = std::filesystem;
@@ -72,7 +73,7 @@ void check_output_path(const std::string& out) {
                      "' (supported: " + supported_output_extensions() + ")");
   const fs::path dir = fs::path(out).parent_path();
   if (!dir.empty() && !fs::is_directory(dir))
-    throw InputError(out + ": the directory " + dir.string() + " does not exist");
+    throw OutputError(out + ": cannot write: the folder " + dir.string() + " does not exist");
 }
 
 // A CLI11 check that the option's value is a number accepted by `ok`; the message names what
@@ -212,6 +213,11 @@ int main(int argc, char** argv) {
   app.require_subcommand(0, 1);
   app.set_version_flag("--version", "rgbmesh " RGBMESH_VERSION);
   std::string global_out = "out";
+  std::string memory_limit;
+  app.add_option("--memory-limit", memory_limit,
+                 "Memory ceiling of the process: bytes with K/M/G/T, or a percentage of the available memory "
+                 "[default: 80%]; larger work is refused or stopped (exit code 3)")
+      ->type_name("SIZE");
   auto* global_out_option =
       app.add_option("--out", global_out,
                      "Output directory of the default job, and of adapt and fit when given before the subcommand")
@@ -404,6 +410,8 @@ int main(int argc, char** argv) {
   }
 
   try {
+    const MemoryCeiling ceiling = MemoryCeiling::from_option(memory_limit);
+    adapt_args.memory_limit = memory_limit;
     if (info->parsed()) {
       print_statistics(info_path, load_mesh(info_path, info_triangulate), info_json);
       return 0;
@@ -432,9 +440,12 @@ int main(int argc, char** argv) {
       auto t0 = std::chrono::steady_clock::now();
       RgbMesh mesh = load_mesh(refine_in, refine_triangulate);
       const double read_s = seconds_since(t0);
-      const StageTotals totals = run_stages(mesh, stages);
+      const StageTotals totals = run_stages(mesh, stages, ceiling, output_bytes_per_vertex(refine_out));
       t0 = std::chrono::steady_clock::now();
-      if (refine_out != "-") write_mesh(refine_out, snapshot_for_file(mesh, refine_out, refine_limit));
+      if (refine_out != "-") {
+        check_output_memory(mesh, refine_out, ceiling);
+        write_mesh(refine_out, snapshot_for_file(mesh, refine_out, refine_limit));
+      }
       const double write_s = seconds_since(t0);
       if (refine_stats) std::cout << stats_json(mesh, totals, read_s, write_s) << "\n";
       return 0;
@@ -445,6 +456,7 @@ int main(int argc, char** argv) {
     AdaptArgs defaults;
     defaults.out = global_out;
     defaults.command_line = adapt_args.command_line;
+    defaults.memory_limit = memory_limit;
     return run_adapt(defaults);
   } catch (const InputError& e) {
     std::cerr << "rgbmesh: error: " << e.what() << "\n";

@@ -9,6 +9,7 @@
 #include <limits>
 #include <sstream>
 
+#include "rgbmesh/errors.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/soup.hpp"
 
@@ -171,14 +172,89 @@ Stage parse_max_level(const std::string& value) {
 Stage parse_random_walk(const std::string& value) {
   Stage s{Stage::random_walk, "--random-walk " + value};
   const auto f = fields("--random-walk", value, 2, "N,SEED");
-  s.count = static_cast<std::uint64_t>(to_integer("--random-walk", f[0], 0, std::int64_t(1) << 40));
+  // At about a million steps a second, 10^9 steps take a quarter of an hour: a testing aid
+  // needs no more, and a mistyped count must not run for days.
+  s.count = static_cast<std::uint64_t>(to_integer("--random-walk", f[0], 0, 1000000000));
   s.seed = static_cast<std::uint64_t>(to_integer("--random-walk", f[1], 0, INT64_MAX));
   return s;
 }
 
 Stage parse_coarsen_all() { return Stage{Stage::coarsen_all, "--coarsen-all"}; }
 
-StageTotals run_stages(RgbMesh& mesh, const std::vector<Stage>& stages) {
+double output_bytes_per_vertex(const std::string& output_path) {
+  if (output_path == "-") return 0;
+  const bool xml = output_path.size() > 4 && (output_path.substr(output_path.size() - 4) == ".vtp" ||
+                                              output_path.substr(output_path.size() - 4) == ".vtu");
+  // Snapshot: points 24, two triangles of 12 bytes, levels and colours; VTK's copies: points 24,
+  // two cells of 4 ids of 8 bytes; XML adds two 3-vectors (48) in both, and the compressor's
+  // buffers. Measured peaks stay below these figures.
+  return xml ? 300.0 : 150.0;
+}
+
+namespace {
+
+// A refusal or a stop at the memory ceiling, with the figures.
+[[noreturn]] void out_of_memory(const Stage& s, const std::string& what, const MemoryCeiling& ceiling) {
+  throw ResourceError("stage " + s.text + ": " + what + "; the memory limit is " + ceiling.describe());
+}
+
+// "740", "4.43 million", "2.1e+21".
+std::string millions(double n) {
+  char buf[48];
+  if (n >= 1e12)
+    std::snprintf(buf, sizeof buf, "%.2g", n);
+  else if (n >= 1e6)
+    std::snprintf(buf, sizeof buf, "%.3g million", n / 1e6);
+  else
+    std::snprintf(buf, sizeof buf, "%.0f", n);
+  return buf;
+}
+
+// Uniform levels and budgets: the final size is known, so the stage is refused before it
+// starts when it cannot fit.
+void check_predictable(const RgbMesh& mesh, const Stage& s, int cap, const MemoryCeiling& ceiling,
+                       double output_vertex_bytes) {
+  MeshCounts counts;
+  std::string target;
+  if (s.kind == Stage::uniform) {
+    const int level = std::min(s.level, cap);
+    if (level <= mesh.max_level()) return;
+    counts = uniform_level_counts(mesh, level);
+    target = "the mesh at level " + std::to_string(level);
+  } else if (s.kind == Stage::budget) {
+    const auto n = static_cast<double>(s.count);
+    if (n <= static_cast<double>(mesh.num_triangles())) return;
+    counts.triangles = n;
+    counts.edges = 1.5 * n;
+    counts.vertices = 0.5 * n;
+    target = "a mesh of " + millions(n) + " triangles";
+  } else {
+    return;
+  }
+  // The arrays are reserved for the final size while the current ones still exist.
+  const double needed = counts.bytes() + static_cast<double>(mesh.memory_bytes()) + counts.vertices * output_vertex_bytes;
+  const double free = static_cast<double>(ceiling.headroom()) + static_cast<double>(mesh.memory_bytes());
+  if (needed > free)
+    out_of_memory(s,
+                  target + " would have " + millions(counts.vertices) + " vertices and " + millions(counts.triangles) +
+                      " triangles, about " + human_bytes(needed) +
+                      (output_vertex_bytes > 0 ? " with its output" : "") + " (" + human_bytes(free) + " free)",
+                  ceiling);
+}
+
+}  // namespace
+
+void check_output_memory(const RgbMesh& mesh, const std::string& output_path, const MemoryCeiling& ceiling) {
+  const double needed = output_bytes_per_vertex(output_path) * static_cast<double>(mesh.num_vertices());
+  if (needed > static_cast<double>(ceiling.headroom()))
+    throw ResourceError(output_path + ": writing " + millions(static_cast<double>(mesh.num_vertices())) +
+                        " vertices needs about " + human_bytes(needed) + " more memory (" +
+                        human_bytes(static_cast<double>(ceiling.headroom())) + " free); the memory limit is " +
+                        ceiling.describe());
+}
+
+StageTotals run_stages(RgbMesh& mesh, const std::vector<Stage>& stages, const MemoryCeiling& ceiling,
+                       double output_vertex_bytes) {
   StageTotals totals;
   int cap = kMaxLevel;
   const auto start = std::chrono::steady_clock::now();
@@ -189,8 +265,10 @@ StageTotals run_stages(RgbMesh& mesh, const std::vector<Stage>& stages) {
     const auto stage_start = std::chrono::steady_clock::now();
     const std::size_t triangles_before = mesh.num_triangles();
     Progress progress("stage " + std::to_string(i + 1) + "/" + std::to_string(stages.size()) + " " + s.text);
+    check_predictable(mesh, s, cap, ceiling, output_vertex_bytes);
     RefinementOptions options;
     options.max_level = cap;
+    options.max_mesh_bytes = mesh.memory_bytes() + ceiling.headroom();
     options.progress = [&progress](std::uint64_t ops, std::size_t queued) { progress.update(ops, queued); };
     RefinementResult r;
     switch (s.kind) {
@@ -229,6 +307,11 @@ StageTotals run_stages(RgbMesh& mesh, const std::vector<Stage>& stages) {
       }
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start).count();
+    if (r.stopped_at_memory_limit)
+      out_of_memory(s,
+                    "stopped at the memory limit with " + millions(static_cast<double>(mesh.num_vertices())) +
+                        " vertices, before the mesh was refined as asked (no output written)",
+                    ceiling);
     if (s.kind != Stage::max_level && r.splits == 0 && r.removals == 0)
       std::fprintf(stderr, "rgbmesh: warning: stage %s changed nothing: %s\n", s.text.c_str(),
                    why_nothing_changed(mesh, s, cap, triangles_before).c_str());

@@ -8,6 +8,7 @@
 
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/refinement.hpp"
+#include "resources.hpp"
 
 namespace rgbmesh::cli {
 
@@ -44,7 +45,19 @@ struct StageTotals {
   std::vector<StageResult> stages;
 };
 
-// Runs the stages in order on the mesh, reporting progress on stderr for long stages.
-StageTotals run_stages(RgbMesh& mesh, const std::vector<Stage>& stages);
+// Runs the stages in order on the mesh, reporting progress on stderr for long stages. Memory:
+// a uniform level or a budget whose mesh (plus, when `output_vertex_bytes` > 0, its output at
+// that many bytes per vertex) would pass the ceiling is refused before it starts; any other
+// stage that reaches the ceiling stops there. Both are a ResourceError with the figures.
+StageTotals run_stages(RgbMesh& mesh, const std::vector<Stage>& stages, const MemoryCeiling& ceiling,
+                       double output_vertex_bytes = 0);
+
+// The memory that writing a mesh of that many vertices takes, per vertex (the snapshot and the
+// writer's own copies; VTK XML files carry control points and limits too).
+double output_bytes_per_vertex(const std::string& output_path);
+
+// Refuses (ResourceError) to write the mesh to `output_path` when writing would pass the
+// ceiling: after open-ended stages the final size was not known before.
+void check_output_memory(const RgbMesh& mesh, const std::string& output_path, const MemoryCeiling& ceiling);
 
 }  // namespace rgbmesh::cli

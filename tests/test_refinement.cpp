@@ -46,6 +46,29 @@ TEST(Uniform, LevelKHasFourToTheKTrianglesAllGreen) {
   }
 }
 
+TEST(Uniform, PredictedCountsAreExactFromAnyMeshOfTheBase) {
+  // uniform_level_counts, used to refuse work that cannot fit in memory, from a base mesh and
+  // from a selectively refined one, on closed, open (several loops) and genus-2 surfaces.
+  for (const auto& base : {testing::cube(), testing::grid_with_holes(8, 3), testing::double_torus(),
+                           testing::fan_disk(7), testing::single_triangle()}) {
+    RgbMesh m = base.build();
+    selective_refinement(m, BallLevel(m.control_point(VertexHandle(0)), 0.3, 3));
+    for (int level : {0, 1, 3}) {
+      const MeshCounts predicted = uniform_level_counts(m, level);
+      RgbMesh u = m;
+      selective_refinement(u, UniformLevel(level));
+      EXPECT_EQ(predicted.vertices, static_cast<double>(u.num_vertices())) << base.name << " level " << level;
+      EXPECT_EQ(predicted.edges, static_cast<double>(u.num_edges())) << base.name << " level " << level;
+      EXPECT_EQ(predicted.triangles, static_cast<double>(u.num_triangles())) << base.name << " level " << level;
+      EXPECT_GE(predicted.bytes(), static_cast<double>(RgbMesh::storage_bytes(u.num_vertices(), u.num_edges(),
+                                                                              u.num_triangles())) * 0.99);
+    }
+  }
+  // Levels beyond any integer still give finite, huge figures (the CLI's refusal quotes them).
+  RgbMesh small = testing::octahedron().build();
+  EXPECT_GT(uniform_level_counts(small, 30).vertices, 1e18);
+}
+
 TEST(Ball, AtLeastLevelKOnTrianglesMeetingTheBallOnly) {
   RgbMesh m = testing::icosahedron().build();
   const Vec3 center{0, 1.618, 0.3};

@@ -98,6 +98,7 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
   std::vector<char> marked(c.fe.triangles.size(), 0);
   RefinementOptions ro;
   ro.max_level = options.max_level;
+  if (options.memory_headroom) ro.max_mesh_bytes = mesh.memory_bytes() + options.memory_headroom();
   RefinementResult r;
   if (options.strategy == Strategy::uniform) {
     std::fill(marked.begin(), marked.end(), 1);
@@ -124,11 +125,20 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
     r = selective_refinement(mesh, FieldCriterion(std::move(triangle_values), 0.5, std::move(vertex_values), threshold),
                              ro);
   }
+  report.memory_limit_reached = r.stopped_at_memory_limit;
   report.marked = static_cast<std::size_t>(std::count(marked.begin(), marked.end(), 1));
   report.splits += r.splits;
   report.removals += r.removals;
   report.adapt_seconds += seconds_since(t0);
   return marked;
+}
+
+// Whether a cycle on the mesh as it is now fits under the memory ceiling: the unknowns added
+// since the last solve each need kSolveBytesPerDof more.
+bool next_cycle_fits(const RgbMesh& mesh, const AdaptOptions& options, std::size_t solved_dofs) {
+  if (!options.memory_headroom) return true;
+  const double added = static_cast<double>(mesh.num_vertices()) - static_cast<double>(solved_dofs);
+  return added * kSolveBytesPerDof <= static_cast<double>(options.memory_headroom());
 }
 
 }  // namespace
@@ -139,6 +149,7 @@ const char* to_string(StopReason reason) {
     case StopReason::target_error: return "target-error";
     case StopReason::max_dofs: return "max-dofs";
     case StopReason::steps: return "steps";
+    case StopReason::memory: return "memory";
   }
   return "?";
 }
@@ -187,9 +198,15 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
                     const CycleCallback& on_cycle) {
   SolutionTransfer transfer(mesh);
   AdaptRun run;
+  std::size_t solved_dofs = 0;
   for (int cycle = 0; cycle < options.max_cycles; ++cycle) {
     const auto t0 = std::chrono::steady_clock::now();
+    if (!next_cycle_fits(mesh, options, solved_dofs)) {
+      run.stopped = StopReason::memory;
+      break;
+    }
     SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer);
+    solved_dofs = c.fe.num_dofs();
     c.report.cycle = cycle;
     bool last = true;
     if (cycle + 1 == options.max_cycles)
@@ -209,6 +226,10 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
     run.cycles.push_back(c.report);
     if (on_cycle) on_cycle({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked});
     if (last) break;
+    if (c.report.memory_limit_reached) {
+      run.stopped = StopReason::memory;
+      break;
+    }
     if (mesh.num_vertices() > options.max_dofs) {
       run.stopped = StopReason::max_dofs;
       break;
@@ -227,10 +248,24 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
   if (start.marking == Marking::equidistribution && !(start.target_estimate > 0)) start.marking = Marking::dorfler;
   AdaptRun started = run_cycles(mesh, problem_at(0.0), start);
   run.start = std::move(started.cycles);
-  if (started.stopped == StopReason::max_dofs && mesh.num_vertices() > options.max_dofs) {
-    run.stopped = StopReason::max_dofs;  // even the start needs more than max_dofs
+  if ((started.stopped == StopReason::max_dofs && mesh.num_vertices() > options.max_dofs) ||
+      started.stopped == StopReason::memory) {
+    run.stopped = started.stopped;  // even the start needs more than max_dofs, or the memory
     return run;
   }
+  // After an adaptation: whether the mesh is still within bounds for the next solve.
+  std::size_t solved_dofs = run.start.empty() ? 0 : run.start.back().dofs;
+  const auto out_of_bounds = [&](const CycleReport& adapted) {
+    if (adapted.memory_limit_reached || !next_cycle_fits(mesh, options, solved_dofs)) {
+      run.stopped = StopReason::memory;
+      return true;
+    }
+    if (mesh.num_vertices() > options.max_dofs) {
+      run.stopped = StopReason::max_dofs;
+      return true;
+    }
+    return false;
+  };
   AdaptOptions o = options;
   if (o.marking == Marking::equidistribution && !(o.target_estimate > 0)) o.target_estimate = run.start.back().estimate;
   run.target_estimate = o.target_estimate;
@@ -246,12 +281,10 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
       SolvedCycle c = solve_and_estimate(mesh, problem, o, transfer);
       transfer.store(c.fe, c.solution.u);
       const std::size_t before = mesh.num_vertices();
+      solved_dofs = c.fe.num_dofs();
       CycleReport settled;
       adapt_mesh(mesh, c, o, settled);
-      if (mesh.num_vertices() > o.max_dofs) {
-        run.stopped = StopReason::max_dofs;
-        return run;
-      }
+      if (out_of_bounds(settled)) return run;
       const double change = std::abs(static_cast<double>(mesh.num_vertices()) - static_cast<double>(before));
       if (change < 0.02 * static_cast<double>(before)) break;
     }
@@ -266,14 +299,13 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     // mesh stays as the start made it).
     for (int k = 0; o.strategy == Strategy::adaptive && k < dynamic.cycles_per_step; ++k) {
       SolvedCycle c = solve_and_estimate(mesh, problem, o, transfer);
+      solved_dofs = c.fe.num_dofs();
       transfer.store(c.fe, c.solution.u);
       adapt_mesh(mesh, c, o, adapted);
-      if (mesh.num_vertices() > o.max_dofs) {
-        run.stopped = StopReason::max_dofs;
-        return run;
-      }
+      if (out_of_bounds(adapted)) return run;
     }
     SolvedCycle c = solve_and_estimate(mesh, problem, o, transfer);
+    solved_dofs = c.fe.num_dofs();
     transfer.store(c.fe, c.solution.u);
     c.report.cycle = step;
     c.report.time = t;

@@ -3,6 +3,7 @@
 #include "rgbmesh/refinement.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <queue>
 
 #include "rgbmesh/geometry.hpp"
@@ -55,7 +56,7 @@ class Refiner {
     for (VertexHandle v : mesh_.vertices()) test_vertex(v);
     coarsen();
     refine();
-    while (crit_.priorities_change_nearby() && !crit_.satisfied(mesh_)) {
+    while (crit_.priorities_change_nearby() && !crit_.satisfied(mesh_) && !result_.stopped_at_memory_limit) {
       const std::uint64_t before = result_.splits;
       for (EdgeHandle e : mesh_.edges()) test_edge(e);
       for (TriangleHandle t : mesh_.triangles()) test_triangle(t);
@@ -140,13 +141,25 @@ class Refiner {
     }
   }
 
+  // Whether the next growth of the arrays would pass the ceiling. A growing std::vector holds
+  // its old and new blocks at once, and the largest array (control points) is about a fifth of
+  // the total: half again the current size covers the transient. Checked every 1024 splits.
+  bool at_memory_limit() {
+    if (opt_.max_mesh_bytes == 0 || (++memory_checks_ & 1023) != 0) return false;
+    const double bytes = 1.5 * static_cast<double>(mesh_.memory_bytes()) +
+                         static_cast<double>(qr_.size() * sizeof(EdgeEntry) + qc_.size() * sizeof(VertexEntry));
+    if (bytes <= static_cast<double>(opt_.max_mesh_bytes)) return false;
+    result_.stopped_at_memory_limit = true;
+    return true;
+  }
+
   void refine() {
     std::vector<VertexHandle> inserted;
     const int id = mesh_.add_insertion_observer(
         [&inserted](VertexHandle v, VertexHandle, VertexHandle) { inserted.push_back(v); });
     ObserverGuard guard(mesh_, id);
     VertexStar s;
-    while (!qr_.empty() && !crit_.satisfied(mesh_)) {
+    while (!qr_.empty() && !crit_.satisfied(mesh_) && !at_memory_limit()) {
       const EdgeEntry top = qr_.top();
       qr_.pop();
       const EdgeHandle e(top.edge);
@@ -191,6 +204,7 @@ class Refiner {
   std::vector<EdgeHandle> scratch_edges_;
   RefinementResult result_;
   std::uint64_t next_report_ = 1u << 16;
+  std::uint64_t memory_checks_ = 0;
 };
 
 }  // namespace
@@ -223,6 +237,13 @@ class LevelSweep {
   // all green edges of level l; it creates edges of level l + 1 only (and coarser ones only
   // through forced splits, which find none once the coarser passes are done).
   void refine_to(int level) {
+    if (opt_.max_mesh_bytes > 0 && level > mesh_.max_level() &&
+        uniform_level_counts(mesh_, level).bytes() + static_cast<double>(mesh_.memory_bytes()) >
+            static_cast<double>(opt_.max_mesh_bytes)) {
+      // The arrays are reserved once for the final size, next to the current ones.
+      result_.stopped_at_memory_limit = true;
+      return;
+    }
     reserve_for_uniform_mesh(level);
     for (int l = 0; l < level; ++l) {
       const std::int32_t n = mesh_.edge_slots();
@@ -303,6 +324,29 @@ RefinementResult selective_refinement(RgbMesh& mesh, const LodCriterion& criteri
     return sweep.result();
   }
   return Refiner(mesh, criterion, options).run();
+}
+
+double MeshCounts::bytes() const {
+  // storage_bytes per element, in doubles (the counts may exceed every integer type).
+  const double per_vertex = static_cast<double>(RgbMesh::storage_bytes(1, 0, 0));
+  const double per_edge = static_cast<double>(RgbMesh::storage_bytes(0, 1, 0));
+  const double per_triangle = static_cast<double>(RgbMesh::storage_bytes(0, 0, 1));
+  return vertices * per_vertex + edges * per_edge + triangles * per_triangle;
+}
+
+MeshCounts uniform_level_counts(const RgbMesh& mesh, int level) {
+  const double chi = static_cast<double>(mesh.euler_characteristic());
+  double base_boundary = 0;  // boundary edges of the base = its boundary vertices
+  for (VertexHandle v : mesh.vertices()) {
+    if (mesh.level(v) == 0 && mesh.is_boundary(v)) base_boundary += 1;
+  }
+  const double base_triangles = 2.0 * (static_cast<double>(mesh.num_base_vertices()) - chi) - base_boundary;
+  MeshCounts c;
+  c.triangles = base_triangles * std::pow(4.0, level);
+  const double boundary = base_boundary * std::pow(2.0, level);
+  c.edges = (3.0 * c.triangles + boundary) / 2.0;
+  c.vertices = chi + c.edges - c.triangles;
+  return c;
 }
 
 // ---- built-in criteria ----------------------------------------------------------------------

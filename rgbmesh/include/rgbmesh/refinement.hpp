@@ -42,6 +42,10 @@ class LodCriterion {
 struct RefinementOptions {
   // Splits that would create a vertex above this level are not performed.
   int max_level = kMaxLevel;
+  // A ceiling on the mesh's arrays (RgbMesh::memory_bytes) and the queues, in bytes; 0: none.
+  // Refinement stops before it would pass it (counting the copy an array makes when it
+  // grows), leaving a valid, stable mesh, and says so in RefinementResult.
+  std::size_t max_mesh_bytes = 0;
   // Called now and then with (operations done, queue size) for progress reports.
   std::function<void(std::uint64_t, std::size_t)> progress;
 };
@@ -50,7 +54,19 @@ struct RefinementResult {
   std::uint64_t splits = 0;    // vertices inserted (forced splits included)
   std::uint64_t removals = 0;  // vertices removed
   std::uint64_t skipped = 0;   // stale queue entries
+  bool stopped_at_memory_limit = false;  // RefinementOptions::max_mesh_bytes reached
 };
+
+// The counts of the mesh at uniform level `level` (every part refined or coarsened to it),
+// from the invariants of Loop refinement: the base has T0 = 2 (V0 - χ) - B0 triangles (B0
+// boundary edges), level L has T0 4^L triangles and B0 2^L boundary edges, E = (3T + B) / 2
+// and V = χ + E - T. Exact for any mesh of the same base. Doubles: large levels overflow
+// every integer type.
+struct MeshCounts {
+  double vertices = 0, edges = 0, triangles = 0;
+  double bytes() const;  // RgbMesh::storage_bytes for these counts
+};
+MeshCounts uniform_level_counts(const RgbMesh& mesh, int level);
 
 // Runs one stage: fills both queues from the whole mesh, removes over-refined vertices, then
 // splits under-refined edges, until both queues are empty or the criterion is satisfied.

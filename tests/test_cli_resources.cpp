@@ -1,0 +1,145 @@
+// Exhausted resources and interrupted writes, as a user meets them: work too large for the
+// memory is refused before it starts (uniform levels, budgets) or stopped at the ceiling
+// (open-ended criteria, adaptive runs), with the figures and exit code 3; outputs are never
+// partial, also when the process is killed or hits the file-size limit; a symbolic link as
+// output stays a link.
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
+
+#include "cli_fixture.hpp"
+
+namespace {
+
+using namespace rgbmesh::testing;
+
+const std::string bunny = std::string(RGBMESH_DATA_DIR) + "/bunny.obj";
+
+// Files whose name marks a temporary of an atomic write (".NAME.tmp-PID-N.EXT").
+int temporaries_in(const std::string& dir) {
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) n += e.path().filename().string().find(".tmp-") != std::string::npos;
+  return n;
+}
+
+TEST_F(Cli, PredictableWorkTooLargeForTheMemoryIsRefusedBeforeItStarts) {
+  // The bunny at level 5 has 1,881,090 vertices; with its VTP output it needs far more than
+  // 100 MB.
+  const RunResult r = run("--memory-limit 100M refine " + bunny + " " + path("b.vtp") + " --uniform 5");
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("stage --uniform 5: the mesh at level 5 would have 1.88 million vertices"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("the memory limit is 100 MB"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("b.vtp")));
+  // Without a limit, absurd sizes are refused against the machine's memory.
+  const std::string octa = write_octahedron("octa.off");
+  for (const char* stage : {"--uniform 30", "--budget 1099511627776"}) {
+    const RunResult big = run("refine " + octa + " - " + stage);
+    EXPECT_EQ(big.code, 3) << stage << ": " << big.err;
+    EXPECT_NE(big.err.find("would have"), std::string::npos) << big.err;
+    EXPECT_EQ(std::count(big.err.begin(), big.err.end(), '\n'), 1) << big.err;
+  }
+  // The estimate of a level is exact: a level that fits runs, and has the predicted size.
+  const RunResult fits = run("refine " + octa + " - --uniform 6 --stats");
+  EXPECT_EQ(fits.code, 0) << fits.err;
+  EXPECT_EQ(json_int(last_line(fits.out), "vertices"), 16386);
+}
+
+TEST_F(Cli, OpenEndedRefinementStopsAtTheMemoryCeiling) {
+  const auto start = std::chrono::steady_clock::now();
+  const RunResult r = run("--memory-limit 100M refine " + bunny + " " + path("b.vtp") + " --max-edge 1e-9");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("stage --max-edge 1e-9: stopped at the memory limit with"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(path("b.vtp")));
+  EXPECT_LT(seconds, 60);
+  const RunResult walk = run("refine " + bunny + " - --random-walk 1099511627776,1");
+  EXPECT_EQ(walk.code, 2) << walk.err;
+  EXPECT_EQ(run("--memory-limit lots refine " + bunny + " -").code, 2);
+}
+
+TEST_F(Cli, AdaptiveRunsStopAtTheMemoryCeilingWithTheirResultsWritten) {
+  const RunResult r = run("--memory-limit 150M adapt --strategy uniform --max-dofs 100000000 --out " + path("a") +
+                          " --report " + path("a.json"));
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("the next cycle would pass the memory limit of 150 MB"), std::string::npos) << r.err;
+  const std::string json = read_text(path("a.json"));
+  EXPECT_NE(json.find("\"stopped\": \"memory\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"status\": \"finished\""), std::string::npos) << json;
+  EXPECT_TRUE(fs::exists(path("a") + "/cycle_003.vtp"));
+}
+
+// Starts the tool writing a large VTP (the bunny at level 4, about 15 MB) and sends `signal`
+// as soon as the temporary file exists; returns the wait status.
+int kill_during_write(const std::string& dir, int signal_number) {
+  fs::create_directories(dir);
+  const std::string out = dir + "/big.vtp";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    std::freopen("/dev/null", "w", stdout);
+    std::freopen("/dev/null", "w", stderr);
+    ::execl(RGBMESH_CLI, RGBMESH_CLI, "refine", bunny.c_str(), out.c_str(), "--uniform", "4",
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (temporaries_in(dir) == 0 && std::chrono::steady_clock::now() < deadline) {
+    int status = 0;
+    if (::waitpid(pid, &status, WNOHANG) == pid) return status;  // finished before: the test fails below
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ::kill(pid, signal_number);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return status;
+}
+
+TEST_F(Cli, KilledWritesLeaveNoTemporaryFile) {
+  for (const int signal_number : {SIGTERM, SIGINT, SIGHUP}) {
+    const std::string dir = path("kill" + std::to_string(signal_number));
+    const int status = kill_during_write(dir, signal_number);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "signal " << signal_number << ": the write was not interrupted";
+    EXPECT_EQ(WTERMSIG(status), signal_number) << "the process dies of the signal it got";
+    EXPECT_EQ(temporaries_in(dir), 0) << "signal " << signal_number;
+    EXPECT_FALSE(fs::exists(dir + "/big.vtp"));
+  }
+}
+
+TEST_F(Cli, TheFileSizeLimitIsAWriteErrorWithoutLeftovers) {
+  // ulimit -f in bash counts 1024-byte blocks: 1 MB, far below the level-4 bunny's VTP. The
+  // signal SIGXFSZ keeps its default disposition in the shell.
+  const std::string cmd = "bash -c 'ulimit -f 1000; exec " + std::string(RGBMESH_CLI) + " refine " + bunny + " " +
+                          path("big.vtp") + " --uniform 4' 2>" + path("err.txt");
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  const std::string err = read_text(path("err.txt"));
+  EXPECT_NE(err.find("big.vtp: cannot write"), std::string::npos) << err;
+  EXPECT_EQ(temporaries_in(dir_.string()), 0);
+  EXPECT_FALSE(fs::exists(path("big.vtp")));
+}
+
+TEST_F(Cli, AnOutputThatIsASymbolicLinkStaysOne) {
+  const std::string octa = write_octahedron("octa.off");
+  fs::create_directories(path("store"));
+  { std::ofstream(path("store/real.obj")) << "old\n"; }
+  fs::create_symlink("store/real.obj", path("link.obj"));
+  fs::create_symlink(path("store/new.obj"), path("dangling.obj"));
+  ASSERT_EQ(run("convert " + octa + " " + path("link.obj")).code, 0);
+  ASSERT_EQ(run("convert " + octa + " " + path("dangling.obj")).code, 0);
+  EXPECT_TRUE(fs::is_symlink(path("link.obj")));
+  EXPECT_TRUE(fs::is_symlink(path("dangling.obj")));
+  EXPECT_NE(read_text(path("store/real.obj")).find("f 1 3 5"), std::string::npos);
+  EXPECT_TRUE(fs::exists(path("store/new.obj")));
+  EXPECT_EQ(temporaries_in(path("store")), 0);
+  // A folder as output, or a folder that does not exist: an output that cannot be written.
+  fs::create_directories(path("adir.obj"));
+  EXPECT_EQ(run("convert " + octa + " " + path("adir.obj")).code, 1);
+  EXPECT_EQ(run("convert " + octa + " " + path("nodir/out.vtp")).code, 1);
+}
+
+}  // namespace
