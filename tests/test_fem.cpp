@@ -212,6 +212,21 @@ TEST(Fem, ZeroMeanCheckIntegratesOverTheSurfaceNotTheFlatTriangles) {
   EXPECT_THROW(solve(mesh, shifted), InputError);
 }
 
+TEST(Fem, AMeshWithOnlyDirichletVerticesHasTheInterpolantAsSolution) {
+  // A single triangle: no unknown is free; the solution is the boundary data, and the residual
+  // estimator still sees the source (so that adaptive refinement can start from here).
+  RgbMesh m = testing::single_triangle().build();
+  const SurfaceMesh mesh = build_surface_mesh(m);
+  Problem p;
+  p.c = 1;
+  p.source = [](const Vec3&) { return 1.0; };
+  p.dirichlet = [](const Vec3& x) { return 2 * x.x - x.y; };
+  const Solution s = solve(mesh, p);
+  for (std::size_t i = 0; i < mesh.num_dofs(); ++i)
+    EXPECT_DOUBLE_EQ(s.u[static_cast<Eigen::Index>(i)], 2 * mesh.points[i].x - mesh.points[i].y);
+  EXPECT_GT(residual_estimator(mesh, p, s.u).total, 0);
+}
+
 TEST(Fem, BadProblemsGiveClearErrors) {
   const SurfaceMesh mesh = sphere(2);
   Problem p;

@@ -206,7 +206,14 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!fixed[i]) index[i] = nf++;
   }
-  if (nf == 0) throw std::runtime_error("problem '" + problem.name + "': every vertex is on the Dirichlet boundary");
+  if (nf == 0) {
+    // Every vertex is on the Dirichlet boundary (a coarse open mesh): the discrete solution is
+    // the interpolant of the boundary data, and the estimators still say where to refine.
+    sol.solver = options.solver == SolverKind::automatic ? SolverKind::ldlt : options.solver;
+    sol.assembly_seconds = seconds_since(t0);
+    sol.u = std::move(u);
+    return sol;
+  }
   Eigen::VectorXd rhs(nf);
   for (Eigen::Index i = 0; i < n; ++i) {
     if (index[i] >= 0) rhs[index[i]] = b[i];
