@@ -1,6 +1,10 @@
 #include "output_dir.hpp"
 
+#include <signal.h>
+
 #include <cctype>
+#include <cerrno>
+#include <cstdlib>
 #include <iostream>
 #include <stdexcept>
 
@@ -26,6 +30,17 @@ bool is_numbered(const std::string& name, const std::string& prefix) {
   return true;
 }
 
+// A temporary of an atomic write (".NAME.tmp-PID-N.EXT") whose process no longer runs: left by
+// a kill that no handler can catch (SIGKILL, a power cut).
+bool is_orphaned_temporary(const std::string& name) {
+  const auto at = name.find(".tmp-");
+  if (name.empty() || name[0] != '.' || at == std::string::npos) return false;
+  char* end = nullptr;
+  const long pid = std::strtol(name.c_str() + at + 5, &end, 10);
+  if (pid <= 0 || end == nullptr || *end != '-') return false;
+  return ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+}
+
 }  // namespace
 
 bool is_run_output(const std::string& name) {
@@ -45,7 +60,8 @@ void prepare_output_directory(const fs::path& dir) {
   if (ec) throw OutputError(dir.string() + ": cannot create the output folder: " + ec.message());
   std::vector<fs::path> old;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
-    if (entry.is_regular_file(ec) && is_run_output(entry.path().filename().string())) old.push_back(entry.path());
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file(ec) && (is_run_output(name) || is_orphaned_temporary(name))) old.push_back(entry.path());
   }
   if (ec) throw OutputError(dir.string() + ": cannot list the output folder: " + ec.message());
   for (const auto& p : old) {

@@ -4,7 +4,8 @@
 // The rule: a run owns the rgbmesh files in its folder. Before writing anything, it removes
 // every file that a run of `adapt` or `fit` writes there (cycle_NNN.vtp, step_NNN.vtp,
 // solution.pvd, fitted_base.obj, limit_surface.vtp, initial_limit_surface.vtp, targets.vtp,
-// base.obj, report.json), whichever subcommand wrote them, and leaves every other file alone.
+// base.obj, report.json), whichever subcommand wrote them, and the temporaries of atomic writes
+// whose process is gone (a SIGKILL leaves them), and leaves every other file alone.
 // So the folder never mixes the files of two runs, and a user's own files are never touched.
 
 #include <filesystem>

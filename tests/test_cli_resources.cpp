@@ -109,6 +109,22 @@ TEST_F(Cli, KilledWritesLeaveNoTemporaryFile) {
   }
 }
 
+TEST_F(Cli, AdaptAndFitRemoveTheTemporariesOfKilledRunsFromTheirFolder) {
+  // SIGKILL cannot be caught: its temporary stays until the next run in that folder, which
+  // removes it (the process that wrote it is gone); a live process's temporary is kept.
+  const pid_t dead = ::fork();
+  if (dead == 0) ::_exit(0);
+  ::waitpid(dead, nullptr, 0);
+  fs::create_directories(path("o"));
+  const std::string orphan = path("o/.cycle_003.tmp-" + std::to_string(dead) + "-0.vtp");
+  const std::string live = path("o/.cycle_003.tmp-" + std::to_string(::getpid()) + "-0.vtp");
+  std::ofstream(orphan) << "partial";
+  std::ofstream(live) << "in progress";
+  ASSERT_EQ(run("adapt --cycles 1 --out " + path("o")).code, 0);
+  EXPECT_FALSE(fs::exists(orphan));
+  EXPECT_TRUE(fs::exists(live));
+}
+
 TEST_F(Cli, TheFileSizeLimitIsAWriteErrorWithoutLeftovers) {
   // ulimit -f in bash counts 1024-byte blocks: 1 MB, far below the level-4 bunny's VTP. The
   // signal SIGXFSZ keeps its default disposition in the shell.
