@@ -64,9 +64,9 @@ InputFile::InputFile(const std::filesystem::path& path) {
     throw not_regular(name, mode);
   }
   size_ = static_cast<std::size_t>(status.st_size);
-  if (size_ == 0) {
+  if (size_ == 0) {  // nothing to map (mmap refuses a length of 0)
     ::close(fd);
-    throw InputError(name + ": the file is empty");
+    return;
   }
   data_ = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
   const int map_error = errno;

@@ -13,8 +13,8 @@ namespace rgbmesh::detail {
 class InputFile {
  public:
   // InputError naming `path` and the reason: it does not exist, is a dangling symbolic link or
-  // a symbolic-link loop, cannot be opened (permissions), is not a regular file (a directory,
-  // FIFO, socket or device, named as such), or is empty.
+  // a symbolic-link loop, cannot be opened (permissions), or is not a regular file (a directory,
+  // FIFO, socket or device, named as such). An empty file gives an empty view.
   explicit InputFile(const std::filesystem::path& path);
   ~InputFile();
   InputFile(const InputFile&) = delete;

@@ -181,6 +181,9 @@ PolygonSoup read_soup(const fs::path& path, const char* const (&extensions)[N], 
   // Refuses anything but a regular file, and maps it: nothing is read before it is needed.
   const InputFile file(path);
   const std::string name = path.string();
+  if (file.size() == 0)
+    throw InputError(name + (std::string_view(kind) == "point-cloud" ? ": no points (the file is empty)"
+                                                                     : ": the file is empty"));
   if (ext == ".stl") {
     PolygonSoup soup = detail::parse_stl(file.bytes(), name);
     merge_equal_points(soup);
