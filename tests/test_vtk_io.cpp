@@ -1061,6 +1061,31 @@ TEST_F(VtkIo, AsciiStlIsReadStrictly) {
   EXPECT_EQ(read_polygon_soup(write_file("solid.stl", binary)).faces, (Faces{{0, 1, 2}}));
 }
 
+// Every file of the malformed-input corpus (tests/corpus) through the library, in the process
+// (so that sanitizer builds check the readers on all of them): an InputError naming the file,
+// for the mesh reader and, where the damage is at the reading level, the point-cloud reader.
+TEST_F(VtkIo, CorpusFilesAreInputErrorsNamingTheFile) {
+  const fs::path corpus = fs::path(RGBMESH_TEST_DATA_DIR).parent_path() / "corpus" / "files";
+  std::ifstream manifest(corpus / "MANIFEST.tsv");
+  std::string line;
+  std::size_t files = 0;
+  while (std::getline(manifest, line)) {
+    const std::string name = line.substr(0, line.find('\t'));
+    const fs::path file = corpus / name;
+    const std::string ext = file.extension().string();
+    const bool cloud_only = ext == ".xyz" || ext == ".pwn";
+    if (!cloud_only) expect_names(read_error(file), file, {});
+    if (line.find("fit") != std::string::npos) {
+      // .xyz/.pwn errors name the line as "file:line: ...".
+      const std::string message = input_error([&] { rgbmesh::read_point_cloud(file); });
+      EXPECT_EQ(message.rfind(file.string() + ":", 0), 0u) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    }
+    ++files;
+  }
+  EXPECT_GE(files, 150u);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Writing
 
