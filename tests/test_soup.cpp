@@ -1,5 +1,7 @@
 // prepare_triangle_mesh: every check names the offending element, the repairs do what the notes
 // say, and the result is a manifold, consistently oriented mesh without unused vertices.
+// RgbMesh::from_triangles: the same checks and messages, and rejections where the file path
+// repairs.
 
 #include <gtest/gtest.h>
 
@@ -11,6 +13,7 @@
 #include <random>
 #include <set>
 
+#include "rgbmesh/mesh.hpp"
 #include "rgbmesh/soup.hpp"
 
 namespace {
@@ -380,6 +383,175 @@ TEST(Soup, RandomSoupsGiveAnErrorOrACleanMesh) {
     }
   }
   EXPECT_GT(accepted, 100);  // the valid-ish half must often pass
+}
+
+}  // namespace
+
+// ---- RgbMesh::from_triangles: the library entry point makes the same checks -----------------
+
+namespace {
+
+using rgbmesh::PointRole;
+using rgbmesh::RgbMesh;
+
+std::vector<Triangle> triangles_of(const PolygonSoup& s) {
+  std::vector<Triangle> t;
+  for (const auto& f : s.faces)
+    t.push_back(
+        {static_cast<std::int32_t>(f[0]), static_cast<std::int32_t>(f[1]), static_cast<std::int32_t>(f[2])});
+  return t;
+}
+
+// The message of the InputError thrown by from_triangles, or "" if it succeeds.
+std::string library_error_of(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles,
+                             PointRole role = PointRole::surface) {
+  try {
+    RgbMesh::from_triangles(points, triangles, role);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Triangle soups that prepare_triangle_mesh rejects, one per check.
+std::vector<std::pair<std::string, PolygonSoup>> rejected_soups() {
+  std::vector<std::pair<std::string, PolygonSoup>> cases;
+  PolygonSoup s = octahedron();
+  s.points[4] = {std::numeric_limits<double>::quiet_NaN(), 0, 1};
+  cases.emplace_back("NaN", s);
+  s = octahedron();
+  s.points.push_back({0, 0, std::numeric_limits<double>::infinity()});
+  cases.emplace_back("inf at an unreferenced vertex", s);
+  s = square();
+  s.faces[1] = {0, 2, 0};
+  cases.emplace_back("repeated vertex", s);
+  s = square();
+  s.points.push_back({2, 2, 0});
+  s.faces[1] = {0, 2, 4};
+  cases.emplace_back("collinear", s);
+  s = square();
+  s.points = {{5, 5, 5}, {5, 5, 5}, {5, 5, 5}};
+  s.faces = {{0, 1, 2}};
+  cases.emplace_back("coincident", s);
+  s = square();
+  s.points.resize(3);
+  s.faces = {{0, 1, 2}, {0, 2, 1}};
+  cases.emplace_back("pillow", s);
+  s = octahedron();
+  s.faces.push_back({4, 0, 2});
+  cases.emplace_back("duplicate, rotated", s);
+  s.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+  s.faces = {{0, 1, 2}, {1, 0, 3}, {2, 3, 4}, {0, 1, 4}};
+  cases.emplace_back("non-manifold edge", s);
+  s.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}};
+  s.faces = {{0, 1, 2}, {0, 3, 4}};
+  cases.emplace_back("bow tie", s);
+  // A Möbius strip of 6 quads.
+  s = PolygonSoup();
+  for (int i = 0; i < 6; ++i) {
+    const double a = 2 * M_PI * i / 6, half = a / 2;
+    for (const double w : {-0.3, 0.3})
+      s.points.push_back({(1 + w * std::cos(half)) * std::cos(a), (1 + w * std::cos(half)) * std::sin(a),
+                          w * std::sin(half)});
+  }
+  for (int i = 0; i < 6; ++i) {
+    const std::int64_t a0 = 2 * i, a1 = 2 * i + 1, b0 = i + 1 < 6 ? 2 * (i + 1) : 1,
+                       b1 = i + 1 < 6 ? 2 * (i + 1) + 1 : 0;
+    s.faces.push_back({a0, b0, b1});
+    s.faces.push_back({a0, b1, a1});
+  }
+  cases.emplace_back("Moebius strip", s);
+  return cases;
+}
+
+TEST(FromTriangles, RejectsWhatTheFilePathRejectsWithTheSameMessage) {
+  for (const auto& [name, soup] : rejected_soups()) {
+    const std::string file_error = error_of(soup);
+    ASSERT_NE(file_error, "") << name;
+    EXPECT_EQ(library_error_of(soup.points, triangles_of(soup)), file_error) << name;
+  }
+}
+
+TEST(FromTriangles, ThePillowOfTheIssueIsRejected) {
+  // Two triangles glued back to back: it used to be accepted, and failed validate() after
+  // UniformLevel(2).
+  const std::vector<Vec3> points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  EXPECT_EQ(library_error_of(points, {{0, 1, 2}, {0, 2, 1}}),
+            "triangles 0 and 1 are duplicates (vertices 0, 1, 2)");
+}
+
+TEST(FromTriangles, NamesTrianglesAndTheMeshWhereTheFilePathNamesFacesAndTheFile) {
+  const PolygonSoup o = octahedron();
+  std::vector<Triangle> t = triangles_of(o);
+  t[5] = {1, 99, 5};
+  EXPECT_EQ(library_error_of(o.points, t), "triangle 5 references vertex 99 but the mesh has 6 vertices");
+  t[5] = {1, -1, 5};
+  EXPECT_EQ(library_error_of(o.points, t), "triangle 5 references vertex -1 but the mesh has 6 vertices");
+  EXPECT_EQ(library_error_of(o.points, {}), "the mesh is empty (6 vertices, 0 triangles)");
+  EXPECT_EQ(library_error_of({}, {}), "the mesh is empty (0 vertices, 0 triangles)");
+}
+
+TEST(FromTriangles, RejectsWhatTheFilePathRepairs) {
+  // Inconsistent orientation: triangle 2 of the octahedron reversed. prepare_triangle_mesh
+  // re-orients it; the library would have to change the caller's triangle, so it refuses.
+  PolygonSoup s = octahedron();
+  std::swap(s.faces[2][1], s.faces[2][2]);
+  EXPECT_EQ(library_error_of(s.points, triangles_of(s)),
+            "triangles 1 and 2 are oriented inconsistently across edge (1, 4) (prepare_triangle_mesh repairs "
+            "this)");
+  const TriangleMeshData repaired = prepare_triangle_mesh(s);
+  EXPECT_EQ(library_error_of(repaired.points, repaired.triangles), "");
+
+  // Unreferenced vertices: dropping them would renumber the caller's vertices.
+  s = octahedron();
+  s.points.push_back({3, 3, 3});
+  EXPECT_EQ(library_error_of(s.points, triangles_of(s)),
+            "vertex 6 is not referenced by any triangle (prepare_triangle_mesh repairs this)");
+  EXPECT_EQ(library_error_of(prepare_triangle_mesh(s).points, prepare_triangle_mesh(s).triangles), "");
+}
+
+TEST(FromTriangles, KeepsTheCallersNumberingAndOrientation) {
+  const PolygonSoup o = octahedron();
+  const std::vector<Triangle> t = triangles_of(o);
+  const RgbMesh m = RgbMesh::from_triangles(o.points, t);
+  ASSERT_EQ(m.validate(true), "");
+  ASSERT_EQ(m.num_triangles(), t.size());
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const auto c = m.triangle_vertices(rgbmesh::TriangleHandle(static_cast<std::int32_t>(i)));
+    EXPECT_EQ((Triangle{c[0].idx, c[1].idx, c[2].idx}), t[i]);
+  }
+  for (std::size_t v = 0; v < o.points.size(); ++v)
+    EXPECT_EQ(m.insertion_point(rgbmesh::VertexHandle(static_cast<std::int32_t>(v))), o.points[v]);
+}
+
+TEST(FromTriangles, ValuesMayBeDegenerateButNotBroken) {
+  // Indicator coordinates (the probes of the limit stencils) put corners at one point.
+  const PolygonSoup o = octahedron();
+  std::vector<Vec3> probe(o.points.size(), Vec3(0, 0, 0));
+  probe[4] = {1, 0, 0};
+  EXPECT_NE(library_error_of(probe, triangles_of(o)).find("is degenerate"), std::string::npos);
+  EXPECT_EQ(library_error_of(probe, triangles_of(o), PointRole::values), "");
+  // Topology and finiteness are checked all the same.
+  probe[1].y = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(library_error_of(probe, triangles_of(o), PointRole::values),
+            "vertex 1 has a non-finite coordinate (0, nan, 0)");
+  EXPECT_EQ(library_error_of({{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, {{0, 1, 2}, {0, 2, 1}}, PointRole::values),
+            "triangles 0 and 1 are duplicates (vertices 0, 1, 2)");
+}
+
+TEST(FromTriangles, AMillionTrianglesTakeAboutAsLongAsTheChecks) {
+  PolygonSoup s = flipped_grid(1000, 500);
+  for (std::size_t t = 1; t < s.faces.size(); t += 3) std::swap(s.faces[t][1], s.faces[t][2]);  // unflip
+  const std::vector<Triangle> t = triangles_of(s);
+  const auto start = std::chrono::steady_clock::now();
+  const RgbMesh m = RgbMesh::from_triangles(s.points, t);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  RecordProperty("seconds", std::to_string(seconds));
+  EXPECT_EQ(m.num_triangles(), 1000000u);
+  EXPECT_EQ(m.num_vertices(), 1001u * 501u);
+  EXPECT_EQ(m.euler_characteristic(), 1);  // a disk
+  EXPECT_EQ(m.boundary_loops(), 1);
+  EXPECT_LT(seconds, 30);  // O(n log n); quadratic would take hours
 }
 
 }  // namespace

@@ -240,7 +240,8 @@ LimitStencils limit_stencils(const TriangleMeshData& base, int level) {
       const int c = colour[j] - 3 * r;
       probe[j] = Vec3(c == 0, c == 1, c == 2);
     }
-    RgbMesh m = RgbMesh::from_triangles(probe, base.triangles);
+    // Indicator coordinates put many corners at one point: values, not a surface.
+    RgbMesh m = RgbMesh::from_triangles(probe, base.triangles, PointRole::values);
     selective_refinement(m, UniformLevel(level));
     for (std::size_t i = 0; i < vertices.size(); ++i) {
       const Vec3 l = m.limit_position(vertices[i]);

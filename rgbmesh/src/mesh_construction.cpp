@@ -1,98 +1,98 @@
-// RgbMesh::from_triangles: the base mesh Σ0.
+// RgbMesh::from_triangles: the base mesh Σ0, after the checks that prepare_triangle_mesh makes
+// (triangle_checks.hpp: one copy of them for both entry points).
 
-#include <unordered_map>
+#include <string>
 
 #include "rgbmesh/mesh.hpp"
-#include "rgbmesh/soup.hpp"
+#include "triangle_checks.hpp"
 
 namespace rgbmesh {
 
 namespace {
 
-std::uint64_t pair_key(std::int32_t a, std::int32_t b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+// Where prepare_triangle_mesh would repair, the library rejects (see from_triangles in
+// mesh.hpp): the caller's indices must keep their meaning, and there are no notes to tell.
+constexpr const char* repair_hint = " (prepare_triangle_mesh repairs this)";
+
+void reject_what_needs_repair(std::size_t n_points, const std::vector<detail::Triangle>& triangles,
+                              const detail::SurfaceCheck& surface) {
+  if (surface.flips > 0) {
+    const detail::InconsistentPair pair = detail::first_inconsistent_pair(surface.half_edges);
+    throw InputError("triangles " + std::to_string(pair.first) + " and " + std::to_string(pair.second) +
+                     " are oriented inconsistently across edge (" + std::to_string(pair.lo) + ", " +
+                     std::to_string(pair.hi) + ")" + repair_hint);
+  }
+  std::vector<bool> referenced(n_points, false);
+  for (const auto& t : triangles)
+    for (const std::int32_t v : t) referenced[v] = true;
+  for (std::size_t v = 0; v < n_points; ++v) {
+    if (!referenced[v])
+      throw InputError("vertex " + std::to_string(v) + " is not referenced by any triangle" + repair_hint);
+  }
 }
 
 }  // namespace
 
-// ---------------------------------------------------------------------------------------
-// Construction
-
 RgbMesh RgbMesh::from_triangles(const std::vector<Vec3>& points,
-                                const std::vector<std::array<std::int32_t, 3>>& triangles) {
+                                const std::vector<std::array<std::int32_t, 3>>& triangles, PointRole role) {
+  detail::check_points(points, triangles.size(), detail::mesh_wording);
+  detail::check_indices(triangles, points.size(), detail::mesh_wording);
+  detail::check_triangle_count(triangles.size());
+  const std::vector<std::int64_t> no_source_faces;  // triangle i is the caller's triangle i
+  const detail::SurfaceCheck surface = detail::check_surface(
+      points, triangles, detail::TriangleNames(no_source_faces),
+      role == PointRole::surface ? detail::AreaCheck::zero_area_is_degenerate : detail::AreaCheck::skip);
+  reject_what_needs_repair(points.size(), triangles, surface);
+
   RgbMesh m;
-  const auto nv = static_cast<std::int32_t>(points.size());
-  if (nv == 0 || triangles.empty()) throw InputError("the mesh is empty");
-  m.v_edge_.assign(nv, EdgeHandle());
-  m.v_level_.assign(nv, 0);
-  m.v_parents_.assign(nv, {VertexHandle(), VertexHandle()});
+  const std::size_t nt = triangles.size();
+  m.v_edge_.assign(points.size(), EdgeHandle());
+  m.v_level_.assign(points.size(), 0);
+  m.v_parents_.assign(points.size(), {VertexHandle(), VertexHandle()});
   m.v_control_ = points;
-  m.n_vertices_ = static_cast<std::size_t>(nv);
+  m.n_vertices_ = points.size();
   m.n_base_vertices_ = m.n_vertices_;
 
-  std::unordered_map<std::uint64_t, EdgeHandle> edge_of;
-  edge_of.reserve(triangles.size() * 2);
-  m.t_edge_.reserve(triangles.size());
-  m.t_info_.reserve(triangles.size());
-  for (std::size_t ti = 0; ti < triangles.size(); ++ti) {
-    const auto& tri = triangles[ti];
-    for (int k = 0; k < 3; ++k) {
-      if (tri[k] < 0 || tri[k] >= nv)
-        throw InputError("triangle " + std::to_string(ti) + " references vertex " + std::to_string(tri[k]) +
-                         " out of range");
-    }
-    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0])
-      throw InputError("triangle " + std::to_string(ti) + " is degenerate");
+  // The checks sorted the half-edges so that the two sides of an edge are adjacent: number
+  // the groups, then give the edges their handles in the order the triangles first use them
+  // (triangle by triangle, corner by corner), running from the corner where they were first
+  // met. Boundary edges have one side, interior ones two (the checks allow no more).
+  const std::vector<detail::HalfEdge>& half_edges = surface.half_edges;
+  std::vector<std::int32_t> group_of_side(3 * nt);
+  std::int32_t groups = 0;
+  for (std::size_t i = 0; i < half_edges.size(); ++i) {
+    if (i > 0 && !half_edges[i].same_edge(half_edges[i - 1])) ++groups;
+    group_of_side[3 * static_cast<std::size_t>(half_edges[i].triangle) + half_edges[i].k] = groups;
+  }
+  ++groups;
+  std::vector<std::int32_t> edge_of_group(static_cast<std::size_t>(groups), -1);
+  m.e_vert_.reserve(static_cast<std::size_t>(groups));
+  m.e_tri_.reserve(static_cast<std::size_t>(groups));
+  m.e_info_.reserve(static_cast<std::size_t>(groups));
+  m.t_edge_.reserve(nt);
+  m.t_info_.assign(nt, 0);  // green, level 0
+  for (std::size_t ti = 0; ti < nt; ++ti) {
     const TriangleHandle t(static_cast<std::int32_t>(ti));
     std::array<EdgeHandle, 3> te;
     for (int k = 0; k < 3; ++k) {
-      const std::int32_t a = tri[k], b = tri[(k + 1) % 3];
-      auto [it, inserted] = edge_of.try_emplace(pair_key(a, b), EdgeHandle());
-      if (inserted) {
-        const EdgeHandle e(static_cast<std::int32_t>(m.e_vert_.size()));
+      std::int32_t& edge = edge_of_group[group_of_side[3 * ti + k]];
+      if (edge < 0) {
+        const std::int32_t a = triangles[ti][k], b = triangles[ti][(k + 1) % 3];
+        edge = static_cast<std::int32_t>(m.e_vert_.size());
         m.e_vert_.push_back({VertexHandle(a), VertexHandle(b)});
         m.e_tri_.push_back({t, TriangleHandle()});
         m.e_info_.push_back(edge_info(false, 0));
-        it->second = e;
-        m.v_edge_[a] = e;
-        m.v_edge_[b] = e;
+        m.v_edge_[a] = EdgeHandle(edge);
+        m.v_edge_[b] = EdgeHandle(edge);
       } else {
-        const EdgeHandle e = it->second;
-        auto& et = m.e_tri_[e.idx];
-        // The second triangle of an edge must traverse it in the opposite direction.
-        if (et[1].valid())
-          throw InputError("edge (" + std::to_string(a) + ", " + std::to_string(b) +
-                           ") is shared by more than two triangles");
-        if (m.e_vert_[e.idx][0].idx != b)
-          throw InputError("triangle " + std::to_string(ti) +
-                           " is oriented inconsistently with its neighbour across edge (" +
-                           std::to_string(a) + ", " + std::to_string(b) + ")");
-        et[1] = t;
+        m.e_tri_[edge][1] = t;
       }
-      te[k] = it->second;
+      te[k] = EdgeHandle(edge);
     }
     m.t_edge_.push_back(te);
-    m.t_info_.push_back(0);  // green, level 0
   }
   m.n_edges_ = m.e_vert_.size();
   m.n_triangles_ = m.t_edge_.size();
-  for (std::int32_t v = 0; v < nv; ++v) {
-    if (!m.v_edge_[v].valid())
-      throw InputError("vertex " + std::to_string(v) + " is not referenced by any triangle");
-  }
-  // Manifold vertices: the fan reached from the stored edge must cover every incident edge.
-  std::vector<int> degree(nv, 0);
-  for (const auto& ev : m.e_vert_) {
-    ++degree[ev[0].idx];
-    ++degree[ev[1].idx];
-  }
-  VertexStar s;
-  for (std::int32_t v = 0; v < nv; ++v) {
-    m.star(VertexHandle(v), s);
-    if (static_cast<int>(s.edges.size()) != degree[v])
-      throw InputError("vertex " + std::to_string(v) + " is non-manifold");
-  }
   m.base_euler_ = m.euler_characteristic();
   m.init_base_geometry();
   return m;

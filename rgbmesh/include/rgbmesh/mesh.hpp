@@ -167,6 +167,17 @@ class HandleRange {
   AliveFn alive_;
 };
 
+// What RgbMesh::from_triangles requires of the points besides being finite.
+enum class PointRole : std::uint8_t {
+  // Positions of a surface: a triangle of zero area (collinear or coincident corners) is
+  // rejected, as prepare_triangle_mesh rejects it.
+  surface,
+  // Any per-vertex values that subdivision carries along (its rules are linear in them), e.g.
+  // the indicator vectors whose limits are the weights of the limit stencils: zero-area
+  // triangles are allowed.
+  values,
+};
+
 class RgbMesh {
  public:
   RgbMesh() = default;
@@ -176,11 +187,22 @@ class RgbMesh {
   RgbMesh& operator=(RgbMesh&&) noexcept = default;
   ~RgbMesh() = default;
 
-  // Builds the base mesh Σ0 (all green, level 0). The input must be a clean, consistently
-  // oriented, edge- and vertex-manifold triangle mesh without unreferenced vertices (see
-  // prepare_triangle_mesh); anything else throws InputError.
+  // Builds the base mesh Σ0 (all green, level 0): vertex i is points[i], triangle t has the
+  // corners triangles[t] in that (counter-clockwise) order, and their handles are i and t.
+  // It rejects, with prepare_triangle_mesh's checks and messages (one InputError naming the
+  // element), an empty mesh, non-finite coordinates, indices out of range, degenerate
+  // triangles (a repeated vertex, or with PointRole::surface zero area), duplicate triangles
+  // (the same vertex set, such as two triangles glued back to back), edges of more than two
+  // triangles, vertices whose triangles form several fans, and non-orientable surfaces.
+  // Where prepare_triangle_mesh repairs, from_triangles rejects too, since a repair would
+  // change what the caller's indices mean and there is nobody to tell: inconsistently
+  // oriented neighbours ("triangles 3 and 7 are oriented inconsistently across edge (2, 5)")
+  // and unreferenced vertices ("vertex 4 is not referenced by any triangle"), each message
+  // ending "(prepare_triangle_mesh repairs this)". For a mesh from a file, or any other
+  // mesh to be repaired, run prepare_triangle_mesh first.
   static RgbMesh from_triangles(const std::vector<Vec3>& points,
-                                const std::vector<std::array<std::int32_t, 3>>& triangles);
+                                const std::vector<std::array<std::int32_t, 3>>& triangles,
+                                PointRole role = PointRole::surface);
 
   // ---- sizes and iteration -------------------------------------------------------------
   std::size_t num_vertices() const { return n_vertices_; }
