@@ -52,6 +52,9 @@ RgbMesh RgbMesh::from_triangles(const std::vector<Vec3>& points,
   m.v_control_ = points;
   m.n_vertices_ = points.size();
   m.n_base_vertices_ = m.n_vertices_;
+#if RGBMESH_CHECKED_HANDLES
+  m.v_generation_.assign(points.size(), 1);
+#endif
 
   // The checks sorted the half-edges so that the two sides of an edge are adjacent: number
   // the groups, then give the edges their handles in the order the triangles first use them
@@ -93,6 +96,19 @@ RgbMesh RgbMesh::from_triangles(const std::vector<Vec3>& points,
   }
   m.n_edges_ = m.e_vert_.size();
   m.n_triangles_ = m.t_edge_.size();
+#if RGBMESH_CHECKED_HANDLES
+  // Every stored handle carries its slot's generation, 1 for all here.
+  m.e_generation_.assign(m.e_vert_.size(), 1);
+  m.t_generation_.assign(nt, 1);
+  for (auto& ev : m.e_vert_)
+    for (VertexHandle& v : ev) v = m.stamped(v);
+  for (auto& et : m.e_tri_)
+    for (TriangleHandle& t : et)
+      if (t.valid()) t = m.stamped(t);
+  for (auto& te : m.t_edge_)
+    for (EdgeHandle& e : te) e = m.stamped(e);
+  for (EdgeHandle& e : m.v_edge_) e = m.stamped(e);
+#endif
   m.base_euler_ = m.euler_characteristic();
   m.init_base_geometry();
   return m;

@@ -12,6 +12,7 @@
 // the complete ring when first needed gives the same value without per-insertion work.)
 
 #include <algorithm>
+#include <exception>
 
 #include "rgbmesh/loop_rules.hpp"
 #include "rgbmesh/mesh.hpp"
@@ -25,8 +26,15 @@ void RgbMesh::store_limit(VertexHandle v, const Vec3& p) const {
       index = limits_free_.back();
       limits_free_.pop_back();
     } else {
-      index = static_cast<std::int32_t>(limits_.size());
+      // Both tables grow before anything changes, the free list first: release_limit (called
+      // by removals, which must not fail halfway) then always has room in limits_free_.
+      if (limits_.size() == limits_.capacity() || limits_.size() == limits_free_.capacity()) {
+        const std::size_t capacity = std::max<std::size_t>(64, 2 * limits_.size());
+        limits_free_.reserve(capacity);
+        limits_.reserve(capacity);
+      }
       limits_.emplace_back();
+      index = static_cast<std::int32_t>(limits_.size() - 1);
     }
   }
   limits_[index] = p;
@@ -34,7 +42,7 @@ void RgbMesh::store_limit(VertexHandle v, const Vec3& p) const {
 
 void RgbMesh::release_limit(VertexHandle v) {
   std::int32_t& index = v_limit_index_[v.idx];
-  if (index >= 0) limits_free_.push_back(index);
+  if (index >= 0) limits_free_.push_back(index);  // within capacity (store_limit)
   index = -1;
 }
 
@@ -43,6 +51,8 @@ void RgbMesh::init_base_geometry() {
   v_limit_index_.assign(n, -1);
   limits_.clear();
   limits_free_.clear();
+  limits_.reserve(n);  // every base vertex has its limit
+  limits_free_.reserve(n);
   v_flags_.assign(n, 0);
   base_eigenvalue_.assign(n, 0.25);
   VertexStar s;
@@ -68,6 +78,7 @@ void RgbMesh::init_base_geometry() {
 }
 
 int RgbMesh::shown_level(VertexHandle v) const {
+  expect_alive(v, "shown_level");
   int k = kMaxLevel + 1;
   visit_edges(v, [&](EdgeHandle e) {
     if (!is_red(e)) k = std::min(k, level(e));
@@ -77,6 +88,7 @@ int RgbMesh::shown_level(VertexHandle v) const {
 }
 
 Vec3 RgbMesh::control_point(VertexHandle v, int k) const {
+  expect_alive(v, "control_point");
   const int steps = k - level(v);
   if (steps <= 0) {
     if (steps < 0)
@@ -88,15 +100,20 @@ Vec3 RgbMesh::control_point(VertexHandle v, int k) const {
   return g * v_control_[v.idx] + (1.0 - g) * limit;
 }
 
-bool RgbMesh::has_limit(VertexHandle v) const { return try_limit(v); }
+bool RgbMesh::has_limit(VertexHandle v) const {
+  expect_alive(v, "has_limit");
+  return try_limit(v);
+}
 
 Vec3 RgbMesh::level_point(VertexHandle v, int l) const {
+  expect_alive(v, "level_point");
   if (l <= level(v)) return v_control_[v.idx];
   if (try_limit(v)) return known_control_point(v, l);
   return control_point(v);
 }
 
 Vec3 RgbMesh::limit_position(VertexHandle v) const {
+  expect_alive(v, "limit_position");
   if (!try_limit(v))
     fail("limit_position", describe(v) + " has an incomplete Loop ring at its level (call complete_limit or "
                                          "compute_limits first)");
@@ -172,7 +189,7 @@ void RgbMesh::raise_star(VertexHandle v) {
 }
 
 void RgbMesh::complete_limit(VertexHandle v) {
-  if (!alive(v)) fail("complete_limit", describe(v) + " does not exist");
+  v = checked(v, "complete_limit");
   if (limit_known(v)) return;
   const auto [pa, pb] = v_parents_[v.idx];
   complete_limit(pa);
@@ -239,34 +256,40 @@ std::size_t RgbMesh::compute_limits() {
   // Complete the rings, then undo every operation in reverse order. Undoing (rather than
   // removing the helper vertices in any order) restores the very same triangulation: RGB
   // triangulations with the same vertices may differ by RB-swaps.
+  // The strong guarantee: whatever is thrown (an observer's exception, std::bad_alloc), the
+  // journal undoes what was done before it propagates. Undoing cannot fail: flips and
+  // unbisections allocate nothing, and the observers' exceptions wait until the end.
   const OperationCounters counters = counters_;
   std::vector<JournalEntry> journal;
   journal_ = &journal;
+  std::exception_ptr error;
   try {
     for (VertexHandle v : missing) complete_limit(v);
   } catch (...) {
-    journal_ = nullptr;
-    rollback(journal);
-    counters_ = counters;
-    throw;
+    error = std::current_exception();
   }
   journal_ = nullptr;
   const std::size_t helpers = counters_.splits - counters.splits;
-  rollback(journal);
+  const std::exception_ptr observer_error = rollback(journal);
   counters_ = counters;
+  rethrow_if(error);
+  rethrow_if(observer_error);
   return helpers;
 }
 
-void RgbMesh::rollback(const std::vector<JournalEntry>& journal) {
+std::exception_ptr RgbMesh::rollback(const std::vector<JournalEntry>& journal) {
+  std::exception_ptr first;
   for (auto it = journal.rbegin(); it != journal.rend(); ++it) {
     if (it->kind == JournalEntry::flip) {
       flip(EdgeHandle(it->handle), it->info_before);
     } else {
-      const VertexHandle v(it->handle);
-      for (const auto& o : removal_observers_) o.cb(v);
+      const VertexHandle v = stamped(VertexHandle(it->handle));
+      const std::exception_ptr e = notify_removing(v);
+      if (!first) first = e;
       unbisect(v);
     }
   }
+  return first;
 }
 
 }  // namespace rgbmesh

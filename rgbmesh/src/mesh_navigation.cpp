@@ -2,15 +2,11 @@
 // star, boundary loops, and the output snapshot.
 
 #include <algorithm>
-#include <cassert>
 #include <unordered_map>
 
 #include "rgbmesh/mesh.hpp"
 
 namespace rgbmesh {
-
-// ---------------------------------------------------------------------------------------
-// Navigation
 
 HandleRange<VertexHandle> RgbMesh::vertices() const {
   return {*this, vertex_slots(), [](const RgbMesh& m, std::int32_t i) { return m.v_edge_[i].valid(); }};
@@ -22,71 +18,8 @@ HandleRange<TriangleHandle> RgbMesh::triangles() const {
   return {*this, triangle_slots(), [](const RgbMesh& m, std::int32_t i) { return m.t_edge_[i][0].valid(); }};
 }
 
-std::array<VertexHandle, 3> RgbMesh::triangle_vertices(TriangleHandle t) const {
-  const auto& te = t_edge_[t.idx];
-  const auto& a = e_vert_[te[0].idx];
-  const auto& b = e_vert_[te[1].idx];
-  // Corner 1 is shared by edges 0 and 1; corners 0 and 2 are their other ends.
-  const VertexHandle c1 = (a[0] == b[0] || a[0] == b[1]) ? a[0] : a[1];
-  const VertexHandle c0 = (c1 == a[0]) ? a[1] : a[0];
-  const VertexHandle c2 = (c1 == b[0]) ? b[1] : b[0];
-  return {c0, c1, c2};
-}
-
-int RgbMesh::local_index(TriangleHandle t, EdgeHandle e) const {
-  const auto& te = t_edge_[t.idx];
-  return te[0] == e ? 0 : (te[1] == e ? 1 : (te[2] == e ? 2 : -1));
-}
-
-VertexHandle RgbMesh::opposite_vertex(TriangleHandle t, EdgeHandle e) const {
-  const int i = local_index(t, e);
-  assert(i >= 0);
-  // The far end of the next edge: the endpoint it does not share with e.
-  const auto& n = e_vert_[t_edge_[t.idx][(i + 1) % 3].idx];
-  const auto& ev = e_vert_[e.idx];
-  return (n[0] == ev[0] || n[0] == ev[1]) ? n[1] : n[0];
-}
-
-void RgbMesh::replace_edge_triangle(EdgeHandle e, TriangleHandle from, TriangleHandle to) {
-  auto& et = e_tri_[e.idx];
-  if (et[0] == from) {
-    et[0] = to;
-  } else {
-    assert(et[1] == from);
-    et[1] = to;
-  }
-}
-
-// Rotation around a vertex. In a triangle with v at corner i, edge i leaves v and edge i+2
-// arrives at v; going counter-clockwise around v, the leaving edge comes first, and the next
-// triangle counter-clockwise is the one beyond the arriving edge. Whether e leaves or arrives
-// at v in t is read off the neighbouring edge of t: no corner computation needed.
-
-// The triangle in which e leaves v, and that triangle's edge arriving at v.
-std::pair<TriangleHandle, EdgeHandle> RgbMesh::leaving_triangle(VertexHandle v, EdgeHandle e) const {
-  for (TriangleHandle t : e_tri_[e.idx]) {
-    if (!t.valid()) continue;
-    const auto& te = t_edge_[t.idx];
-    const int i = te[0] == e ? 0 : (te[1] == e ? 1 : 2);
-    const EdgeHandle prev = te[(i + 2) % 3];
-    if (e_vert_[prev.idx][0] == v || e_vert_[prev.idx][1] == v) return {t, prev};
-  }
-  return {TriangleHandle(), EdgeHandle()};
-}
-
-// The triangle in which e arrives at v, and that triangle's edge leaving v.
-std::pair<TriangleHandle, EdgeHandle> RgbMesh::arriving_triangle(VertexHandle v, EdgeHandle e) const {
-  for (TriangleHandle t : e_tri_[e.idx]) {
-    if (!t.valid()) continue;
-    const auto& te = t_edge_[t.idx];
-    const int i = te[0] == e ? 0 : (te[1] == e ? 1 : 2);
-    const EdgeHandle next = te[(i + 1) % 3];
-    if (e_vert_[next.idx][0] == v || e_vert_[next.idx][1] == v) return {t, next};
-  }
-  return {TriangleHandle(), EdgeHandle()};
-}
-
 void RgbMesh::star(VertexHandle v, VertexStar& out) const {
+  expect_alive(v, "star");
   // A corrupted structure must not loop forever (validate() relies on this).
   const std::size_t guard = n_edges_ + 1;
   auto collect_from = [&](EdgeHandle first) {
@@ -96,7 +29,8 @@ void RgbMesh::star(VertexHandle v, VertexStar& out) const {
     EdgeHandle e = first;
     for (std::size_t step = 0; step < guard; ++step) {
       out.edges.push_back(e);
-      out.neighbors.push_back(other_vertex(e, v));
+      const auto& ends = e_vert_[e.idx];
+      out.neighbors.push_back(ends[0] == v ? ends[1] : ends[0]);
       const auto [t, next] = leaving_triangle(v, e);
       if (!t.valid()) return false;  // hit the boundary
       out.triangles.push_back(t);
@@ -120,6 +54,7 @@ void RgbMesh::star(VertexHandle v, VertexStar& out) const {
 }
 
 bool RgbMesh::is_boundary(VertexHandle v) const {
+  expect_alive(v, "is_boundary");
   bool boundary = false;
   visit_edges(v, [&](EdgeHandle e) {
     boundary = boundary || is_boundary(e);
@@ -129,6 +64,7 @@ bool RgbMesh::is_boundary(VertexHandle v) const {
 }
 
 int RgbMesh::valence(VertexHandle v) const {
+  expect_alive(v, "valence");
   int n = 0;
   visit_edges(v, [&](EdgeHandle) {
     ++n;
@@ -138,6 +74,7 @@ int RgbMesh::valence(VertexHandle v) const {
 }
 
 EdgeHandle RgbMesh::find_edge(VertexHandle a, VertexHandle b) const {
+  expect_alive(a, "find_edge");
   EdgeHandle found;
   visit_edges(a, [&](EdgeHandle e) {
     if (other_vertex(e, a) == b) found = e;
@@ -153,8 +90,7 @@ int RgbMesh::max_level() const {
 }
 
 int RgbMesh::boundary_loops() const {
-  // Boundary edges, chained head to tail through their vertices.
-  std::unordered_map<std::int32_t, std::int32_t> next_of;  // start vertex -> boundary edge
+  // Boundary edges, grouped into loops through their shared vertices.
   std::vector<EdgeHandle> boundary;
   for (EdgeHandle e : edges()) {
     if (!is_boundary(e)) continue;

@@ -1,9 +1,11 @@
 // RgbMesh's local operators (section IV): the attributes and predicates that select them,
-// the named splits, merges and swaps, and split_edge, which composes them (section V-B).
-// remove_vertex is in mesh_removal.cpp.
+// the topological primitives (bisect, flip, unbisect), the named splits, merges and swaps,
+// and split_edge, which composes them (section V-B). remove_vertex is in mesh_removal.cpp.
 
 #include <algorithm>
 #include <cassert>
+#include <exception>
+#include <string>
 
 #include "rgbmesh/mesh.hpp"
 
@@ -51,7 +53,9 @@ const char* to_string(MergeKind k) {
 
 // ---------------------------------------------------------------------------------------
 // Attributes and predicates
+
 void RgbMesh::raising_edges(TriangleHandle t, std::vector<EdgeHandle>& out) const {
+  expect_alive(t, "raising_edges");
   out.clear();
   const int l = level(t);
   TriangleHandle source = t;
@@ -69,6 +73,7 @@ void RgbMesh::raising_edges(TriangleHandle t, std::vector<EdgeHandle>& out) cons
 }
 
 bool RgbMesh::is_refinable(EdgeHandle e) const {
+  expect_alive(e, "is_refinable");
   if (is_red(e)) return false;
   const int l = level(e);
   for (TriangleHandle t : e_tri_[e.idx]) {
@@ -78,6 +83,7 @@ bool RgbMesh::is_refinable(EdgeHandle e) const {
 }
 
 bool RgbMesh::is_removable(VertexHandle v) const {
+  expect_alive(v, "is_removable");
   const int l = level(v);
   if (l == 0) return false;
   bool removable = true;
@@ -120,28 +126,30 @@ SplitKind RgbMesh::split_kind(EdgeHandle e) const {
   };
   return red_end(et[0]) == red_end(et[1]) ? SplitKind::rr2 : SplitKind::rr1;
 }
+
 // ---------------------------------------------------------------------------------------
 // Splits (Fig. 5)
 
 VertexHandle RgbMesh::checked_split(EdgeHandle e, SplitKind kind, const char* op) {
-  if (!alive(e)) fail(op, describe(e) + " does not exist");
+  e = checked(e, op);
   const SplitKind actual = split_kind(e);
   if (actual != kind)
     fail(op, describe(e) + " is " +
                  (actual == SplitKind::not_refinable ? std::string("not refinable")
                                                      : std::string("a case for ") + to_string(actual)));
-  return split_checked_edge(e, kind, op);
+  const VertexHandle m = split_unreported(e, kind, op);
+  // A hand-applied split may leave an unstable pair: that is the caller's to resolve.
+  rethrow_if(notify_inserted(m));
+  return m;
 }
 
-VertexHandle RgbMesh::split_checked_edge(EdgeHandle e, SplitKind kind, const char* op) {
+VertexHandle RgbMesh::split_unreported(EdgeHandle e, SplitKind kind, const char* op) {
   // The stencil's coarser vertices need their limit positions; providing them may insert
   // vertices around them, never touching e's triangles, which are finer (section VI-C).
   const std::array<VertexHandle, 4> st = stencil(e);
   if (prepare_stencil(st, level(e)) && split_kind(e) != kind)
     fail(op, "internal error: preparing the stencil changed " + describe(e));
-  const VertexHandle m = bisect(e, stencil_point(st, level(e)));
-  notify_inserted(m);
-  return m;
+  return bisect(e, stencil_point(st, level(e)));
 }
 
 VertexHandle RgbMesh::split_gg(EdgeHandle e) { return checked_split(e, SplitKind::gg, "split_gg"); }
@@ -156,15 +164,10 @@ VertexHandle RgbMesh::split_r_boundary(EdgeHandle e) {
 }
 
 VertexHandle RgbMesh::split_refinable(EdgeHandle e) {
-  if (!alive(e)) fail("split_refinable", describe(e) + " does not exist");
+  e = checked(e, "split_refinable");
   const SplitKind kind = split_kind(e);
   if (kind == SplitKind::not_refinable) fail("split_refinable", describe(e) + " is not refinable");
-  return split_checked_edge(e, kind, "split_refinable");
-}
-
-void RgbMesh::notify_inserted(VertexHandle v) {
-  const auto& p = v_parents_[v.idx];
-  for (const auto& o : insertion_observers_) o.cb(v, p[0], p[1]);
+  return checked_split(e, kind, "split_refinable");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -229,14 +232,18 @@ MergeKind RgbMesh::merge_kind(VertexHandle v) const {
 }
 
 EdgeHandle RgbMesh::checked_merge(VertexHandle v, MergeKind kind, const char* op) {
-  if (!alive(v)) fail(op, describe(v) + " does not exist");
+  v = checked(v, op);
   const MergeKind actual = merge_kind(v);
   if (actual != kind)
     fail(op, describe(v) + " is " +
                  (actual == MergeKind::not_mergeable ? std::string("not mergeable")
                                                      : std::string("a case for ") + to_string(actual)));
-  for (const auto& o : removal_observers_) o.cb(v);
-  return unbisect(v);
+  // Observers first (the vertex still exists); the merge cannot fail and is carried out even
+  // if one of them throws, so that every observer's view matches the mesh.
+  const std::exception_ptr observer_error = notify_removing(v);
+  const EdgeHandle restored = unbisect(v);
+  rethrow_if(observer_error);
+  return restored;
 }
 
 EdgeHandle RgbMesh::merge_r4(VertexHandle v) { return checked_merge(v, MergeKind::r4, "merge_r4"); }
@@ -251,18 +258,17 @@ EdgeHandle RgbMesh::merge_gb_boundary(VertexHandle v) {
 }
 
 EdgeHandle RgbMesh::merge(VertexHandle v) {
-  if (!alive(v)) fail("merge", describe(v) + " does not exist");
+  v = checked(v, "merge");
   const MergeKind kind = merge_kind(v);
   if (kind == MergeKind::not_mergeable) fail("merge", describe(v) + " is not mergeable");
-  for (const auto& o : removal_observers_) o.cb(v);
-  return unbisect(v);
+  return checked_merge(v, kind, "merge");
 }
 
 // ---------------------------------------------------------------------------------------
 // Swaps (Fig. 6)
 
 EdgeHandle RgbMesh::swap_bb(EdgeHandle e) {
-  if (!alive(e)) fail("swap_bb", describe(e) + " does not exist");
+  e = checked(e, "swap_bb");
   const auto& et = e_tri_[e.idx];
   const int l = level(e);
   const bool ok = is_red(e) && et[1].valid() && color(et[0]) == Color::blue && color(et[1]) == Color::blue &&
@@ -275,7 +281,7 @@ EdgeHandle RgbMesh::swap_bb(EdgeHandle e) {
 }
 
 EdgeHandle RgbMesh::swap_gg(EdgeHandle e) {
-  if (!alive(e)) fail("swap_gg", describe(e) + " does not exist");
+  e = checked(e, "swap_gg");
   const auto& et = e_tri_[e.idx];
   const int l = level(e);
   bool ok = !is_red(e) && l > 0 && et[1].valid() && color(et[0]) == Color::green &&
@@ -299,7 +305,7 @@ EdgeHandle RgbMesh::swap_gg(EdgeHandle e) {
 }
 
 EdgeHandle RgbMesh::swap_rb(EdgeHandle e) {
-  if (!alive(e)) fail("swap_rb", describe(e) + " does not exist");
+  e = checked(e, "swap_rb");
   const auto& et = e_tri_[e.idx];
   const int l = level(e);
   bool ok = is_red(e) && et[1].valid() && level(et[0]) == l && level(et[1]) == l;
@@ -340,8 +346,10 @@ void RgbMesh::stabilize_around(VertexHandle m) {
   }
 }
 
+// Each step (a forced split, the stabilising swaps after it) completes before its insertion is
+// reported, so that an observer's exception leaves a valid, stable mesh (see mesh.hpp).
 VertexHandle RgbMesh::split_edge(EdgeHandle e) {
-  if (!alive(e)) fail("split_edge", describe(e) + " does not exist");
+  e = checked(e, "split_edge");
   if (is_red(e)) fail("split_edge", describe(e) + " is red; only green edges split");
   const int l = level(e);
   if (l >= kMaxLevel) fail("split_edge", describe(e) + " is at the maximum level");
@@ -378,11 +386,13 @@ VertexHandle RgbMesh::split_edge(EdgeHandle e) {
     split_edge(coarser);
   }
   const SplitKind kind = split_kind(e);
-  if (kind == SplitKind::not_refinable) fail("split_edge", "internal error: " + describe(e) + " is still not refinable");
-  const VertexHandle m = split_checked_edge(e, kind, "split_edge");
+  if (kind == SplitKind::not_refinable)
+    fail("split_edge", "internal error: " + describe(e) + " is still not refinable");
+  const VertexHandle m = split_unreported(e, kind, "split_edge");
   // Only a red triangle's bisection makes a blue one: GG and green boundary splits cannot
   // leave an unstable pair.
   if (kind != SplitKind::gg && kind != SplitKind::g_boundary) stabilize_around(m);
+  rethrow_if(notify_inserted(m));
   return m;
 }
 

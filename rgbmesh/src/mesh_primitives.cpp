@@ -1,90 +1,155 @@
 // The topological primitives under every operator (section IV): bisect (a vertex on an edge,
 // each incident triangle halved), flip (an edge swap) and unbisect (the inverse of bisect), and
-// the slots they take from and give back to the free lists.
+// the slots they take from and give back to the free lists. Kept in one file so that the
+// allocation inlines into the primitives, which run once per split, swap and merge.
 
 #include <algorithm>
 #include <cassert>
+#include <cstdint>
 
 #include "rgbmesh/mesh.hpp"
 
 namespace rgbmesh {
 
 // ---------------------------------------------------------------------------------------
-// Allocation
+// Room for new elements
+
+void RgbMesh::make_room(std::size_t vertices, std::size_t edges, std::size_t triangles) {
+  // New elements take free slots first, then spare capacity: the room is the capacity less the
+  // live elements. Growth is geometric, as push_back's would be.
+  if (v_edge_.capacity() - n_vertices_ < vertices)
+    grow_vertex_arrays(std::max(2 * v_edge_.capacity(), v_edge_.size() + vertices));
+  if (e_vert_.capacity() - n_edges_ < edges)
+    grow_edge_arrays(std::max(2 * e_vert_.capacity(), e_vert_.size() + edges));
+  if (t_edge_.capacity() - n_triangles_ < triangles)
+    grow_triangle_arrays(std::max(2 * t_edge_.capacity(), t_edge_.size() + triangles));
+}
+
+// ---------------------------------------------------------------------------------------
+// Allocation, within the room make_room made: the arrays do not grow here.
 
 VertexHandle RgbMesh::new_vertex() {
   VertexHandle v;
-  if (!v_free_.empty()) {
-    v = VertexHandle(v_free_.back());
-    v_free_.pop_back();
+  if (v_free_ >= 0) {
+    // Reset the properties first: a throwing copy then leaves everything as it was.
+    const auto slot = static_cast<std::size_t>(v_free_);
+    for (auto& p : vertex_properties_) p->reset(slot);
+    v = VertexHandle(v_free_);
+    v_free_ = v_parents_[slot][0].idx;
+    v_parents_[slot] = {VertexHandle(), VertexHandle()};
   } else {
-    v = VertexHandle(static_cast<std::int32_t>(v_edge_.size()));
+    const std::size_t n = v_edge_.size();
+    // Properties first, as above; undo those that grew if a later one throws.
+    std::size_t grown = 0;
+    try {
+      for (; grown < vertex_properties_.size(); ++grown) vertex_properties_[grown]->resize(n + 1);
+    } catch (...) {
+      for (std::size_t i = 0; i < grown; ++i) vertex_properties_[i]->resize(n);
+      throw;
+    }
+    assert(n < v_edge_.capacity());
+    v = VertexHandle(static_cast<std::int32_t>(n));
     v_edge_.emplace_back();
     v_level_.push_back(0);
     v_parents_.push_back({VertexHandle(), VertexHandle()});
     v_control_.emplace_back();
     v_limit_index_.push_back(-1);
     v_flags_.push_back(0);
-    for (auto& p : vertex_properties_) p->resize(v_edge_.size());
+#if RGBMESH_CHECKED_HANDLES
+    v_generation_.push_back(1);
+#endif
   }
   ++n_vertices_;
-  return v;
+  return stamped(v);
 }
 
 EdgeHandle RgbMesh::new_edge(VertexHandle a, VertexHandle b, std::uint8_t info) {
   EdgeHandle e;
-  if (!e_free_.empty()) {
-    e = EdgeHandle(e_free_.back());
-    e_free_.pop_back();
+  if (e_free_ >= 0) {
+    e = EdgeHandle(e_free_);
+    e_free_ = e_tri_[e.idx][0].idx;
     e_vert_[e.idx] = {a, b};
     e_tri_[e.idx] = {TriangleHandle(), TriangleHandle()};
     e_info_[e.idx] = info;
   } else {
+    assert(e_vert_.size() < e_vert_.capacity());
     e = EdgeHandle(static_cast<std::int32_t>(e_vert_.size()));
     e_vert_.push_back({a, b});
     e_tri_.push_back({TriangleHandle(), TriangleHandle()});
     e_info_.push_back(info);
+#if RGBMESH_CHECKED_HANDLES
+    e_generation_.push_back(1);
+#endif
   }
   ++n_edges_;
-  return e;
+  return stamped(e);
 }
 
 TriangleHandle RgbMesh::new_triangle(const std::array<EdgeHandle, 3>& edges) {
   TriangleHandle t;
-  if (!t_free_.empty()) {
-    t = TriangleHandle(t_free_.back());
-    t_free_.pop_back();
+  if (t_free_ >= 0) {
+    t = TriangleHandle(t_free_);
+    t_free_ = t_edge_[t.idx][1].idx;
     t_edge_[t.idx] = edges;
   } else {
+    assert(t_edge_.size() < t_edge_.capacity());
     t = TriangleHandle(static_cast<std::int32_t>(t_edge_.size()));
     t_edge_.push_back(edges);
     t_info_.push_back(0);
+#if RGBMESH_CHECKED_HANDLES
+    t_generation_.push_back(1);
+#endif
   }
   ++n_triangles_;
-  return t;
+  return stamped(t);
 }
+
+namespace {
+
+#if RGBMESH_CHECKED_HANDLES
+// A freed slot's next element is a new one: handles to the old one become stale. 0 means
+// "unknown" in a handle, so the count skips it when it wraps around.
+void next_generation(std::vector<std::uint32_t>& g, std::int32_t slot) {
+  std::uint32_t& x = g[static_cast<std::size_t>(slot)];
+  x = x == UINT32_MAX ? 1 : x + 1;
+}
+#endif
+
+}  // namespace
 
 void RgbMesh::free_vertex(VertexHandle v) {
   v_edge_[v.idx] = EdgeHandle();
-  v_parents_[v.idx] = {VertexHandle(), VertexHandle()};
+  v_parents_[v.idx] = {VertexHandle(v_free_), VertexHandle()};
   v_flags_[v.idx] = 0;
   release_limit(v);
-  v_free_.push_back(v.idx);
+  v_free_ = v.idx;
+#if RGBMESH_CHECKED_HANDLES
+  next_generation(v_generation_, v.idx);
+#endif
   --n_vertices_;
 }
 
 void RgbMesh::free_edge(EdgeHandle e) {
   e_vert_[e.idx] = {VertexHandle(), VertexHandle()};
-  e_tri_[e.idx] = {TriangleHandle(), TriangleHandle()};
-  e_free_.push_back(e.idx);
+  e_tri_[e.idx] = {TriangleHandle(e_free_), TriangleHandle()};
+  e_free_ = e.idx;
+#if RGBMESH_CHECKED_HANDLES
+  next_generation(e_generation_, e.idx);
+#endif
   --n_edges_;
 }
 
 void RgbMesh::free_triangle(TriangleHandle t) {
-  t_edge_[t.idx] = {EdgeHandle(), EdgeHandle(), EdgeHandle()};
-  t_free_.push_back(t.idx);
+  t_edge_[t.idx] = {EdgeHandle(), EdgeHandle(t_free_), EdgeHandle()};
+  t_free_ = t.idx;
+#if RGBMESH_CHECKED_HANDLES
+  next_generation(t_generation_, t.idx);
+#endif
   --n_triangles_;
 }
+
+// ---------------------------------------------------------------------------------------
+// Attributes
 
 void RgbMesh::update_triangle_info(TriangleHandle t) {
   const auto& te = t_edge_[t.idx];
@@ -94,6 +159,7 @@ void RgbMesh::update_triangle_info(TriangleHandle t) {
   const int finer = (l0 > lo) + (l1 > lo) + (l2 > lo);
   t_info_[t.idx] = static_cast<std::uint8_t>((finer << 6) | lo);
 }
+
 // ---------------------------------------------------------------------------------------
 // Topological primitives
 
@@ -101,7 +167,13 @@ void RgbMesh::update_triangle_info(TriangleHandle t) {
 // (a, b, c) into (a, m, c) and (m, b, c) through a new edge (m, c). The halves of e are green
 // one level finer; the bisecting edge is red at e's level in a green triangle and green one
 // level finer in a red triangle (section IV-A).
+//
+// All or nothing: room for the new elements is made before the first change, so that only
+// that step (or a vertex property's copy in new_vertex, which changes nothing either) can throw.
 VertexHandle RgbMesh::bisect(EdgeHandle e, const Vec3& control) {
+  make_room(1, 3, 2);
+  reserve_journal_entry();
+  e = stamped(e);  // e is stored below: with the generation of its slot
   const auto [v0, v1] = e_vert_[e.idx];
   const int l = level(e);
   const bool boundary = is_boundary(e);
@@ -156,13 +228,20 @@ VertexHandle RgbMesh::bisect(EdgeHandle e, const Vec3& control) {
     update_triangle_info(tb);
   }
   ++counters_.splits;
-  if (journal_) journal_->push_back({JournalEntry::bisect, m.idx, 0});
+  if (journal_) journal_->push_back({JournalEntry::bisect, m.idx, 0});  // within capacity
   return m;
+}
+
+void RgbMesh::reserve_journal_entry() {
+  if (journal_ && journal_->size() == journal_->capacity())
+    journal_->reserve(std::max<std::size_t>(64, 2 * journal_->capacity()));
 }
 
 // Replaces the diagonal e of the quadrilateral formed by its two triangles with the other
 // diagonal. t0 = (a, b, c) and t1 = (b, a, d) become (d, b, c) and (c, a, d).
 void RgbMesh::flip(EdgeHandle e, std::uint8_t new_info) {
+  reserve_journal_entry();  // the only step that can throw, before any change
+  e = stamped(e);           // stored below
   if (journal_) journal_->push_back({JournalEntry::flip, e.idx, e_info_[e.idx]});
   const TriangleHandle t0 = e_tri_[e.idx][0], t1 = e_tri_[e.idx][1];
   const int i = local_index(t0, e), j = local_index(t1, e);
@@ -191,7 +270,9 @@ EdgeHandle RgbMesh::unbisect(VertexHandle m) {
   return unbisect(m, find_edge(m, a), find_edge(m, b));
 }
 
+// Allocates nothing (the free lists live in the freed slots), so it cannot fail halfway.
 EdgeHandle RgbMesh::unbisect(VertexHandle m, EdgeHandle ea, EdgeHandle eb) {
+  ea = stamped(ea);  // stored below
   const auto [a, b] = v_parents_[m.idx];
   for (int k = 0; k < 2; ++k) {
     const TriangleHandle ta = e_tri_[ea.idx][k];

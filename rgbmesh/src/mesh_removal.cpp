@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cstring>
+#include <exception>
 #include <string>
 
 #include "rgbmesh/mesh.hpp"
@@ -27,7 +28,7 @@ char color_letter(Color c) {
 }  // namespace
 
 void RgbMesh::remove_vertex(VertexHandle v) {
-  if (!alive(v)) fail("remove_vertex", describe(v) + " does not exist");
+  v = checked(v, "remove_vertex");
   const auto [a, b] = v_parents_[v.idx];
   // One walk around v checks removability (section IV-D) and finds the halves of its edge.
   const int l = level(v);
@@ -42,6 +43,10 @@ void RgbMesh::remove_vertex(VertexHandle v) {
   });
   if (!removable)
     fail("remove_vertex", describe(v) + " is not removable (level 0, or a neighbour has a higher level)");
+  // Observers hear of the removal while the mesh is still as the caller left it. What follows
+  // cannot fail (swaps and the merge allocate nothing), so the removal is carried out even if
+  // an observer throws, and its exception propagates from a valid, stable mesh.
+  const std::exception_ptr observer_error = notify_removing(v);
   // Bring each side of the split edge to a mergeable form by the swaps of Fig. 11. A side is
   // the fan of triangles between the halves (v, a) and (v, b), read counter-clockwise from
   // one of them; as colors it is one of RR, GB, BG (mergeable), GBR, RBG (one RB-swap), GGG
@@ -82,8 +87,8 @@ void RgbMesh::remove_vertex(VertexHandle v) {
   }
   // Both sides are now in mergeable form (checked in debug builds; validate() checks the result).
   assert(merge_kind(v) != MergeKind::not_mergeable);
-  for (const auto& o : removal_observers_) o.cb(v);
   unbisect(v, halves[0], halves[1]);
+  rethrow_if(observer_error);
 }
 
 std::string RgbMesh::removal_configuration(VertexHandle v) const {

@@ -62,19 +62,39 @@ std::string RgbMesh::validate(bool require_stable) const {
   if (e_tri_.size() != e_vert_.size() || e_info_.size() != e_vert_.size())
     return "edge arrays have different sizes";
   if (t_info_.size() != t_edge_.size()) return "triangle arrays have different sizes";
+#if RGBMESH_CHECKED_HANDLES
+  if (v_generation_.size() != v_edge_.size() || e_generation_.size() != e_vert_.size() ||
+      t_generation_.size() != t_edge_.size())
+    return "generation arrays do not match the slots";
+#endif
+  if (limits_free_.capacity() < limits_.size())
+    return "the free list of limit positions has no room reserved";
 
   std::vector<bool> v_alive(nv), e_alive(ne), t_alive(nt);
   for (std::int32_t i = 0; i < nv; ++i) v_alive[i] = v_edge_[i].valid();
   for (std::int32_t i = 0; i < ne; ++i) e_alive[i] = e_vert_[i][0].valid();
   for (std::int32_t i = 0; i < nt; ++i) t_alive[i] = t_edge_[i][0].valid();
-  if (!check_free_list(c, "vertex", v_free_, nv, n_vertices_, v_alive) ||
-      !check_free_list(c, "edge", e_free_, ne, n_edges_, e_alive) ||
-      !check_free_list(c, "triangle", t_free_, nt, n_triangles_, t_alive))
+  if (!check_free_list(c, "vertex", free_vertex_slots(), nv, n_vertices_, v_alive) ||
+      !check_free_list(c, "edge", free_edge_slots(), ne, n_edges_, e_alive) ||
+      !check_free_list(c, "triangle", free_triangle_slots(), nt, n_triangles_, t_alive))
     return c.message();
 
-  auto v_ok = [&](VertexHandle v) { return v.idx >= 0 && v.idx < nv && v_alive[v.idx]; };
-  auto e_ok = [&](EdgeHandle e) { return e.idx >= 0 && e.idx < ne && e_alive[e.idx]; };
-  auto t_ok = [&](TriangleHandle t) { return t.idx >= 0 && t.idx < nt && t_alive[t.idx]; };
+    // A stored handle names a live element, and (checked handles) carries its slot's current
+    // generation: the mesh never keeps a handle it could not hand out.
+#if RGBMESH_CHECKED_HANDLES
+  const auto fresh = [](auto h, const Generations& g) { return h.generation == g[h.idx]; };
+#else
+  const auto fresh = [](auto, const Generations&) { return true; };
+#endif
+  auto v_ok = [&](VertexHandle v) {
+    return v.idx >= 0 && v.idx < nv && v_alive[v.idx] && fresh(v, v_generation_);
+  };
+  auto e_ok = [&](EdgeHandle e) {
+    return e.idx >= 0 && e.idx < ne && e_alive[e.idx] && fresh(e, e_generation_);
+  };
+  auto t_ok = [&](TriangleHandle t) {
+    return t.idx >= 0 && t.idx < nt && t_alive[t.idx] && fresh(t, t_generation_);
+  };
 
   // Edges: live endpoints, distinct, no two edges on one vertex pair; one or two triangles
   // that list the edge (conformity: an edge in a triangle is the whole side, no T-junction).
@@ -86,7 +106,7 @@ std::string RgbMesh::validate(bool require_stable) const {
     const EdgeHandle e(i);
     const auto& ev = e_vert_[i];
     if (!v_ok(ev[0]) || !v_ok(ev[1])) {
-      c.fail(describe(e), " has a dead endpoint");
+      c.fail(describe(e), " has a dead endpoint (or a stale handle of one)");
       break;
     }
     if (ev[0] == ev[1]) {
@@ -102,11 +122,11 @@ std::string RgbMesh::validate(bool require_stable) const {
     ++degree[ev[1].idx];
     const auto& et = e_tri_[i];
     if (!t_ok(et[0])) {
-      c.fail(describe(e), " has no first triangle");
+      c.fail(describe(e), " has no first triangle (or a stale handle of it)");
       break;
     }
     if (et[1].valid() && !t_ok(et[1])) {
-      c.fail(describe(e), " has a dead second triangle");
+      c.fail(describe(e), " has a dead second triangle (or a stale handle of it)");
       break;
     }
     if (et[0] == et[1]) {
@@ -150,7 +170,7 @@ std::string RgbMesh::validate(bool require_stable) const {
     const auto& te = t_edge_[i];
     for (EdgeHandle e : te) {
       if (!e_ok(e)) {
-        c.fail("triangle ", i, " has a dead edge ", e.idx);
+        c.fail("triangle ", i, " has a dead edge ", e.idx, " (or a stale handle of it)");
         break;
       }
       if (e_tri_[e.idx][0] != t && e_tri_[e.idx][1] != t) {
@@ -212,7 +232,7 @@ std::string RgbMesh::validate(bool require_stable) const {
     const VertexHandle v(i);
     const EdgeHandle e = v_edge_[i];
     if (!e_ok(e)) {
-      c.fail(describe(v), " stores a dead edge");
+      c.fail(describe(v), " stores a dead edge (or a stale handle of it)");
       break;
     }
     if (e_vert_[e.idx][0] != v && e_vert_[e.idx][1] != v) {
@@ -227,7 +247,7 @@ std::string RgbMesh::validate(bool require_stable) const {
       if (p[0].valid() || p[1].valid()) c.fail(describe(v), " is a base vertex with parents");
     } else {
       if (!v_ok(p[0]) || !v_ok(p[1])) {
-        c.fail(describe(v), " has a dead parent");
+        c.fail(describe(v), " has a dead parent (or a stale handle of it)");
       } else if (std::max(v_level_[p[0].idx], v_level_[p[1].idx]) != v_level_[i] - 1) {
         c.fail(describe(v), ": its parents are not a green edge of level ", v_level_[i] - 1);
       }

@@ -18,9 +18,84 @@
 // The eleven local operators of section IV are public, named, and check their preconditions
 // (throwing PreconditionError): four splits, four merges and three swaps, plus the boundary
 // forms of splits and merges. split_edge() and remove_vertex() compose them as in section V.
+//
+// Handles and their lifetime
+// --------------------------
+// Elements are named by integer handles (handles.hpp) into slots that free lists reuse.
+//  * A vertex handle names its vertex from the insertion until that vertex is removed:
+//    remove_vertex(v), merge(v) and the merge_* operators, or removals made for the caller
+//    (selective_refinement's coarsening; compute_limits removes only the helper vertices it
+//    inserted itself, and restores every edge and triangle slot as it was). Insertions and
+//    swaps never invalidate a vertex handle, and a vertex
+//    never changes slot. After a removal the slot is reused by a later insertion: an old
+//    handle then names another vertex.
+//  * Edges and triangles are rewritten in place by the operators around them, so their
+//    handles are for use between operations. What holds: while only insertions happen
+//    (split_edge, the splits, complete_limit), a green edge keeps its slot and endpoints
+//    until it is split itself; the split leaves in its slot the half at its first endpoint
+//    (edge_vertices(e)[0]). A swap leaves the new diagonal in the slot of the old one (and
+//    returns it). A merge leaves the restored edge in the slot of the half at the first
+//    parent (parents(v)[0]). Red edges may be swapped by split_edge's stabilising BB-swaps,
+//    and removals swap edges around the removed vertex (Fig. 11). To find an edge again,
+//    keep its endpoints and use find_edge(a, b) (selective_refinement's queue does this).
+//  * To keep a reference to a vertex across operations, keep its handle and register a
+//    removal observer: it is called while the vertex and its data still exist, which is the
+//    moment to drop or re-key the reference. Per-vertex data belongs in add_vertex_property,
+//    whose values follow the slots (a reused slot starts again from the default value).
+//    Identity across a removal and a new insertion: a vertex of level > 0 is the midpoint of
+//    the green edge between its parents, so inserting a vertex on that edge again gives the
+//    same point of the Loop hierarchy (same level, parents and insertion_point), under a new
+//    handle. Keys by parents (recursively down to base vertices, whose handles never change)
+//    or by insertion_point survive any sequence of operations.
+//  * Using a handle that does not name a live element is a programming error. Operators
+//    (splits, merges, swaps, split_edge, remove_vertex, complete_limit) always check and
+//    throw PreconditionError. Accessors (level, control_point, edge_vertices, ...) check in
+//    builds with checked handles (RGBMESH_CHECKED_HANDLES, the default without NDEBUG): an
+//    out-of-range, dead or stale handle (its slot freed since the mesh handed it out, see
+//    handles.hpp) prints what was wrong and aborts; in Release builds they do not check at
+//    all (no cost), and a stale handle reads whatever the slot holds now. alive(h) says
+//    whether h names a live element (in checked builds: the element it was handed out for).
+//
+// Exceptions
+// ----------
+// PreconditionError: an operator called on a dead or stale handle or on the wrong
+// configuration; always thrown before anything changes (except those whose message says
+// "internal error": they would be bugs). InputError: from_triangles.
+// std::bad_alloc: arrays that cannot grow. And whatever an observer throws. "Valid" below
+// means validate() is empty; "stable" that validate(true) is.
+//  * Queries (const methods) change nothing but the cache of limit positions.
+//  * swap_bb, swap_gg, swap_rb: strong guarantee; once the checks pass, nothing can fail.
+//  * split_gg ... split_r_boundary, split_refinable: strong for precondition errors. The
+//    stencil's limit positions may first need vertices inserted elsewhere (split_edge, below,
+//    with its guarantee): an exception there leaves those insertions and no split. The split
+//    itself is all or nothing (room is made before anything changes). Observers are told
+//    once it is done; if one throws, the split stays and the exception propagates.
+//  * merge_r4 ... merge_gb_boundary, merge: strong for precondition errors; then observers
+//    are told, then the merge is carried out even if one of them threw (it cannot fail), and
+//    the exception propagates afterwards.
+//  * split_edge: strong for precondition errors (checked first). It is a sequence of
+//    complete steps: the forced splits of coarser neighbours, each a split_edge of its own,
+//    then e's split; each step is stabilised (BB-swaps) and then reported to the observers.
+//    An exception (an observer's, std::bad_alloc) stops the sequence after a complete step:
+//    the mesh is valid, and stable if it was, with e maybe not yet split. complete_limit
+//    behaves the same.
+//  * remove_vertex: strong for precondition errors; observers are told before anything
+//    changes; the swaps and the merge cannot fail and are carried out even if an observer
+//    threw; the exception propagates afterwards. The mesh stays valid, and stable if it was.
+//  * compute_limits: strong. Any exception undoes every operation it did, exactly (handles
+//    included; observers see those removals too), before it propagates; limit positions
+//    computed so far stay known.
+//  * from_triangles: creates a new mesh or throws (InputError, std::bad_alloc).
+//  * Copy assignment, reserve, add_vertex_property, add_*_observer: strong. Moves and
+//    remove_observer: no-throw.
+//  * Observers are all called for every change that was made, also when one of them throws;
+//    the first exception is rethrown once the mesh is consistent as described above, later
+//    ones are dropped. They may read the mesh but must not change it or the observer lists.
 
 #include <array>
+#include <cassert>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <iterator>
 #include <utility>
@@ -91,11 +166,18 @@ struct VertexStar {
   bool boundary = false;
 };
 
+namespace detail {
+// Reports a use of a handle that names no live element, and aborts (checked builds only).
+[[noreturn]] void bad_handle(const char* accessor, const std::string& what);
+}  // namespace detail
+
 // Per-vertex user data that follows the mesh's vertex slots (see RgbMesh::add_vertex_property).
 class PropertyArrayBase {
  public:
   virtual ~PropertyArrayBase() = default;
   virtual void resize(std::size_t n) = 0;
+  // Gives slot i the default value again (a new vertex in a reused slot).
+  virtual void reset(std::size_t i) = 0;
   virtual std::unique_ptr<PropertyArrayBase> clone() const = 0;
 };
 
@@ -104,6 +186,7 @@ class PropertyArray final : public PropertyArrayBase {
  public:
   explicit PropertyArray(T default_value) : default_(std::move(default_value)) {}
   void resize(std::size_t n) override { data.resize(n, default_); }
+  void reset(std::size_t i) override { data[i] = default_; }
   std::unique_ptr<PropertyArrayBase> clone() const override {
     return std::make_unique<PropertyArray<T>>(*this);
   }
@@ -118,11 +201,20 @@ class VertexProperty {
  public:
   VertexProperty() = default;
   explicit VertexProperty(PropertyArray<T>* a) : array_(a) {}
-  T& operator[](VertexHandle v) { return array_->data[static_cast<std::size_t>(v.idx)]; }
-  const T& operator[](VertexHandle v) const { return array_->data[static_cast<std::size_t>(v.idx)]; }
+  T& operator[](VertexHandle v) { return array_->data[slot(v)]; }
+  const T& operator[](VertexHandle v) const { return array_->data[slot(v)]; }
   bool valid() const { return array_ != nullptr; }
 
  private:
+  std::size_t slot(VertexHandle v) const {
+#if RGBMESH_CHECKED_HANDLES
+    if (v.idx < 0 || static_cast<std::size_t>(v.idx) >= array_->data.size())
+      detail::bad_handle("VertexProperty::operator[]", "vertex " + std::to_string(v.idx) + " is outside the " +
+                                                          std::to_string(array_->data.size()) + " vertex slots");
+#endif
+    return static_cast<std::size_t>(v.idx);
+  }
+
   PropertyArray<T>* array_ = nullptr;
 };
 
@@ -141,7 +233,7 @@ class HandleRange {
     using pointer = const H*;
     using reference = H;
     iterator(const HandleRange* r, std::int32_t i) : r_(r), i_(i) { skip(); }
-    H operator*() const { return H(i_); }
+    H operator*() const;  // the handle of slot i_, with its generation (defined after RgbMesh)
     iterator& operator++() {
       ++i_;
       skip();
@@ -223,28 +315,54 @@ class RgbMesh {
   std::size_t memory_bytes() const;
   static std::size_t storage_bytes(std::size_t vertices, std::size_t edges, std::size_t triangles);
 
-  bool alive(VertexHandle v) const { return in_range(v.idx, v_edge_.size()) && v_edge_[v.idx].valid(); }
-  bool alive(EdgeHandle e) const { return in_range(e.idx, e_vert_.size()) && e_vert_[e.idx][0].valid(); }
-  bool alive(TriangleHandle t) const { return in_range(t.idx, t_edge_.size()) && t_edge_[t.idx][0].valid(); }
+  // Whether h names a live element; with checked handles, also that it is the element h was
+  // handed out for (not a later one in a reused slot).
+  bool alive(VertexHandle v) const {
+    return in_range(v.idx, v_edge_.size()) && v_edge_[v.idx].valid() && current(v, v_generation_);
+  }
+  bool alive(EdgeHandle e) const {
+    return in_range(e.idx, e_vert_.size()) && e_vert_[e.idx][0].valid() && current(e, e_generation_);
+  }
+  bool alive(TriangleHandle t) const {
+    return in_range(t.idx, t_edge_.size()) && t_edge_[t.idx][0].valid() && current(t, t_generation_);
+  }
 
   HandleRange<VertexHandle> vertices() const;
   HandleRange<EdgeHandle> edges() const;
   HandleRange<TriangleHandle> triangles() const;
 
   // ---- connectivity ---------------------------------------------------------------------
-  const std::array<VertexHandle, 2>& edge_vertices(EdgeHandle e) const { return e_vert_[e.idx]; }
-  const std::array<TriangleHandle, 2>& edge_triangles(EdgeHandle e) const { return e_tri_[e.idx]; }
-  const std::array<EdgeHandle, 3>& triangle_edges(TriangleHandle t) const { return t_edge_[t.idx]; }
+  // Every accessor below needs live handles (see "Handles and their lifetime").
+  const std::array<VertexHandle, 2>& edge_vertices(EdgeHandle e) const {
+    expect_alive(e, "edge_vertices");
+    return e_vert_[e.idx];
+  }
+  const std::array<TriangleHandle, 2>& edge_triangles(EdgeHandle e) const {
+    expect_alive(e, "edge_triangles");
+    return e_tri_[e.idx];
+  }
+  const std::array<EdgeHandle, 3>& triangle_edges(TriangleHandle t) const {
+    expect_alive(t, "triangle_edges");
+    return t_edge_[t.idx];
+  }
   std::array<VertexHandle, 3> triangle_vertices(TriangleHandle t) const;  // counter-clockwise
-  EdgeHandle vertex_edge(VertexHandle v) const { return v_edge_[v.idx]; }
+  EdgeHandle vertex_edge(VertexHandle v) const {
+    expect_alive(v, "vertex_edge");
+    return v_edge_[v.idx];
+  }
 
-  bool is_boundary(EdgeHandle e) const { return !e_tri_[e.idx][1].valid(); }
+  bool is_boundary(EdgeHandle e) const {
+    expect_alive(e, "is_boundary");
+    return !e_tri_[e.idx][1].valid();
+  }
   bool is_boundary(VertexHandle v) const;
   VertexHandle other_vertex(EdgeHandle e, VertexHandle v) const {
+    expect_alive(e, "other_vertex");
     const auto& ev = e_vert_[e.idx];
     return ev[0] == v ? ev[1] : ev[0];
   }
   TriangleHandle other_triangle(EdgeHandle e, TriangleHandle t) const {
+    expect_alive(e, "other_triangle");
     const auto& et = e_tri_[e.idx];
     return et[0] == t ? et[1] : et[0];
   }
@@ -259,15 +377,33 @@ class RgbMesh {
   int valence(VertexHandle v) const;
 
   // ---- RGB attributes (section IV-A) ----------------------------------------------------
-  int level(VertexHandle v) const { return v_level_[v.idx]; }
-  int level(EdgeHandle e) const { return e_info_[e.idx] & 0x7f; }
-  int level(TriangleHandle t) const { return t_info_[t.idx] & 0x3f; }
-  bool is_red(EdgeHandle e) const { return (e_info_[e.idx] & 0x80) != 0; }
+  int level(VertexHandle v) const {
+    expect_alive(v, "level");
+    return v_level_[v.idx];
+  }
+  int level(EdgeHandle e) const {
+    expect_alive(e, "level");
+    return e_info_[e.idx] & 0x7f;
+  }
+  int level(TriangleHandle t) const {
+    expect_alive(t, "level");
+    return t_info_[t.idx] & 0x3f;
+  }
+  bool is_red(EdgeHandle e) const {
+    expect_alive(e, "is_red");
+    return (e_info_[e.idx] & 0x80) != 0;
+  }
   Color color(EdgeHandle e) const { return is_red(e) ? Color::red : Color::green; }
-  Color color(TriangleHandle t) const { return static_cast<Color>(t_info_[t.idx] >> 6); }
+  Color color(TriangleHandle t) const {
+    expect_alive(t, "color");
+    return static_cast<Color>(t_info_[t.idx] >> 6);
+  }
   // Endpoints of the edge that v split (Fig. 12); both invalid for base vertices. They are
   // also the parent triangle's vertices that a red edge ending at v refers to (VI-C).
-  const std::array<VertexHandle, 2>& parents(VertexHandle v) const { return v_parents_[v.idx]; }
+  const std::array<VertexHandle, 2>& parents(VertexHandle v) const {
+    expect_alive(v, "parents");
+    return v_parents_[v.idx];
+  }
   int max_level() const;
 
   // ---- geometry: Loop subdivision (section VI) -------------------------------------------
@@ -280,16 +416,25 @@ class RgbMesh {
   // so a mesh must not be read from several threads at once.
 
   // p^l(v) with l = level(v): Loop's odd rule on the stencil of the edge v split.
-  const Vec3& insertion_point(VertexHandle v) const { return v_control_[v.idx]; }
+  const Vec3& insertion_point(VertexHandle v) const {
+    expect_alive(v, "insertion_point");
+    return v_control_[v.idx];
+  }
   // Whether v lies on the boundary (uses the crease rules of Eq. 2, 5, 8, 9).
-  bool is_boundary_vertex(VertexHandle v) const { return (v_flags_[v.idx] & kBoundaryFlag) != 0; }
+  bool is_boundary_vertex(VertexHandle v) const {
+    expect_alive(v, "is_boundary_vertex");
+    return (v_flags_[v.idx] & kBoundaryFlag) != 0;
+  }
   // The level at which v is shown: the lowest level of its green edges (VI-D).
   int shown_level(VertexHandle v) const;
   // p^k(v) for k >= level(v). Needs the limit position when k > level(v).
   Vec3 control_point(VertexHandle v, int k) const;
   // The control point at the shown level: where v is in the current mesh. In a uniform mesh
   // of level K this is Loop subdivision's level-K point.
-  Vec3 control_point(VertexHandle v) const { return control_point(v, shown_level(v)); }
+  Vec3 control_point(VertexHandle v) const {
+    expect_alive(v, "control_point");
+    return control_point(v, shown_level(v));
+  }
   // The point of v in the Loop mesh of level max(l, level(v)) when known without inserting
   // vertices, else the shown control point. Criteria measure an edge or triangle of level l
   // with it: unlike shown points, it does not change while the element exists.
@@ -365,17 +510,21 @@ class RgbMesh {
   void remove_vertex(VertexHandle v);
 
   // ---- observers --------------------------------------------------------------------------
-  // Called after a vertex is inserted: (new vertex, endpoints of the edge it split).
+  // Called after a vertex is inserted: (new vertex, endpoints of the edge it split). Within
+  // split_edge, once the step that inserted it is complete and stable.
   using InsertionCallback = std::function<void(VertexHandle, VertexHandle, VertexHandle)>;
-  // Called just before a vertex is removed (its handle and data are still valid).
+  // Called just before a vertex is removed: its handle and data are still valid, and the
+  // mesh is as the caller left it (remove_vertex calls it before its swaps).
   using RemovalCallback = std::function<void(VertexHandle)>;
+  // What happens when an observer throws: see "Exceptions" at the top of this file.
   int add_insertion_observer(InsertionCallback cb);
   int add_removal_observer(RemovalCallback cb);
   void remove_observer(int id);
 
   // ---- per-vertex properties --------------------------------------------------------------
-  // A value per vertex slot that grows with the mesh; new vertices get default_value.
-  // The returned view stays valid for the mesh's lifetime.
+  // A value per vertex slot that grows with the mesh; every new vertex starts with
+  // default_value (also in a reused slot). The returned view stays valid for the mesh's
+  // lifetime.
   template <class T>
   VertexProperty<T> add_vertex_property(T default_value = T()) {
     auto arr = std::make_unique<PropertyArray<T>>(std::move(default_value));
@@ -406,7 +555,45 @@ class RgbMesh {
   MeshSnapshot snapshot(Points points = Points::control, bool geometry_arrays = false) const;
 
  private:
+  template <class H>
+  friend class HandleRange;
+
   static bool in_range(std::int32_t i, std::size_t n) { return i >= 0 && static_cast<std::size_t>(i) < n; }
+
+  // ---- handle checks (mesh_storage.cpp) ----
+  // Each slot counts the elements freed in it (its generation, from 1); handles carry the
+  // count of their slot when the mesh made them. Only with checked handles (handles.hpp).
+  using Generations = std::vector<std::uint32_t>;
+#if RGBMESH_CHECKED_HANDLES
+  template <class H>
+  static bool current(H h, const Generations& g) {
+    return h.generation == 0 || h.generation == g[static_cast<std::size_t>(h.idx)];
+  }
+  template <class H>
+  static H stamped(H h, const Generations& g) {
+    h.generation = g[static_cast<std::size_t>(h.idx)];
+    return h;
+  }
+  template <class H>
+  void expect_alive(H h, const char* accessor) const {
+    if (!alive(h)) detail::bad_handle(accessor, describe(h) + " is not a live element of this mesh");
+  }
+#else
+  template <class H>
+  static bool current(H, const Generations&) {
+    return true;
+  }
+  template <class H>
+  static H stamped(H h, const Generations&) {
+    return h;
+  }
+  template <class H>
+  void expect_alive(H, const char*) const {}
+#endif
+  // The handle of a live element's slot, as handed out (with its generation).
+  VertexHandle stamped(VertexHandle v) const { return stamped(v, v_generation_); }
+  EdgeHandle stamped(EdgeHandle e) const { return stamped(e, e_generation_); }
+  TriangleHandle stamped(TriangleHandle t) const { return stamped(t, t_generation_); }
 
   // Visits every edge incident at v, in no particular order, without allocating; f returns
   // false to stop early.
@@ -465,22 +652,42 @@ class RgbMesh {
     std::int32_t handle;        // the new vertex, or the flipped edge
     std::uint8_t info_before;   // the flipped edge's color and level before the flip
   };
-  void rollback(const std::vector<JournalEntry>& journal);
+  // Undoes the journal; returns the first exception of a removal observer (all are called).
+  std::exception_ptr rollback(const std::vector<JournalEntry>& journal);
 
-  // Allocation with slot reuse.
+  // ---- storage (mesh_storage.cpp) ----
+  // Allocation with slot reuse. Free slots form singly linked lists through the dead slots
+  // themselves (a vertex's first parent, an edge's first triangle, a triangle's second edge
+  // hold the next free slot), newest first: freeing never allocates, so that removals and
+  // the rollback of compute_limits cannot fail halfway. new_* use the room that make_room
+  // made beforehand (mesh_primitives.cpp).
   VertexHandle new_vertex();
   EdgeHandle new_edge(VertexHandle a, VertexHandle b, std::uint8_t info);
   TriangleHandle new_triangle(const std::array<EdgeHandle, 3>& edges);
   void free_vertex(VertexHandle v);
   void free_edge(EdgeHandle e);
   void free_triangle(TriangleHandle t);
+  // Makes room (free slots or capacity) for that many new_vertex / new_edge / new_triangle
+  // calls, so that an operation that calls it first either throws std::bad_alloc before any
+  // change or completes. (new_vertex may still throw from a vertex property's copy; it does
+  // so before changing anything.)
+  void make_room(std::size_t vertices, std::size_t edges, std::size_t triangles);
+  void grow_vertex_arrays(std::size_t capacity);
+  void grow_edge_arrays(std::size_t capacity);
+  void grow_triangle_arrays(std::size_t capacity);
+  // The free slots, newest first, read off the lists (for validate()).
+  std::vector<std::int32_t> free_vertex_slots() const;
+  std::vector<std::int32_t> free_edge_slots() const;
+  std::vector<std::int32_t> free_triangle_slots() const;
 
-  // Topological primitives shared by the named operators.
+  // Topological primitives shared by the named operators (mesh_operators.cpp).
   // Inserts the vertex with control point `control` (the Loop stencil's value).
   VertexHandle bisect(EdgeHandle e, const Vec3& control);
   void flip(EdgeHandle e, std::uint8_t new_info);
   EdgeHandle unbisect(VertexHandle m);
   EdgeHandle unbisect(VertexHandle m, EdgeHandle half_a, EdgeHandle half_b);  // halves at the parents
+  // Room for one more journal entry, so that recording cannot fail after a change.
+  void reserve_journal_entry();
 
   static std::uint8_t edge_info(bool red, int level) {
     return static_cast<std::uint8_t>((red ? 0x80 : 0) | level);
@@ -494,11 +701,24 @@ class RgbMesh {
   [[noreturn]] void fail(const char* op, const std::string& what) const;
   std::string describe(EdgeHandle e) const;
   std::string describe(VertexHandle v) const;
+  std::string describe(TriangleHandle t) const;
+  // The handle as the mesh hands it out, or PreconditionError "op: <h> does not exist".
+  VertexHandle checked(VertexHandle v, const char* op) const;
+  EdgeHandle checked(EdgeHandle e, const char* op) const;
   VertexHandle checked_split(EdgeHandle e, SplitKind kind, const char* op);
-  VertexHandle split_checked_edge(EdgeHandle e, SplitKind kind, const char* op);
+  // Prepares the stencil and bisects e (a refinable edge of that kind); no observers yet.
+  VertexHandle split_unreported(EdgeHandle e, SplitKind kind, const char* op);
   EdgeHandle checked_merge(VertexHandle v, MergeKind kind, const char* op);
   void stabilize_around(VertexHandle m);
-  void notify_inserted(VertexHandle v);
+
+  // Observers (mesh_storage.cpp). Each calls every observer, even after one threw, and
+  // returns the first exception (empty if none) for the caller to rethrow once the mesh is
+  // consistent.
+  [[nodiscard]] std::exception_ptr notify_inserted(VertexHandle v) const;
+  [[nodiscard]] std::exception_ptr notify_removing(VertexHandle v) const;
+  static void rethrow_if(const std::exception_ptr& e) {
+    if (e) std::rethrow_exception(e);
+  }
 
   // Vertices.
   std::vector<EdgeHandle> v_edge_;  // invalid: free slot
@@ -509,6 +729,7 @@ class RgbMesh {
   // coarser than K need theirs (a quarter), which saves 20 bytes per vertex.
   mutable std::vector<std::int32_t> v_limit_index_;  // into limits_, or -1 if not known
   mutable std::vector<Vec3> limits_;
+  // Capacity kept at least limits_.size(), so that release_limit cannot fail.
   mutable std::vector<std::int32_t> limits_free_;
   std::vector<std::uint8_t> v_flags_;  // kBoundaryFlag
   bool limit_known(VertexHandle v) const { return v_limit_index_[v.idx] >= 0; }
@@ -517,16 +738,19 @@ class RgbMesh {
   std::vector<double> base_eigenvalue_;        // g of Eq. 7 for each base vertex
   std::vector<JournalEntry>* journal_ = nullptr;
   mutable VertexStar scratch_star_;  // for merge_kind (the mesh is not for concurrent use)
-  std::vector<std::int32_t> v_free_;
+  std::int32_t v_free_ = -1;           // the newest free vertex slot, -1 if none
+  Generations v_generation_;           // empty without checked handles
   // Edges.
   std::vector<std::array<VertexHandle, 2>> e_vert_;  // [0] invalid: free slot
   std::vector<std::array<TriangleHandle, 2>> e_tri_;
   std::vector<std::uint8_t> e_info_;  // bit 7 red, bits 0-6 level
-  std::vector<std::int32_t> e_free_;
+  std::int32_t e_free_ = -1;
+  Generations e_generation_;
   // Triangles.
   std::vector<std::array<EdgeHandle, 3>> t_edge_;  // [0] invalid: free slot
   std::vector<std::uint8_t> t_info_;               // bits 6-7 color, bits 0-5 level
-  std::vector<std::int32_t> t_free_;
+  std::int32_t t_free_ = -1;
+  Generations t_generation_;
 
   std::size_t n_vertices_ = 0, n_edges_ = 0, n_triangles_ = 0;
   std::size_t n_base_vertices_ = 0;
@@ -546,5 +770,88 @@ class RgbMesh {
   std::vector<RemovalObserver> removal_observers_;
   int next_observer_id_ = 1;
 };
+
+template <class H>
+H HandleRange<H>::iterator::operator*() const {
+  return r_->mesh_->stamped(H(i_));
+}
+
+// ---- small navigation steps, inline: every operator runs them many times -------------------
+
+inline std::array<VertexHandle, 3> RgbMesh::triangle_vertices(TriangleHandle t) const {
+  expect_alive(t, "triangle_vertices");
+  const auto& te = t_edge_[t.idx];
+  const auto& a = e_vert_[te[0].idx];
+  const auto& b = e_vert_[te[1].idx];
+  // Corner 1 is shared by edges 0 and 1; corners 0 and 2 are their other ends.
+  const VertexHandle c1 = (a[0] == b[0] || a[0] == b[1]) ? a[0] : a[1];
+  const VertexHandle c0 = (c1 == a[0]) ? a[1] : a[0];
+  const VertexHandle c2 = (c1 == b[0]) ? b[1] : b[0];
+  return {c0, c1, c2};
+}
+
+inline int RgbMesh::local_index(TriangleHandle t, EdgeHandle e) const {
+  const auto& te = t_edge_[t.idx];
+  return te[0] == e ? 0 : (te[1] == e ? 1 : (te[2] == e ? 2 : -1));
+}
+
+inline VertexHandle RgbMesh::opposite_vertex(TriangleHandle t, EdgeHandle e) const {
+  expect_alive(t, "opposite_vertex");
+  const int i = local_index(t, e);
+  assert(i >= 0);
+  // The far end of the next edge: the endpoint it does not share with e.
+  const auto& n = e_vert_[t_edge_[t.idx][(i + 1) % 3].idx];
+  const auto& ev = e_vert_[e.idx];
+  return (n[0] == ev[0] || n[0] == ev[1]) ? n[1] : n[0];
+}
+
+inline void RgbMesh::replace_edge_triangle(EdgeHandle e, TriangleHandle from, TriangleHandle to) {
+  auto& et = e_tri_[e.idx];
+  if (et[0] == from) {
+    et[0] = to;
+  } else {
+    assert(et[1] == from);
+    et[1] = to;
+  }
+}
+
+// Rotation around a vertex. In a triangle with v at corner i, edge i leaves v and edge i+2
+// arrives at v; going counter-clockwise around v, the leaving edge comes first, and the next
+// triangle counter-clockwise is the one beyond the arriving edge. Whether e leaves or arrives
+// at v in t is read off the neighbouring edge of t: no corner computation needed.
+
+// The triangle in which e leaves v, and that triangle's edge arriving at v.
+inline std::pair<TriangleHandle, EdgeHandle> RgbMesh::leaving_triangle(VertexHandle v, EdgeHandle e) const {
+  for (TriangleHandle t : e_tri_[e.idx]) {
+    if (!t.valid()) continue;
+    const auto& te = t_edge_[t.idx];
+    const int i = te[0] == e ? 0 : (te[1] == e ? 1 : 2);
+    const EdgeHandle prev = te[(i + 2) % 3];
+    if (e_vert_[prev.idx][0] == v || e_vert_[prev.idx][1] == v) return {t, prev};
+  }
+  return {TriangleHandle(), EdgeHandle()};
+}
+
+// The triangle in which e arrives at v, and that triangle's edge leaving v.
+inline std::pair<TriangleHandle, EdgeHandle> RgbMesh::arriving_triangle(VertexHandle v, EdgeHandle e) const {
+  for (TriangleHandle t : e_tri_[e.idx]) {
+    if (!t.valid()) continue;
+    const auto& te = t_edge_[t.idx];
+    const int i = te[0] == e ? 0 : (te[1] == e ? 1 : 2);
+    const EdgeHandle next = te[(i + 1) % 3];
+    if (e_vert_[next.idx][0] == v || e_vert_[next.idx][1] == v) return {t, next};
+  }
+  return {TriangleHandle(), EdgeHandle()};
+}
+
+inline VertexHandle RgbMesh::checked(VertexHandle v, const char* op) const {
+  if (!alive(v)) fail(op, describe(v) + " does not exist");
+  return stamped(v);
+}
+
+inline EdgeHandle RgbMesh::checked(EdgeHandle e, const char* op) const {
+  if (!alive(e)) fail(op, describe(e) + " does not exist");
+  return stamped(e);
+}
 
 }  // namespace rgbmesh
