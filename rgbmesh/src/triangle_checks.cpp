@@ -51,7 +51,9 @@ class UnionFind {
 void check_degenerate(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles,
                       const TriangleNames& name, AreaCheck area_check) {
   for (std::size_t t = 0; t < triangles.size(); ++t) {
-    const auto [a, b, c] = triangles[t];
+    // Named variables, not a structured binding: lambdas may capture bindings only from C++20
+    // on (GCC accepts it in C++17, clang 14 does not).
+    const std::int32_t a = triangles[t][0], b = triangles[t][1], c = triangles[t][2];
     const auto fail = [&](const std::string& why) {
       throw InputError("triangle " + name.one(static_cast<std::int32_t>(t)) + " is degenerate: " + why);
     };
