@@ -4,13 +4,14 @@
 // gives the same triangulation whatever happened before.
 //
 // The walks take 10^5 steps in optimised builds. validate() after every step dominates their
-// time (about 35 s per mesh in Release); unoptimised code is about 10 times slower and
+// time (0.5 to 3 minutes per mesh in Release); unoptimised code is about 10 times slower and
 // ASan+UBSan 30 times: there the walks are shorter, so that the whole suite runs under the
 // sanitizers too (RGBMESH_SANITIZE may also be defined by the build).
 
 #include <gtest/gtest.h>
 
 #include <map>
+#include <ostream>
 #include <set>
 
 #include "rgbmesh/mesh.hpp"
@@ -71,6 +72,9 @@ struct WalkCase {
   testing::BaseMesh base;
   std::uint64_t seed;
 };
+
+// GoogleTest prints parameters with this (CTest shows it in the test names).
+void PrintTo(const WalkCase& c, std::ostream* os) { *os << c.base.name << ", seed " << c.seed; }
 
 class RandomWalk : public ::testing::TestWithParam<WalkCase> {};
 
