@@ -416,7 +416,23 @@ class Checker {
     return nullptr;
   }
 
+  // VTK's attribute data hold one array per name: a second array of the same name replaces the
+  // first while VTK's XML readers still read one array per element, by position, so that two
+  // CellData arrays of the same name make vtkXMLPolyDataReader and
+  // vtkXMLUnstructuredGridReader read through a null pointer (VTK 9.1). VTK's writers never
+  // write two, so any section that has them is refused. Unnamed arrays are VTK's own error.
+  void check_unique_names(const Element& data, const std::string& where) const {
+    std::vector<std::string_view> names;
+    for (const Element& a : data.children)
+      if (is_array(a))
+        if (const auto name = a.attribute("Name")) names.push_back(*name);
+    std::sort(names.begin(), names.end());
+    const auto repeated = std::adjacent_find(names.begin(), names.end());
+    if (repeated != names.end()) throw error(where + " has two arrays named '" + shown(*repeated) + "'");
+  }
+
   void check_field_data(const Element& field) {
+    check_unique_names(field, "the field data");
     for (const Element& a : field.children) {
       if (!is_array(a)) continue;
       std::optional<u64> tuples;
@@ -465,12 +481,14 @@ class Checker {
     }
     for (const auto& [data_name, tuples] :
          {std::pair<std::string_view, u64>{"PointData", points}, {"CellData", cells}}) {
-      if (const Element* data = child(piece, data_name))
+      if (const Element* data = child(piece, data_name)) {
+        check_unique_names(*data, where + " " + std::string(data_name));
         for (const Element& a : data->children)
           if (is_array(a))
             check_array(a, tuples,
                         where + " " + std::string(data_name) + " array '" +
                             shown(a.attribute("Name").value_or("")) + "'");
+      }
     }
     if (poly_data) {
       for (int k = 0; k < 4; ++k)
