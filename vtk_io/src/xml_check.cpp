@@ -25,6 +25,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "input_file.hpp"
@@ -205,10 +206,12 @@ class XmlReader {
       if (pos_ >= end) throw error("the file ends inside <" + shown(element.name) + ">: it is truncated");
       if (data_[pos_] == '>') {
         ++pos_;
+        check_unique_attributes(element);
         return false;
       }
       if (starts_with("/>")) {
         pos_ += 2;
+        check_unique_attributes(element);
         return true;
       }
       if (pos_ == before) throw error("malformed attributes in <" + shown(element.name) + ">");
@@ -227,10 +230,25 @@ class XmlReader {
       a.value = data_.substr(pos_, close - pos_);
       if (a.value.find('<') != npos) throw error("malformed attribute in <" + shown(element.name) + ">");
       pos_ = close + 1;
-      if (element.attribute(a.name))
-        throw error("<" + shown(element.name) + "> repeats the attribute " + shown(a.name));
       element.attributes.push_back(a);
     }
+  }
+
+  // An attribute given twice (VTK would take one of them, unchecked). Sorted, not compared pair
+  // by pair: a tag with a million attributes would take hours. Names the attribute whose second
+  // occurrence comes first, as a front-to-back scan would.
+  void check_unique_attributes(const Element& element) const {
+    std::vector<std::pair<std::string_view, std::size_t>> names;
+    names.reserve(element.attributes.size());
+    for (std::size_t i = 0; i < element.attributes.size(); ++i)
+      names.emplace_back(element.attributes[i].name, i);
+    std::sort(names.begin(), names.end());
+    std::size_t repeated = npos;
+    for (std::size_t i = 1; i < names.size(); ++i)
+      if (names[i].first == names[i - 1].first) repeated = std::min(repeated, names[i].second);
+    if (repeated != npos)
+      throw error("<" + shown(element.name) + "> repeats the attribute " +
+                  shown(element.attributes[repeated].name));
   }
 
   InputError error(const std::string& what) const { return InputError(path_ + ": cannot read: " + what); }
