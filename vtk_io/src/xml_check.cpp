@@ -19,7 +19,9 @@
 #include <vtkZLibDataCompressor.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -544,7 +546,9 @@ class Checker {
       const Element* types = array_named(*cells, "types");
       if (n > 0 && types == nullptr)
         throw error(where + ": " + std::to_string(n) + " cells but no types array");
-      if (types != nullptr) check_array(*types, n, where + " types");
+      // Decoded (decompressed), not only measured: when VTK fails to read the types (a damaged
+      // block), vtkXMLUnstructuredGridReader leaks the array it made for them (VTK 9.1).
+      if (types != nullptr) check_array(*types, n, where + " types", true);
       // Polyhedra bring face arrays, whose layout VTK reads without checks; they are no surface
       // polygons anyway.
       if (array_named(*cells, "faces") != nullptr || array_named(*cells, "faceoffsets") != nullptr)
@@ -582,7 +586,7 @@ class Checker {
     const std::string_view format = a.attribute("format").value_or("");
     ArrayData result;
     if (format == "ascii") {
-      result = ascii_values(a, what, decode);
+      result = ascii_values(a, *type, what, decode);
     } else if (format == "binary" || format == "appended") {
       result = binary_values(a, *type, what, decode, format == "appended");
     } else {
@@ -594,7 +598,13 @@ class Checker {
     return result;
   }
 
-  ArrayData ascii_values(const Element& a, const std::string& what, bool decode) const {
+  // VTK reads ASCII values with `stream >> value` until the first that does not parse, and is
+  // content when it got as many as it needs: "1,5" was read as 1 (and ",5" dropped when it was
+  // the last value), "0x10" as 0, "1.5" in an integer array as 1, 300 in a UInt8 array as 44;
+  // where it got too few, vtkXMLUnstructuredGridReader leaked its cell types array (VTK 9.1). So
+  // every value must be a number of the array's type, as the text readers of rgbmesh take
+  // numbers (from_chars: decimal, "nan" and "inf" read, any overflow or underflow refused).
+  ArrayData ascii_values(const Element& a, const Word& type, const std::string& what, bool decode) const {
     ArrayData result;
     if (a.text_begin == npos) return result;
     const std::string_view text = data_.substr(a.text_begin, a.text_end - a.text_begin);
@@ -604,15 +614,66 @@ class Checker {
       while (i < text.size() && !is_xml_space(text[i])) ++i;
       if (i == start) break;
       ++result.values;
-      if (decode) {
-        std::int64_t value = 0;
-        const auto parsed = std::from_chars(text.data() + start, text.data() + i, value);
-        if (parsed.ec != std::errc() || parsed.ptr != text.data() + i)
-          throw error(what + ": '" + shown(text.substr(start, i - start)) + "' is not an integer");
-        result.integers.push_back(value);
+      const std::string_view token = text.substr(start, i - start);
+      std::int64_t value = 0;
+      if (!ascii_value(token, type, value)) {
+        if (type.is_integer)
+          throw error(what + ": '" + shown(token) + "' is not an integer in the range of " +
+                      std::string(type.name));
+        throw error(what + ": '" + shown(token) + "' is not a " + std::string(type.name) + " number");
       }
+      if (decode) result.integers.push_back(value);
     }
     return result;
+  }
+
+  // Whether `token` is a value of `type`; integers are returned in `value` (a UInt64 beyond the
+  // Int64 range as -1: a corrupt offset, as in binary data). Strings are character codes that
+  // nothing here uses: not checked.
+  static bool ascii_value(std::string_view token, const Word& type, std::int64_t& value) {
+    if (type.size == 0) return true;
+    if (!token.empty() && token[0] == '+') token.remove_prefix(1);
+    const char* begin = token.data();
+    const char* end = token.data() + token.size();
+    if (type.is_integer) {
+      if (type.is_signed) {
+        const auto parsed = std::from_chars(begin, end, value);
+        const std::int64_t limit = type.size == 8 ? 0 : std::int64_t{1} << (8 * type.size - 1);
+        return parsed.ec == std::errc() && parsed.ptr == end &&
+               (limit == 0 || (value >= -limit && value < limit));
+      }
+      u64 unsigned_value = 0;
+      const auto parsed = std::from_chars(begin, end, unsigned_value);
+      const u64 max = type.name == "Bit" ? 1
+                      : type.size == 8   ? std::numeric_limits<u64>::max()
+                                         : (u64{1} << (8 * type.size)) - 1;
+      if (parsed.ec != std::errc() || parsed.ptr != end || unsigned_value > max) return false;
+      value = unsigned_value > static_cast<u64>(std::numeric_limits<std::int64_t>::max())
+                  ? -1
+                  : static_cast<std::int64_t>(unsigned_value);
+      return true;
+    }
+    // from_chars also takes "infinity" and "nan(...)", which VTK does not: past the sign, a
+    // number starts with a digit or a point, or is "nan" or "inf" in any case.
+    const std::string_view unsigned_part = token.substr(token.empty() || token[0] != '-' ? 0 : 1);
+    const bool starts_number =
+        !unsigned_part.empty() &&
+        (std::isdigit(static_cast<unsigned char>(unsigned_part[0])) || unsigned_part[0] == '.');
+    if (!starts_number && !equals_ignoring_case(unsigned_part, "nan") &&
+        !equals_ignoring_case(unsigned_part, "inf"))
+      return false;
+    double number = 0;
+    const auto parsed = std::from_chars(begin, end, number);
+    if (parsed.ec != std::errc() || parsed.ptr != end) return false;
+    // Beyond the float range, VTK's stream read fails.
+    return type.size != 4 || !std::isfinite(number) || std::abs(number) <= std::numeric_limits<float>::max();
+  }
+
+  static bool equals_ignoring_case(std::string_view a, std::string_view lower) {
+    if (a.size() != lower.size()) return false;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (std::tolower(static_cast<unsigned char>(a[i])) != lower[i]) return false;
+    return true;
   }
 
   // Where the array's binary data start and end, and whether they are base64.

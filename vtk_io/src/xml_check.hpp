@@ -10,7 +10,11 @@
 // holds), and every DataArray: type, NumberOfComponents, format (ascii, binary, appended),
 // offset within the appended data, and the size header of binary data (byte count, or block
 // count and sizes when compressed) against the values the counts require and the bytes the file
-// has. The cell offsets are decoded, since VTK sizes the connectivity by the last one.
+// has. The cell offsets are decoded, since VTK sizes the connectivity by the last one, and so are
+// the cell types of unstructured grids, since VTK leaks them when it fails to read them. Every
+// ASCII value must be a number of its array's type (VTK silently reads "1,5" as 1 and 300 as a
+// UInt8 44), and no data section may hold two arrays of one name (VTK then reads through a null
+// pointer).
 //
 // Files as VTK and ParaView write them pass: ascii, inline base64, appended raw or base64, any
 // of VTK's compressors, 32- or 64-bit headers, either byte order.
