@@ -296,6 +296,9 @@ def make(c):
         text = obj[:n]
         if text.endswith("\n") or text.split("\n")[-1].count(" ") < 3:
             c.add("obj-truncated-%d.obj" % n, text, "", "info convert")
+    # A face continued over 80,000 lines: copying the tokens at each continuation took 80 s.
+    c.add("obj-continued-lines.obj", "f 1 2 \\\n" + "3\\\n" * 80000 + "\n",
+          "vertex index 1 is out of range")
 
     # --- OFF ---
     off = off_text()
@@ -573,6 +576,48 @@ def make(c):
             c.add(name("no-types"), replace_once(good, b'Name="types"', b'Name="typez"'), "no types array")
             c.add(name("tetra"), replace_once(text, b"5 5 5 5 5 5 5 5", b"10 5 5 5 5 5 5 5"), "is a tetrahedron",
                   "info convert")
+        # Found by fuzzing (fuzz/README.md): two cell arrays of one name made VTK read through a
+        # null pointer.
+        twice, twice_attrs = octahedron_arrays(kind)
+        twice += [("CellData", Array("level", "UInt8", [0] * 8))] * 2
+        c.add(name("cell-arrays-same-name"), xml_file(kind, twice, twice_attrs),
+              "piece 0 CellData has two arrays named 'level'")
+        # ASCII values that VTK misread (it stops at the first character that does not fit,
+        # content when it has enough values) or fails on.
+        c.add(name("ascii-comma"), replace_once(text, b"0 0 -1\n", b"0 0 -1,5\n"), "'-1,5' is not a Float64 number")
+        c.add(name("ascii-hex"), replace_once(text, b"0 0 -1\n", b"0 0 0x10\n"), "'0x10' is not a Float64 number")
+        c.add(name("ascii-infinity"), replace_once(text, b"0 0 -1\n", b"0 0 infinity\n"),
+              "'infinity' is not a Float64 number")
+        c.add(name("ascii-fraction-index"), replace_once(text, b"0 2 4", b"0 2 4.0"),
+              "'4.0' is not an integer in the range of Int64")
+        float32 = text.replace(b'type="Float64" Name="Points"', b'type="Float32" Name="Points"')
+        c.add(name("ascii-float32-overflow"), replace_once(float32, b"0 0 -1\n", b"0 0 -1e39\n"),
+              "'-1e39' is not a Float32 number")
+        if kind == "UnstructuredGrid":
+            # 261 was read as 5 (a triangle); the types that VTK failed to read (fuzzing) leaked.
+            c.add(name("ascii-type-261"), replace_once(text, b"5 5 5 5 5 5 5 5", b"5 5 5 5 5 5 5 261"),
+                  "'261' is not an integer in the range of UInt8")
+            c.add(name("ascii-types-not-numbers"), replace_once(text, b"5 5 5 5 5 5 5 5", b"5 5 5 5 5 5 /> 5"),
+                  "'/>' is not an integer in the range of UInt8")
+            types = start + first_offset(good, "types")
+            damaged = bytearray(good)
+            for k in range(types + 16, types + 24):
+                damaged[k] ^= 0x5A
+            c.add(name("types-block-damaged"), bytes(damaged), "Cells types: compressed block 0 is damaged")
+        else:
+            # One tag with 150,000 attributes: comparing each with all before it took 40 s.
+            digits = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789"
+            names = []
+            for i in range(150000):
+                n = "a"
+                while True:
+                    n += digits[i % 62]
+                    i //= 62
+                    if i == 0:
+                        break
+                names.append(n)
+            c.add(name("many-attributes"), '<VTKFile type="PolyData" %s aa="">\n</VTKFile>\n'
+                  % " ".join('%s=""' % n for n in names), "<VTKFile> repeats the attribute aa")
         for n in (10, 100, 400, 700, start - 20, start + 3, len(good) - 60):
             c.add(name("truncated-%04d" % n), good[:n], "")
 
