@@ -80,7 +80,8 @@ class ScratchInput {
   // Not a finding: the machine, not rgbmesh, failed (a full /dev/shm). Exits without the
   // abort() that would make libFuzzer save the input as a crash.
   [[noreturn]] void environment_failure(const char* what) const {
-    std::fprintf(stderr, "rgbmesh fuzz: %s the scratch file %s: %s\n", what, path_.c_str(), std::strerror(errno));
+    std::fprintf(stderr, "rgbmesh fuzz: %s the scratch file %s: %s\n", what, path_.c_str(),
+                 std::strerror(errno));
     std::_Exit(75);
   }
 

@@ -30,12 +30,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     mesh = RgbMesh::from_triangles(prepared.points, prepared.triangles);
   } catch (const InputError& e) {
-    fuzz::finding(std::string("RgbMesh::from_triangles refuses what prepare_triangle_mesh made: ") + e.what());
+    fuzz::finding(std::string("RgbMesh::from_triangles refuses what prepare_triangle_mesh made: ") +
+                  e.what());
   }
   if (mesh.num_vertices() != prepared.points.size() || mesh.num_triangles() != prepared.triangles.size())
     fuzz::finding("RgbMesh::from_triangles made " + std::to_string(mesh.num_vertices()) + " vertices and " +
-                  std::to_string(mesh.num_triangles()) + " triangles of " + std::to_string(prepared.points.size()) +
-                  " and " + std::to_string(prepared.triangles.size()));
+                  std::to_string(mesh.num_triangles()) + " triangles of " +
+                  std::to_string(prepared.points.size()) + " and " +
+                  std::to_string(prepared.triangles.size()));
   const std::string problem = mesh.validate();
   if (!problem.empty()) fuzz::finding("validate() on the mesh of an accepted file: " + problem);
   return 0;

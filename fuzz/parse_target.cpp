@@ -48,7 +48,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } else if (format == "ply") {
     mesh_and_cloud([&](const detail::ReadOptions& options) { detail::parse_ply(text, path, options); });
   } else if (format == "vtk") {
-    mesh_and_cloud([&](const detail::ReadOptions& options) { detail::parse_legacy_vtk(text, path, options); });
+    mesh_and_cloud(
+        [&](const detail::ReadOptions& options) { detail::parse_legacy_vtk(text, path, options); });
   } else if (format == "stl") {
     accepted([&] { detail::parse_stl(bytes, path); });
   } else if (format == "xyz") {
@@ -58,8 +59,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     accepted([&] { detail::check_vtk_xml(bytes, path, "PolyData"); });
     accepted([&] { detail::check_vtk_xml(bytes, path, "UnstructuredGrid"); });
   } else {
-    static_assert(format == "off" || format == "obj" || format == "ply" || format == "vtk" || format == "stl" ||
-                      format == "xyz" || format == "xml",
+    static_assert(format == "off" || format == "obj" || format == "ply" || format == "vtk" ||
+                      format == "stl" || format == "xyz" || format == "xml",
                   "RGBMESH_FUZZ_FORMAT: off, obj, ply, vtk, stl, xyz or xml");
   }
   return 0;

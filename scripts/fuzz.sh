@@ -19,7 +19,8 @@
 #
 # Environment: RGBMESH_CLI (the rgbmesh tool for the seeds; default: build-fuzz/bin/rgbmesh,
 # else build/bin/rgbmesh, else it is built in build-fuzz), FUZZ_BUILD_JOBS (default 2),
-# FUZZ_MINIMIZE_SECONDS (default 60 per finding), FUZZ_MAX_LEN (default 262144 bytes).
+# FUZZ_MINIMIZE_SECONDS (default 60 per finding), FUZZ_MINIMIZE_COUNT (default 3 per target),
+# FUZZ_MAX_LEN (default 262144 bytes).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -59,6 +60,7 @@ for t in "${targets[@]}"; do
 done
 max_len=${FUZZ_MAX_LEN:-262144}
 minimize_seconds=${FUZZ_MINIMIZE_SECONDS:-60}
+max_minimized=${FUZZ_MINIMIZE_COUNT:-3}
 
 # --- what is needed ---------------------------------------------------------------------------
 scripts/install-deps.sh main
@@ -188,12 +190,17 @@ for t in "${targets[@]}"; do
     done
     [ ${#new_findings[@]} -gt 0 ] || new_findings+=("(no input saved) exit code $rc: ${what:-see $log}")
   done
+  # libFuzzer's minimisation runs step after step while the input shrinks (-max_total_time is
+  # per step), so `timeout` bounds it; what it reached so far is in FILE.min. The first few
+  # findings only: the others are mostly the same bug again.
+  minimized=0
   for entry in "${new_findings[@]}"; do
     file=${entry%%: *}
-    [ -f "$file" ] || continue
+    [ -f "$file" ] && [ "$minimized" -lt "$max_minimized" ] || continue
+    minimized=$((minimized + 1))
     echo "   minimising $(basename "$file") (${minimize_seconds}s)"
-    "$bin" -minimize_crash=1 -max_total_time="$minimize_seconds" -timeout=10 -rss_limit_mb=2048 \
-      -exact_artifact_path="$file.min" "$file" >> "$log" 2>&1 || true
+    timeout -k 5 "$minimize_seconds" "$bin" -minimize_crash=1 -max_total_time=$(((minimize_seconds + 3) / 4)) \
+      -timeout=10 -rss_limit_mb=2048 -exact_artifact_path="$file.min" "$file" >> "$log" 2>&1 || true
     remove_stale_scratch_files
   done
   corpus_size=$(find "$corpus" -type f | wc -l)
