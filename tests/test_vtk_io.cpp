@@ -42,6 +42,7 @@
 #include <random>
 #include <sstream>
 
+#include "rgbmesh/errors.hpp"
 #include "rgbmesh/vtk_io.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
@@ -1233,6 +1234,25 @@ TEST_F(VtkIo, WritingIntoAReadOnlyDirectoryThrows) {
     GTEST_SKIP() << "running with permission to write anywhere (root)";
   EXPECT_THROW(write_mesh(path("readonly/m.vtp"), grid_snapshot(1)), std::runtime_error);
   EXPECT_TRUE(entries(path("readonly")).empty());
+}
+
+// A folder where no file can be created, even by root (/proc): every writer, VTK's included,
+// reports the folder and the system's reason, not the name of a temporary file.
+TEST_F(VtkIo, WritingWhereNoFileCanBeCreatedNamesTheFolderAndTheReason) {
+  if (!fs::is_directory("/proc")) GTEST_SKIP() << "no /proc";
+  for (const std::string ext : {".obj", ".off", ".ply", ".stl", ".vtp", ".vtu"}) {
+    const fs::path target = "/proc/rgbmesh-test" + ext;
+    try {
+      write_mesh(target, grid_snapshot(1));
+      ADD_FAILURE() << target << " was written";
+    } catch (const rgbmesh::OutputError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(target.string() + ": cannot write: cannot create a file in the folder /proc: "),
+                std::string::npos)
+          << message;
+      EXPECT_EQ(message.find(".tmp-"), std::string::npos) << message;
+    }
+  }
 }
 
 // A write that fails part way (here: the file size limit is hit) leaves an existing target as

@@ -145,6 +145,15 @@ void replace_atomically(const fs::path& requested, const std::function<void(cons
     unregister_temporary(slot);
   };
   try {
+    // Created here first, so that a folder the process cannot write to is reported with the
+    // system's reason and the folder's name, whatever writer comes next (VTK's name only the
+    // temporary file, without a reason).
+    const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) {
+      const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+      throw std::runtime_error("cannot create a file in the folder " + folder.string() + ": " + std::strerror(errno));
+    }
+    ::close(fd);
     write(temp);
     if (!fs::is_regular_file(temp)) throw std::runtime_error("the writer created no file");
     flush_to_disk(temp);
