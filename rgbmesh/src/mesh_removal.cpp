@@ -29,7 +29,9 @@ char color_letter(Color c) {
 
 void RgbMesh::remove_vertex(VertexHandle v) {
   v = checked(v, "remove_vertex");
-  const auto [a, b] = v_parents_[v.idx];
+  // Named copies, not a structured binding: lambdas may capture those only from C++20.
+  const VertexHandle a = v_parents_[v.idx][0];
+  const VertexHandle b = v_parents_[v.idx][1];
   // One walk around v checks removability (section IV-D) and finds the halves of its edge.
   const int l = level(v);
   bool removable = l > 0;
