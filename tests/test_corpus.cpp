@@ -14,6 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -142,6 +143,8 @@ class Corpus : public ::testing::TestWithParam<std::string> {
     if (command == "info") args = {"info", file.string()};
     if (command == "convert") args = {"convert", file.string(), (dir / "out.vtp").string()};
     if (command == "fit") args = {"fit", "--target", file.string(), "--out", (dir / "fit").string()};
+    if (command == "refine") args = {"refine", file.string(), (dir / "out.vtp").string(), "--uniform", "1"};
+    if (command == "adapt") args = {"adapt", "--mesh", file.string(), "--out", (dir / "adapt").string()};
     ASSERT_FALSE(args.empty()) << command;
     const ToolRun r = run_tool(args, dir);
     const std::string what = label + ": rgbmesh " + command + ": ";
@@ -175,7 +178,14 @@ TEST_P(Corpus, EveryFileIsOneLineErrorWithExitCode2) {
     ++files;
     const fs::path file = corpus_dir / c.name;
     ASSERT_TRUE(fs::is_regular_file(file)) << file;
-    for (const std::string& command : c.commands) {
+    std::vector<std::string> commands = c.commands;
+    // refine and adapt read meshes as info does (the manifest names the commands of the reading
+    // paths; these two run every mesh file too, as a user would).
+    if (!is_point_cloud_only(ext) && std::find(commands.begin(), commands.end(), "info") != commands.end()) {
+      commands.push_back("refine");
+      commands.push_back("adapt");
+    }
+    for (const std::string& command : commands) {
       // info and convert read meshes: a point-cloud format is an unknown mesh format to them.
       const std::string expected =
           is_point_cloud_only(ext) && command != "fit" ? "unknown mesh format" : c.expected;
