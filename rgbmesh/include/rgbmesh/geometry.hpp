@@ -1,5 +1,6 @@
 #pragma once
-// Small geometric queries used by level-of-detail criteria.
+/// \file
+/// Small geometric queries used by level-of-detail criteria.
 
 #include <vector>
 
@@ -7,11 +8,11 @@
 
 namespace rgbmesh {
 
-// The point of triangle (a, b, c) closest to p (Voronoi regions of vertices, edges, face).
+/// The point of triangle (a, b, c) closest to p (Voronoi regions of vertices, edges, face).
 Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
-// The length of the diagonal of the points' axis-aligned bounding box (0 if there are none):
-// the scale that relative tolerances and errors refer to.
+/// The length of the diagonal of the points' axis-aligned bounding box (0 if there are none):
+/// the scale that relative tolerances and errors refer to.
 double bounding_box_diagonal(const std::vector<Vec3>& points);
 
 inline double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {

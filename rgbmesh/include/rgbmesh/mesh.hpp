@@ -1,96 +1,97 @@
 #pragma once
-// RGB triangulations (Puppo & Panozzo, "RGB Subdivision", IEEE TVCG 2009).
-//
-// The mesh is the incidence structure of section VII kept as struct-of-arrays with integer
-// handles and free lists: triangle -> 3 edges (counter-clockwise, edge i runs from corner i to
-// corner i+1), edge -> 2 vertices + 2 triangles (the second invalid on the boundary),
-// vertex -> one incident edge. Colors and levels live in one byte per edge and per triangle.
-//
-// Combinatorial rules (section IV-A):
-//  * a triangle's level is the lowest level of its edges; it is green when its three edges
-//    have the same level, red when one edge is one level finer, blue when two are;
-//  * a green edge of level l has l = the highest insertion level of its endpoints; a red edge
-//    of level l bisects a parent triangle of level l, from the midpoint (level l+1) of one of
-//    its edges to the opposite corner;
-//  * every vertex of level l > 0 is the midpoint of a green edge of level l-1 whose endpoints
-//    (its "parents") it remembers (Fig. 12).
-//
-// The eleven local operators of section IV are public, named, and check their preconditions
-// (throwing PreconditionError): four splits, four merges and three swaps, plus the boundary
-// forms of splits and merges. split_edge() and remove_vertex() compose them as in section V.
-//
-// Handles and their lifetime
-// --------------------------
-// Elements are named by integer handles (handles.hpp) into slots that free lists reuse.
-//  * A vertex handle names its vertex from the insertion until that vertex is removed:
-//    remove_vertex(v), merge(v) and the merge_* operators, or removals made for the caller
-//    (selective_refinement's coarsening; compute_limits removes only the helper vertices it
-//    inserted itself, and restores every edge and triangle slot as it was). Insertions and
-//    swaps never invalidate a vertex handle, and a vertex
-//    never changes slot. After a removal the slot is reused by a later insertion: an old
-//    handle then names another vertex.
-//  * Edges and triangles are rewritten in place by the operators around them, so their
-//    handles are for use between operations. What holds: while only insertions happen
-//    (split_edge, the splits, complete_limit), a green edge keeps its slot and endpoints
-//    until it is split itself; the split leaves in its slot the half at its first endpoint
-//    (edge_vertices(e)[0]). A swap leaves the new diagonal in the slot of the old one (and
-//    returns it). A merge leaves the restored edge in the slot of the half at the first
-//    parent (parents(v)[0]). Red edges may be swapped by split_edge's stabilising BB-swaps,
-//    and removals swap edges around the removed vertex (Fig. 11). To find an edge again,
-//    keep its endpoints and use find_edge(a, b) (selective_refinement's queue does this).
-//  * To keep a reference to a vertex across operations, keep its handle and register a
-//    removal observer: it is called while the vertex and its data still exist, which is the
-//    moment to drop or re-key the reference. Per-vertex data belongs in add_vertex_property,
-//    whose values follow the slots (a reused slot starts again from the default value).
-//    Identity across a removal and a new insertion: a vertex of level > 0 is the midpoint of
-//    the green edge between its parents, so inserting a vertex on that edge again gives the
-//    same point of the Loop hierarchy (same level, parents and insertion_point), under a new
-//    handle. Keys by parents (recursively down to base vertices, whose handles never change)
-//    or by insertion_point survive any sequence of operations.
-//  * Using a handle that does not name a live element is a programming error. Operators
-//    (splits, merges, swaps, split_edge, remove_vertex, complete_limit) always check and
-//    throw PreconditionError. Accessors (level, control_point, edge_vertices, ...) check in
-//    builds with checked handles (RGBMESH_CHECKED_HANDLES, the default without NDEBUG): an
-//    out-of-range, dead or stale handle (its slot freed since the mesh handed it out, see
-//    handles.hpp) prints what was wrong and aborts; in Release builds they do not check at
-//    all (no cost), and a stale handle reads whatever the slot holds now. alive(h) says
-//    whether h names a live element (in checked builds: the element it was handed out for).
-//
-// Exceptions
-// ----------
-// PreconditionError: an operator called on a dead or stale handle or on the wrong
-// configuration; always thrown before anything changes (except those whose message says
-// "internal error": they would be bugs). InputError: from_triangles.
-// std::bad_alloc: arrays that cannot grow. And whatever an observer throws. "Valid" below
-// means validate() is empty; "stable" that validate(true) is.
-//  * Queries (const methods) change nothing but the cache of limit positions.
-//  * swap_bb, swap_gg, swap_rb: strong guarantee; once the checks pass, nothing can fail.
-//  * split_gg ... split_r_boundary, split_refinable: strong for precondition errors. The
-//    stencil's limit positions may first need vertices inserted elsewhere (split_edge, below,
-//    with its guarantee): an exception there leaves those insertions and no split. The split
-//    itself is all or nothing (room is made before anything changes). Observers are told
-//    once it is done; if one throws, the split stays and the exception propagates.
-//  * merge_r4 ... merge_gb_boundary, merge: strong for precondition errors; then observers
-//    are told, then the merge is carried out even if one of them threw (it cannot fail), and
-//    the exception propagates afterwards.
-//  * split_edge: strong for precondition errors (checked first). It is a sequence of
-//    complete steps: the forced splits of coarser neighbours, each a split_edge of its own,
-//    then e's split; each step is stabilised (BB-swaps) and then reported to the observers.
-//    An exception (an observer's, std::bad_alloc) stops the sequence after a complete step:
-//    the mesh is valid, and stable if it was, with e maybe not yet split. complete_limit
-//    behaves the same.
-//  * remove_vertex: strong for precondition errors; observers are told before anything
-//    changes; the swaps and the merge cannot fail and are carried out even if an observer
-//    threw; the exception propagates afterwards. The mesh stays valid, and stable if it was.
-//  * compute_limits: strong. Any exception undoes every operation it did, exactly (handles
-//    included; observers see those removals too), before it propagates; limit positions
-//    computed so far stay known.
-//  * from_triangles: creates a new mesh or throws (InputError, std::bad_alloc).
-//  * Copy assignment, reserve, add_vertex_property, add_*_observer: strong. Moves and
-//    remove_observer: no-throw.
-//  * Observers are all called for every change that was made, also when one of them throws;
-//    the first exception is rethrown once the mesh is consistent as described above, later
-//    ones are dropped. They may read the mesh but must not change it or the observer lists.
+/// \file
+/// RGB triangulations (Puppo & Panozzo, "RGB Subdivision", IEEE TVCG 2009).
+///
+/// The mesh is the incidence structure of section VII kept as struct-of-arrays with integer
+/// handles and free lists: triangle -> 3 edges (counter-clockwise, edge i runs from corner i to
+/// corner i+1), edge -> 2 vertices + 2 triangles (the second invalid on the boundary),
+/// vertex -> one incident edge. Colors and levels live in one byte per edge and per triangle.
+///
+/// Combinatorial rules (section IV-A):
+///  * a triangle's level is the lowest level of its edges; it is green when its three edges
+///    have the same level, red when one edge is one level finer, blue when two are;
+///  * a green edge of level l has l = the highest insertion level of its endpoints; a red edge
+///    of level l bisects a parent triangle of level l, from the midpoint (level l+1) of one of
+///    its edges to the opposite corner;
+///  * every vertex of level l > 0 is the midpoint of a green edge of level l-1 whose endpoints
+///    (its "parents") it remembers (Fig. 12).
+///
+/// The eleven local operators of section IV are public, named, and check their preconditions
+/// (throwing PreconditionError): four splits, four merges and three swaps, plus the boundary
+/// forms of splits and merges. split_edge() and remove_vertex() compose them as in section V.
+///
+/// Handles and their lifetime
+/// --------------------------
+/// Elements are named by integer handles (handles.hpp) into slots that free lists reuse.
+///  * A vertex handle names its vertex from the insertion until that vertex is removed:
+///    remove_vertex(v), merge(v) and the merge_* operators, or removals made for the caller
+///    (selective_refinement's coarsening; compute_limits removes only the helper vertices it
+///    inserted itself, and restores every edge and triangle slot as it was). Insertions and
+///    swaps never invalidate a vertex handle, and a vertex
+///    never changes slot. After a removal the slot is reused by a later insertion: an old
+///    handle then names another vertex.
+///  * Edges and triangles are rewritten in place by the operators around them, so their
+///    handles are for use between operations. What holds: while only insertions happen
+///    (split_edge, the splits, complete_limit), a green edge keeps its slot and endpoints
+///    until it is split itself; the split leaves in its slot the half at its first endpoint
+///    (edge_vertices(e)[0]). A swap leaves the new diagonal in the slot of the old one (and
+///    returns it). A merge leaves the restored edge in the slot of the half at the first
+///    parent (parents(v)[0]). Red edges may be swapped by split_edge's stabilising BB-swaps,
+///    and removals swap edges around the removed vertex (Fig. 11). To find an edge again,
+///    keep its endpoints and use find_edge(a, b) (selective_refinement's queue does this).
+///  * To keep a reference to a vertex across operations, keep its handle and register a
+///    removal observer: it is called while the vertex and its data still exist, which is the
+///    moment to drop or re-key the reference. Per-vertex data belongs in add_vertex_property,
+///    whose values follow the slots (a reused slot starts again from the default value).
+///    Identity across a removal and a new insertion: a vertex of level > 0 is the midpoint of
+///    the green edge between its parents, so inserting a vertex on that edge again gives the
+///    same point of the Loop hierarchy (same level, parents and insertion_point), under a new
+///    handle. Keys by parents (recursively down to base vertices, whose handles never change)
+///    or by insertion_point survive any sequence of operations.
+///  * Using a handle that does not name a live element is a programming error. Operators
+///    (splits, merges, swaps, split_edge, remove_vertex, complete_limit) always check and
+///    throw PreconditionError. Accessors (level, control_point, edge_vertices, ...) check in
+///    builds with checked handles (RGBMESH_CHECKED_HANDLES, the default without NDEBUG): an
+///    out-of-range, dead or stale handle (its slot freed since the mesh handed it out, see
+///    handles.hpp) prints what was wrong and aborts; in Release builds they do not check at
+///    all (no cost), and a stale handle reads whatever the slot holds now. alive(h) says
+///    whether h names a live element (in checked builds: the element it was handed out for).
+///
+/// Exceptions
+/// ----------
+/// PreconditionError: an operator called on a dead or stale handle or on the wrong
+/// configuration; always thrown before anything changes (except those whose message says
+/// "internal error": they would be bugs). InputError: from_triangles.
+/// std::bad_alloc: arrays that cannot grow. And whatever an observer throws. "Valid" below
+/// means validate() is empty; "stable" that validate(true) is.
+///  * Queries (const methods) change nothing but the cache of limit positions.
+///  * swap_bb, swap_gg, swap_rb: strong guarantee; once the checks pass, nothing can fail.
+///  * split_gg ... split_r_boundary, split_refinable: strong for precondition errors. The
+///    stencil's limit positions may first need vertices inserted elsewhere (split_edge, below,
+///    with its guarantee): an exception there leaves those insertions and no split. The split
+///    itself is all or nothing (room is made before anything changes). Observers are told
+///    once it is done; if one throws, the split stays and the exception propagates.
+///  * merge_r4 ... merge_gb_boundary, merge: strong for precondition errors; then observers
+///    are told, then the merge is carried out even if one of them threw (it cannot fail), and
+///    the exception propagates afterwards.
+///  * split_edge: strong for precondition errors (checked first). It is a sequence of
+///    complete steps: the forced splits of coarser neighbours, each a split_edge of its own,
+///    then e's split; each step is stabilised (BB-swaps) and then reported to the observers.
+///    An exception (an observer's, std::bad_alloc) stops the sequence after a complete step:
+///    the mesh is valid, and stable if it was, with e maybe not yet split. complete_limit
+///    behaves the same.
+///  * remove_vertex: strong for precondition errors; observers are told before anything
+///    changes; the swaps and the merge cannot fail and are carried out even if an observer
+///    threw; the exception propagates afterwards. The mesh stays valid, and stable if it was.
+///  * compute_limits: strong. Any exception undoes every operation it did, exactly (handles
+///    included; observers see those removals too), before it propagates; limit positions
+///    computed so far stay known.
+///  * from_triangles: creates a new mesh or throws (InputError, std::bad_alloc).
+///  * Copy assignment, reserve, add_vertex_property, add_*_observer: strong. Moves and
+///    remove_observer: no-throw.
+///  * Observers are all called for every change that was made, also when one of them throws;
+///    the first exception is rethrown once the mesh is consistent as described above, later
+///    ones are dropped. They may read the mesh but must not change it or the observer lists.
 
 #include <array>
 #include <cassert>
@@ -111,54 +112,54 @@
 
 namespace rgbmesh {
 
-// Levels are stored in 6 bits of the triangle byte; 30 is far beyond any practical use
-// (a level-30 uniform refinement of one triangle has 4^30 triangles).
+/// Levels are stored in 6 bits of the triangle byte; 30 is far beyond any practical use
+/// (a level-30 uniform refinement of one triangle has 4^30 triangles).
 inline constexpr int kMaxLevel = 30;
 
-// A local operator was called where it does not apply.
+/// A local operator was called where it does not apply.
 class PreconditionError : public std::logic_error {
  public:
   using std::logic_error::logic_error;
 };
 
-// The split variants of Fig. 5, named after the colors of the triangles incident at the edge.
+/// The split variants of Fig. 5, named after the colors of the triangles incident at the edge.
 enum class SplitKind : std::uint8_t {
   not_refinable,
-  gg,          // two green triangles
-  rg,          // one green, one red
-  rr1,         // two red, diamond boundary red-green-red-green
-  rr2,         // two red, diamond boundary red-red-green-green
-  g_boundary,  // boundary edge of a green triangle
-  r_boundary,  // boundary edge of a red triangle
+  gg,          ///< two green triangles
+  rg,          ///< one green, one red
+  rr1,         ///< two red, diamond boundary red-green-red-green
+  rr2,         ///< two red, diamond boundary red-red-green-green
+  g_boundary,  ///< boundary edge of a green triangle
+  r_boundary,  ///< boundary edge of a red triangle
 };
 
-// The merge variants (inverses of the splits), named after the star of the vertex.
+/// The merge variants (inverses of the splits), named after the star of the vertex.
 enum class MergeKind : std::uint8_t {
   not_mergeable,
-  r4,           // inverts GG-split: four red triangles
-  r2gb,         // inverts RG-split
-  gbgb,         // inverts RR1-split
-  g2b2,         // inverts RR2-split
-  r2_boundary,  // inverts a boundary split of a green triangle
-  gb_boundary,  // inverts a boundary split of a red triangle
+  r4,           ///< inverts GG-split: four red triangles
+  r2gb,         ///< inverts RG-split
+  gbgb,         ///< inverts RR1-split
+  g2b2,         ///< inverts RR2-split
+  r2_boundary,  ///< inverts a boundary split of a green triangle
+  gb_boundary,  ///< inverts a boundary split of a red triangle
 };
 
 const char* to_string(SplitKind k);
 const char* to_string(MergeKind k);
 
-// Counters of the operations performed since construction (or reset_counters()).
+/// Counters of the operations performed since construction (or reset_counters()).
 struct OperationCounters {
-  std::uint64_t splits = 0;    // vertex insertions (all split variants, forced ones included)
-  std::uint64_t removals = 0;  // vertex removals (all merge variants)
+  std::uint64_t splits = 0;    ///< vertex insertions (all split variants, forced ones included)
+  std::uint64_t removals = 0;  ///< vertex removals (all merge variants)
   std::uint64_t swaps_bb = 0;
   std::uint64_t swaps_gg = 0;
   std::uint64_t swaps_rb = 0;
 };
 
-// The star of a vertex in counter-clockwise order. neighbors[i] is the far end of edges[i];
-// triangles[i] lies between edges[i] and edges[i+1] (cyclically for an interior vertex).
-// For a boundary vertex, edges.front() and edges.back() are the boundary edges and there is
-// one triangle fewer than edges.
+/// The star of a vertex in counter-clockwise order. neighbors[i] is the far end of edges[i];
+/// triangles[i] lies between edges[i] and edges[i+1] (cyclically for an interior vertex).
+/// For a boundary vertex, edges.front() and edges.back() are the boundary edges and there is
+/// one triangle fewer than edges.
 struct VertexStar {
   std::vector<EdgeHandle> edges;
   std::vector<VertexHandle> neighbors;
@@ -167,16 +168,16 @@ struct VertexStar {
 };
 
 namespace detail {
-// Reports a use of a handle that names no live element, and aborts (checked builds only).
+/// Reports a use of a handle that names no live element, and aborts (checked builds only).
 [[noreturn]] void bad_handle(const char* accessor, const std::string& what);
 }  // namespace detail
 
-// Per-vertex user data that follows the mesh's vertex slots (see RgbMesh::add_vertex_property).
+/// Per-vertex user data that follows the mesh's vertex slots (see RgbMesh::add_vertex_property).
 class PropertyArrayBase {
  public:
   virtual ~PropertyArrayBase() = default;
   virtual void resize(std::size_t n) = 0;
-  // Gives slot i the default value again (a new vertex in a reused slot).
+  /// Gives slot i the default value again (a new vertex in a reused slot).
   virtual void reset(std::size_t i) = 0;
   virtual std::unique_ptr<PropertyArrayBase> clone() const = 0;
 };
@@ -220,7 +221,7 @@ class VertexProperty {
 
 class RgbMesh;
 
-// Iteration over the live slots of one element kind: `for (VertexHandle v : mesh.vertices())`.
+/// Iteration over the live slots of one element kind: `for (VertexHandle v : mesh.vertices())`.
 template <class H>
 class HandleRange {
  public:
@@ -233,7 +234,7 @@ class HandleRange {
     using pointer = const H*;
     using reference = H;
     iterator(const HandleRange* r, std::int32_t i) : r_(r), i_(i) { skip(); }
-    H operator*() const;  // the handle of slot i_, with its generation (defined after RgbMesh)
+    H operator*() const;  ///< the handle of slot i_, with its generation (defined after RgbMesh)
     iterator& operator++() {
       ++i_;
       skip();
@@ -259,14 +260,14 @@ class HandleRange {
   AliveFn alive_;
 };
 
-// What RgbMesh::from_triangles requires of the points besides being finite.
+/// What RgbMesh::from_triangles requires of the points besides being finite.
 enum class PointRole : std::uint8_t {
-  // Positions of a surface: a triangle of zero area (collinear or coincident corners) is
-  // rejected, as prepare_triangle_mesh rejects it.
+  /// Positions of a surface: a triangle of zero area (collinear or coincident corners) is
+  /// rejected, as prepare_triangle_mesh rejects it.
   surface,
-  // Any per-vertex values that subdivision carries along (its rules are linear in them), e.g.
-  // the indicator vectors whose limits are the weights of the limit stencils: zero-area
-  // triangles are allowed.
+  /// Any per-vertex values that subdivision carries along (its rules are linear in them), e.g.
+  /// the indicator vectors whose limits are the weights of the limit stencils: zero-area
+  /// triangles are allowed.
   values,
 };
 
@@ -279,19 +280,19 @@ class RgbMesh {
   RgbMesh& operator=(RgbMesh&&) noexcept = default;
   ~RgbMesh() = default;
 
-  // Builds the base mesh Σ0 (all green, level 0): vertex i is points[i], triangle t has the
-  // corners triangles[t] in that (counter-clockwise) order, and their handles are i and t.
-  // It rejects, with prepare_triangle_mesh's checks and messages (one InputError naming the
-  // element), an empty mesh, non-finite coordinates, indices out of range, degenerate
-  // triangles (a repeated vertex, or with PointRole::surface zero area), duplicate triangles
-  // (the same vertex set, such as two triangles glued back to back), edges of more than two
-  // triangles, vertices whose triangles form several fans, and non-orientable surfaces.
-  // Where prepare_triangle_mesh repairs, from_triangles rejects too, since a repair would
-  // change what the caller's indices mean and there is nobody to tell: inconsistently
-  // oriented neighbours ("triangles 3 and 7 are oriented inconsistently across edge (2, 5)")
-  // and unreferenced vertices ("vertex 4 is not referenced by any triangle"), each message
-  // ending "(prepare_triangle_mesh repairs this)". For a mesh from a file, or any other
-  // mesh to be repaired, run prepare_triangle_mesh first.
+  /// Builds the base mesh Σ0 (all green, level 0): vertex i is points[i], triangle t has the
+  /// corners triangles[t] in that (counter-clockwise) order, and their handles are i and t.
+  /// It rejects, with prepare_triangle_mesh's checks and messages (one InputError naming the
+  /// element), an empty mesh, non-finite coordinates, indices out of range, degenerate
+  /// triangles (a repeated vertex, or with PointRole::surface zero area), duplicate triangles
+  /// (the same vertex set, such as two triangles glued back to back), edges of more than two
+  /// triangles, vertices whose triangles form several fans, and non-orientable surfaces.
+  /// Where prepare_triangle_mesh repairs, from_triangles rejects too, since a repair would
+  /// change what the caller's indices mean and there is nobody to tell: inconsistently
+  /// oriented neighbours ("triangles 3 and 7 are oriented inconsistently across edge (2, 5)")
+  /// and unreferenced vertices ("vertex 4 is not referenced by any triangle"), each message
+  /// ending "(prepare_triangle_mesh repairs this)". For a mesh from a file, or any other
+  /// mesh to be repaired, run prepare_triangle_mesh first.
   static RgbMesh from_triangles(const std::vector<Vec3>& points,
                                 const std::vector<std::array<std::int32_t, 3>>& triangles,
                                 PointRole role = PointRole::surface);
@@ -305,18 +306,18 @@ class RgbMesh {
   std::int32_t triangle_slots() const { return static_cast<std::int32_t>(t_edge_.size()); }
   std::size_t num_base_vertices() const { return n_base_vertices_; }
 
-  // Makes room for that many vertices, edges and triangles (slots), so that a large
-  // refinement grows its arrays once instead of by repeated doubling.
+  /// Makes room for that many vertices, edges and triangles (slots), so that a large
+  /// refinement grows its arrays once instead of by repeated doubling.
   void reserve(std::size_t vertices, std::size_t edges, std::size_t triangles);
 
-  // The bytes the connectivity and geometry arrays hold now (their capacities; vertex
-  // properties excluded), and what arrays for that many vertices, edges and triangles take:
-  // for memory ceilings and for estimating a refinement before it runs.
+  /// The bytes the connectivity and geometry arrays hold now (their capacities; vertex
+  /// properties excluded), and what arrays for that many vertices, edges and triangles take:
+  /// for memory ceilings and for estimating a refinement before it runs.
   std::size_t memory_bytes() const;
   static std::size_t storage_bytes(std::size_t vertices, std::size_t edges, std::size_t triangles);
 
-  // Whether h names a live element; with checked handles, also that it is the element h was
-  // handed out for (not a later one in a reused slot).
+  /// Whether h names a live element; with checked handles, also that it is the element h was
+  /// handed out for (not a later one in a reused slot).
   bool alive(VertexHandle v) const {
     return in_range(v.idx, v_edge_.size()) && v_edge_[v.idx].valid() && current(v, v_generation_);
   }
@@ -332,7 +333,7 @@ class RgbMesh {
   HandleRange<TriangleHandle> triangles() const;
 
   // ---- connectivity ---------------------------------------------------------------------
-  // Every accessor below needs live handles (see "Handles and their lifetime").
+  /// Every accessor below needs live handles (see "Handles and their lifetime").
   const std::array<VertexHandle, 2>& edge_vertices(EdgeHandle e) const {
     expect_alive(e, "edge_vertices");
     return e_vert_[e.idx];
@@ -345,7 +346,7 @@ class RgbMesh {
     expect_alive(t, "triangle_edges");
     return t_edge_[t.idx];
   }
-  std::array<VertexHandle, 3> triangle_vertices(TriangleHandle t) const;  // counter-clockwise
+  std::array<VertexHandle, 3> triangle_vertices(TriangleHandle t) const;  ///< counter-clockwise
   EdgeHandle vertex_edge(VertexHandle v) const {
     expect_alive(v, "vertex_edge");
     return v_edge_[v.idx];
@@ -367,7 +368,7 @@ class RgbMesh {
     return et[0] == t ? et[1] : et[0];
   }
   VertexHandle opposite_vertex(TriangleHandle t, EdgeHandle e) const;
-  EdgeHandle find_edge(VertexHandle a, VertexHandle b) const;  // invalid if none
+  EdgeHandle find_edge(VertexHandle a, VertexHandle b) const;  ///< invalid if none
   void star(VertexHandle v, VertexStar& out) const;
   VertexStar star(VertexHandle v) const {
     VertexStar s;
@@ -398,8 +399,8 @@ class RgbMesh {
     expect_alive(t, "color");
     return static_cast<Color>(t_info_[t.idx] >> 6);
   }
-  // Endpoints of the edge that v split (Fig. 12); both invalid for base vertices. They are
-  // also the parent triangle's vertices that a red edge ending at v refers to (VI-C).
+  /// Endpoints of the edge that v split (Fig. 12); both invalid for base vertices. They are
+  /// also the parent triangle's vertices that a red edge ending at v refers to (VI-C).
   const std::array<VertexHandle, 2>& parents(VertexHandle v) const {
     expect_alive(v, "parents");
     return v_parents_[v.idx];
@@ -415,116 +416,116 @@ class RgbMesh {
   // Limit positions are computed lazily and cached; the cache is written by const methods,
   // so a mesh must not be read from several threads at once.
 
-  // p^l(v) with l = level(v): Loop's odd rule on the stencil of the edge v split.
+  /// p^l(v) with l = level(v): Loop's odd rule on the stencil of the edge v split.
   const Vec3& insertion_point(VertexHandle v) const {
     expect_alive(v, "insertion_point");
     return v_control_[v.idx];
   }
-  // Whether v lies on the boundary (uses the crease rules of Eq. 2, 5, 8, 9).
+  /// Whether v lies on the boundary (uses the crease rules of Eq. 2, 5, 8, 9).
   bool is_boundary_vertex(VertexHandle v) const {
     expect_alive(v, "is_boundary_vertex");
     return (v_flags_[v.idx] & kBoundaryFlag) != 0;
   }
-  // The level at which v is shown: the lowest level of its green edges (VI-D).
+  /// The level at which v is shown: the lowest level of its green edges (VI-D).
   int shown_level(VertexHandle v) const;
-  // p^k(v) for k >= level(v). Needs the limit position when k > level(v).
+  /// p^k(v) for k >= level(v). Needs the limit position when k > level(v).
   Vec3 control_point(VertexHandle v, int k) const;
-  // The control point at the shown level: where v is in the current mesh. In a uniform mesh
-  // of level K this is Loop subdivision's level-K point.
+  /// The control point at the shown level: where v is in the current mesh. In a uniform mesh
+  /// of level K this is Loop subdivision's level-K point.
   Vec3 control_point(VertexHandle v) const {
     expect_alive(v, "control_point");
     return control_point(v, shown_level(v));
   }
-  // The point of v in the Loop mesh of level max(l, level(v)) when known without inserting
-  // vertices, else the shown control point. Criteria measure an edge or triangle of level l
-  // with it: unlike shown points, it does not change while the element exists.
+  /// The point of v in the Loop mesh of level max(l, level(v)) when known without inserting
+  /// vertices, else the shown control point. Criteria measure an edge or triangle of level l
+  /// with it: unlike shown points, it does not change while the element exists.
   Vec3 level_point(VertexHandle v, int l) const;
-  // Whether limit_position(v) is available: known already, or computable because the Loop
-  // 1-ring of v at its level is in the mesh (recursively for its parents).
+  /// Whether limit_position(v) is available: known already, or computable because the Loop
+  /// 1-ring of v at its level is in the mesh (recursively for its parents).
   bool has_limit(VertexHandle v) const;
-  // The position of v on the limit surface (Eq. 6, 8); PreconditionError when !has_limit(v).
+  /// The position of v on the limit surface (Eq. 6, 8); PreconditionError when !has_limit(v).
   Vec3 limit_position(VertexHandle v) const;
-  // Makes the limit position of v available by inserting its missing Loop neighbours (and
-  // those of its parents), as the stencils of section VI-C require (Fig. 13).
+  /// Makes the limit position of v available by inserting its missing Loop neighbours (and
+  /// those of its parents), as the stencils of section VI-C require (Fig. 13).
   void complete_limit(VertexHandle v);
-  // Makes limit_position() available for every vertex without changing the mesh: missing
-  // neighbours are inserted, the limit positions recorded, and the inserted vertices removed
-  // again (observers see both). Returns how many vertices were inserted and removed.
+  /// Makes limit_position() available for every vertex without changing the mesh: missing
+  /// neighbours are inserted, the limit positions recorded, and the inserted vertices removed
+  /// again (observers see both). Returns how many vertices were inserted and removed.
   std::size_t compute_limits();
-  // The Loop stencil of refinable edge e at its level l: its endpoints, then the vertices
-  // opposite e in the two level-l triangles of the Loop mesh (for a red triangle, the apex
-  // of its parent triangle, VI-C); the last two are invalid on the boundary.
+  /// The Loop stencil of refinable edge e at its level l: its endpoints, then the vertices
+  /// opposite e in the two level-l triangles of the Loop mesh (for a red triangle, the apex
+  /// of its parent triangle, VI-C); the last two are invalid on the boundary.
   std::array<VertexHandle, 4> loop_stencil(EdgeHandle e) const;
-  // The control point that splitting refinable edge e gives the new vertex (Eq. 1, 2). Needs the
-  // limit positions of the stencil vertices coarser than e (split_edge provides them).
+  /// The control point that splitting refinable edge e gives the new vertex (Eq. 1, 2). Needs the
+  /// limit positions of the stencil vertices coarser than e (split_edge provides them).
   Vec3 odd_control_point(EdgeHandle e) const;
 
   // ---- predicates -----------------------------------------------------------------------
-  // Green, and every incident triangle has the edge's level (section IV-A).
+  /// Green, and every incident triangle has the edge's level (section IV-A).
   bool is_refinable(EdgeHandle e) const;
-  // Level > 0 and no neighbour has a higher level (section IV-D).
+  /// Level > 0 and no neighbour has a higher level (section IV-D).
   bool is_removable(VertexHandle v) const;
-  // No red edge shared by two blue triangles.
+  /// No red edge shared by two blue triangles.
   bool is_stable() const;
   SplitKind split_kind(EdgeHandle e) const;
-  // The green edges whose split raises triangle t's level: its lowest green edges, or for a
-  // blue triangle those of the red triangle across its red edge (section V-B).
+  /// The green edges whose split raises triangle t's level: its lowest green edges, or for a
+  /// blue triangle those of the red triangle across its red edge (section V-B).
   void raising_edges(TriangleHandle t, std::vector<EdgeHandle>& out) const;
   MergeKind merge_kind(VertexHandle v) const;
-  // The star of a removable vertex as one of the 28 configurations of Fig. 11, written as the
-  // colors of the triangles on each side of the split edge read counter-clockwise from a
-  // parent endpoint, e.g. "GBR|RR"; rotations give the same string. Empty if not removable.
+  /// The star of a removable vertex as one of the 28 configurations of Fig. 11, written as the
+  /// colors of the triangles on each side of the split edge read counter-clockwise from a
+  /// parent endpoint, e.g. "GBR|RR"; rotations give the same string. Empty if not removable.
   std::string removal_configuration(VertexHandle v) const;
 
   // ---- the eleven local operators (section IV) -------------------------------------------
-  // Edge splits: insert a vertex at level(e)+1 on a refinable edge; return it.
+  /// Edge splits: insert a vertex at level(e)+1 on a refinable edge; return it.
   VertexHandle split_gg(EdgeHandle e);
   VertexHandle split_rg(EdgeHandle e);
   VertexHandle split_rr1(EdgeHandle e);
   VertexHandle split_rr2(EdgeHandle e);
   VertexHandle split_g_boundary(EdgeHandle e);
   VertexHandle split_r_boundary(EdgeHandle e);
-  // Edge merges: remove a vertex of valence 4 (3 on the boundary); return the restored edge.
+  /// Edge merges: remove a vertex of valence 4 (3 on the boundary); return the restored edge.
   EdgeHandle merge_r4(VertexHandle v);
   EdgeHandle merge_r2gb(VertexHandle v);
   EdgeHandle merge_gbgb(VertexHandle v);
   EdgeHandle merge_g2b2(VertexHandle v);
   EdgeHandle merge_r2_boundary(VertexHandle v);
   EdgeHandle merge_gb_boundary(VertexHandle v);
-  // Edge swaps; return the new edge (the slot of e is reused).
-  EdgeHandle swap_bb(EdgeHandle e);  // two blue triangles on a red edge -> two green
-  EdgeHandle swap_gg(EdgeHandle e);  // inverse of swap_bb
-  EdgeHandle swap_rb(EdgeHandle e);  // red+blue on a red edge -> the other red+blue pair
+  /// Edge swaps; return the new edge (the slot of e is reused).
+  EdgeHandle swap_bb(EdgeHandle e);  ///< two blue triangles on a red edge -> two green
+  EdgeHandle swap_gg(EdgeHandle e);  ///< inverse of swap_bb
+  EdgeHandle swap_rb(EdgeHandle e);  ///< red+blue on a red edge -> the other red+blue pair
 
-  // Applies whichever split variant fits a refinable edge (no stabilising swap).
+  /// Applies whichever split variant fits a refinable edge (no stabilising swap).
   VertexHandle split_refinable(EdgeHandle e);
-  // Applies whichever merge variant fits v (no preparatory swaps).
+  /// Applies whichever merge variant fits v (no preparatory swaps).
   EdgeHandle merge(VertexHandle v);
 
   // ---- selective refinement primitives (section V) ----------------------------------------
-  // Splits a green edge, first forcing the splits of coarser neighbours that make it
-  // refinable, and BB-swapping any unstable pair created: the mesh stays stable.
+  /// Splits a green edge, first forcing the splits of coarser neighbours that make it
+  /// refinable, and BB-swapping any unstable pair created: the mesh stays stable.
   VertexHandle split_edge(EdgeHandle e);
-  // Removes a removable vertex by the swap sequence of its configuration (Fig. 11) followed
-  // by a merge.
+  /// Removes a removable vertex by the swap sequence of its configuration (Fig. 11) followed
+  /// by a merge.
   void remove_vertex(VertexHandle v);
 
   // ---- observers --------------------------------------------------------------------------
-  // Called after a vertex is inserted: (new vertex, endpoints of the edge it split). Within
-  // split_edge, once the step that inserted it is complete and stable.
+  /// Called after a vertex is inserted: (new vertex, endpoints of the edge it split). Within
+  /// split_edge, once the step that inserted it is complete and stable.
   using InsertionCallback = std::function<void(VertexHandle, VertexHandle, VertexHandle)>;
-  // Called just before a vertex is removed: its handle and data are still valid, and the
-  // mesh is as the caller left it (remove_vertex calls it before its swaps).
+  /// Called just before a vertex is removed: its handle and data are still valid, and the
+  /// mesh is as the caller left it (remove_vertex calls it before its swaps).
   using RemovalCallback = std::function<void(VertexHandle)>;
-  // What happens when an observer throws: see "Exceptions" at the top of this file.
+  /// What happens when an observer throws: see "Exceptions" at the top of this file.
   int add_insertion_observer(InsertionCallback cb);
   int add_removal_observer(RemovalCallback cb);
   void remove_observer(int id);
 
   // ---- per-vertex properties --------------------------------------------------------------
-  // A value per vertex slot that grows with the mesh; every new vertex starts with
-  // default_value (also in a reused slot). The returned view stays valid for the mesh's
-  // lifetime.
+  /// A value per vertex slot that grows with the mesh; every new vertex starts with
+  /// default_value (also in a reused slot). The returned view stays valid for the mesh's
+  /// lifetime.
   template <class T>
   VertexProperty<T> add_vertex_property(T default_value = T()) {
     auto arr = std::make_unique<PropertyArray<T>>(std::move(default_value));
@@ -535,11 +536,11 @@ class RgbMesh {
   }
 
   // ---- checks, statistics, output ---------------------------------------------------------
-  // Checks every invariant: array and free-list consistency, incidence symmetry, conformity
-  // (no duplicate edges, each edge in one or two triangles that list it), manifold vertex
-  // stars, consistent orientation, the color/level rules of IV-A, parent references,
-  // Euler characteristic equal to the base mesh's, and stability when asked.
-  // Returns an empty string when all hold, else a description of the first violation.
+  /// Checks every invariant: array and free-list consistency, incidence symmetry, conformity
+  /// (no duplicate edges, each edge in one or two triangles that list it), manifold vertex
+  /// stars, consistent orientation, the color/level rules of IV-A, parent references,
+  /// Euler characteristic equal to the base mesh's, and stability when asked.
+  /// Returns an empty string when all hold, else a description of the first violation.
   std::string validate(bool require_stable = false) const;
 
   const OperationCounters& counters() const { return counters_; }
@@ -548,9 +549,9 @@ class RgbMesh {
     return static_cast<long>(n_vertices_) - static_cast<long>(n_edges_) + static_cast<long>(n_triangles_);
   }
   int boundary_loops() const;
-  // A compact copy for output. Points are the shown control points, or the limit positions
-  // (then every vertex needs has_limit(): call compute_limits() first). With geometry_arrays,
-  // the point data also carries both, as "control_point" and "limit".
+  /// A compact copy for output. Points are the shown control points, or the limit positions
+  /// (then every vertex needs has_limit(): call compute_limits() first). With geometry_arrays,
+  /// the point data also carries both, as "control_point" and "limit".
   enum class Points { control, limit };
   MeshSnapshot snapshot(Points points = Points::control, bool geometry_arrays = false) const;
 
@@ -561,8 +562,8 @@ class RgbMesh {
   static bool in_range(std::int32_t i, std::size_t n) { return i >= 0 && static_cast<std::size_t>(i) < n; }
 
   // ---- handle checks (mesh_storage.cpp) ----
-  // Each slot counts the elements freed in it (its generation, from 1); handles carry the
-  // count of their slot when the mesh made them. Only with checked handles (handles.hpp).
+  /// Each slot counts the elements freed in it (its generation, from 1); handles carry the
+  /// count of their slot when the mesh made them. Only with checked handles (handles.hpp).
   using Generations = std::vector<std::uint32_t>;
 #if RGBMESH_CHECKED_HANDLES
   template <class H>
@@ -590,13 +591,13 @@ class RgbMesh {
   template <class H>
   void expect_alive(H, const char*) const {}
 #endif
-  // The handle of a live element's slot, as handed out (with its generation).
+  /// The handle of a live element's slot, as handed out (with its generation).
   VertexHandle stamped(VertexHandle v) const { return stamped(v, v_generation_); }
   EdgeHandle stamped(EdgeHandle e) const { return stamped(e, e_generation_); }
   TriangleHandle stamped(TriangleHandle t) const { return stamped(t, t_generation_); }
 
-  // Visits every edge incident at v, in no particular order, without allocating; f returns
-  // false to stop early.
+  /// Visits every edge incident at v, in no particular order, without allocating; f returns
+  /// false to stop early.
   template <class F>
   void visit_edges(VertexHandle v, F&& f) const {
     const EdgeHandle start = v_edge_[v.idx];
@@ -619,22 +620,22 @@ class RgbMesh {
   std::pair<TriangleHandle, EdgeHandle> arriving_triangle(VertexHandle v, EdgeHandle e) const;
 
   static constexpr std::uint8_t kBoundaryFlag = 1;
-  // Geometry (mesh_geometry.cpp).
+  /// Geometry (mesh_geometry.cpp).
   void init_base_geometry();
   VertexHandle stencil_apex(TriangleHandle t, EdgeHandle e) const;
   double eigenvalue(VertexHandle v) const {
     return static_cast<std::size_t>(v.idx) < base_eigenvalue_.size() ? base_eigenvalue_[v.idx] : 0.25;
   }
-  // Computes and caches the limit position if the Loop rings allow it; false otherwise.
+  /// Computes and caches the limit position if the Loop rings allow it; false otherwise.
   bool try_limit(VertexHandle v) const;
-  // Makes the limit positions of the stencil's vertices coarser than l known (may insert
-  // vertices elsewhere); returns whether it had to insert any.
+  /// Makes the limit positions of the stencil's vertices coarser than l known (may insert
+  /// vertices elsewhere); returns whether it had to insert any.
   bool prepare_stencil(const std::array<VertexHandle, 4>& st, int l);
-  // Eq. 1 or 2 on a prepared stencil of level l.
+  /// Eq. 1 or 2 on a prepared stencil of level l.
   Vec3 stencil_point(const std::array<VertexHandle, 4>& st, int l) const;
-  // loop_stencil without the precondition check.
+  /// loop_stencil without the precondition check.
   std::array<VertexHandle, 4> stencil(EdgeHandle e) const;
-  // p^l(v) for l >= level(v), with the limit position known when l > level(v).
+  /// p^l(v) for l >= level(v), with the limit position known when l > level(v).
   Vec3 known_control_point(VertexHandle v, int l) const {
     if (l == level(v)) return v_control_[v.idx];
     const double g = (static_cast<std::size_t>(v.idx) < base_eigenvalue_.size())
@@ -642,51 +643,51 @@ class RgbMesh {
                          : std::ldexp(1.0, -2 * (l - level(v)));
     return g * v_control_[v.idx] + (1.0 - g) * limits_[v_limit_index_[v.idx]];
   }
-  // Splits edges until no triangle incident at v is coarser than v.
+  /// Splits edges until no triangle incident at v is coarser than v.
   void raise_star(VertexHandle v);
 
-  // While journal_ is set, bisect and flip record themselves so that rollback() can undo
-  // them exactly (handles included), newest first.
+  /// While journal_ is set, bisect and flip record themselves so that rollback() can undo
+  /// them exactly (handles included), newest first.
   struct JournalEntry {
     enum Kind : std::uint8_t { bisect, flip } kind;
-    std::int32_t handle;        // the new vertex, or the flipped edge
-    std::uint8_t info_before;   // the flipped edge's color and level before the flip
+    std::int32_t handle;        ///< the new vertex, or the flipped edge
+    std::uint8_t info_before;   ///< the flipped edge's color and level before the flip
   };
-  // Undoes the journal; returns the first exception of a removal observer (all are called).
+  /// Undoes the journal; returns the first exception of a removal observer (all are called).
   std::exception_ptr rollback(const std::vector<JournalEntry>& journal);
 
   // ---- storage (mesh_storage.cpp) ----
-  // Allocation with slot reuse. Free slots form singly linked lists through the dead slots
-  // themselves (a vertex's first parent, an edge's first triangle, a triangle's second edge
-  // hold the next free slot), newest first: freeing never allocates, so that removals and
-  // the rollback of compute_limits cannot fail halfway. new_* use the room that make_room
-  // made beforehand (mesh_primitives.cpp).
+  /// Allocation with slot reuse. Free slots form singly linked lists through the dead slots
+  /// themselves (a vertex's first parent, an edge's first triangle, a triangle's second edge
+  /// hold the next free slot), newest first: freeing never allocates, so that removals and
+  /// the rollback of compute_limits cannot fail halfway. new_* use the room that make_room
+  /// made beforehand (mesh_primitives.cpp).
   VertexHandle new_vertex();
   EdgeHandle new_edge(VertexHandle a, VertexHandle b, std::uint8_t info);
   TriangleHandle new_triangle(const std::array<EdgeHandle, 3>& edges);
   void free_vertex(VertexHandle v);
   void free_edge(EdgeHandle e);
   void free_triangle(TriangleHandle t);
-  // Makes room (free slots or capacity) for that many new_vertex / new_edge / new_triangle
-  // calls, so that an operation that calls it first either throws std::bad_alloc before any
-  // change or completes. (new_vertex may still throw from a vertex property's copy; it does
-  // so before changing anything.)
+  /// Makes room (free slots or capacity) for that many new_vertex / new_edge / new_triangle
+  /// calls, so that an operation that calls it first either throws std::bad_alloc before any
+  /// change or completes. (new_vertex may still throw from a vertex property's copy; it does
+  /// so before changing anything.)
   void make_room(std::size_t vertices, std::size_t edges, std::size_t triangles);
   void grow_vertex_arrays(std::size_t capacity);
   void grow_edge_arrays(std::size_t capacity);
   void grow_triangle_arrays(std::size_t capacity);
-  // The free slots, newest first, read off the lists (for validate()).
+  /// The free slots, newest first, read off the lists (for validate()).
   std::vector<std::int32_t> free_vertex_slots() const;
   std::vector<std::int32_t> free_edge_slots() const;
   std::vector<std::int32_t> free_triangle_slots() const;
 
-  // Topological primitives shared by the named operators (mesh_operators.cpp).
-  // Inserts the vertex with control point `control` (the Loop stencil's value).
+  /// Topological primitives shared by the named operators (mesh_operators.cpp).
+  /// Inserts the vertex with control point `control` (the Loop stencil's value).
   VertexHandle bisect(EdgeHandle e, const Vec3& control);
   void flip(EdgeHandle e, std::uint8_t new_info);
   EdgeHandle unbisect(VertexHandle m);
-  EdgeHandle unbisect(VertexHandle m, EdgeHandle half_a, EdgeHandle half_b);  // halves at the parents
-  // Room for one more journal entry, so that recording cannot fail after a change.
+  EdgeHandle unbisect(VertexHandle m, EdgeHandle half_a, EdgeHandle half_b);  ///< halves at the parents
+  /// Room for one more journal entry, so that recording cannot fail after a change.
   void reserve_journal_entry();
 
   static std::uint8_t edge_info(bool red, int level) {
@@ -696,59 +697,59 @@ class RgbMesh {
   int local_index(TriangleHandle t, EdgeHandle e) const;
   void replace_edge_triangle(EdgeHandle e, TriangleHandle from, TriangleHandle to);
 
-  // Precondition helpers.
-  // Throws PreconditionError; messages are built only on failure (they are not cheap).
+  /// Precondition helpers.
+  /// Throws PreconditionError; messages are built only on failure (they are not cheap).
   [[noreturn]] void fail(const char* op, const std::string& what) const;
   std::string describe(EdgeHandle e) const;
   std::string describe(VertexHandle v) const;
   std::string describe(TriangleHandle t) const;
-  // The handle as the mesh hands it out, or PreconditionError "op: <h> does not exist".
+  /// The handle as the mesh hands it out, or PreconditionError "op: <h> does not exist".
   VertexHandle checked(VertexHandle v, const char* op) const;
   EdgeHandle checked(EdgeHandle e, const char* op) const;
   VertexHandle checked_split(EdgeHandle e, SplitKind kind, const char* op);
-  // Prepares the stencil and bisects e (a refinable edge of that kind); no observers yet.
+  /// Prepares the stencil and bisects e (a refinable edge of that kind); no observers yet.
   VertexHandle split_unreported(EdgeHandle e, SplitKind kind, const char* op);
   EdgeHandle checked_merge(VertexHandle v, MergeKind kind, const char* op);
   void stabilize_around(VertexHandle m);
 
-  // Observers (mesh_storage.cpp). Each calls every observer, even after one threw, and
-  // returns the first exception (empty if none) for the caller to rethrow once the mesh is
-  // consistent.
+  /// Observers (mesh_storage.cpp). Each calls every observer, even after one threw, and
+  /// returns the first exception (empty if none) for the caller to rethrow once the mesh is
+  /// consistent.
   [[nodiscard]] std::exception_ptr notify_inserted(VertexHandle v) const;
   [[nodiscard]] std::exception_ptr notify_removing(VertexHandle v) const;
   static void rethrow_if(const std::exception_ptr& e) {
     if (e) std::rethrow_exception(e);
   }
 
-  // Vertices.
-  std::vector<EdgeHandle> v_edge_;  // invalid: free slot
+  /// Vertices.
+  std::vector<EdgeHandle> v_edge_;  ///< invalid: free slot
   std::vector<std::uint8_t> v_level_;
   std::vector<std::array<VertexHandle, 2>> v_parents_;
-  std::vector<Vec3> v_control_;                // p^l(v) at insertion level l
-  // Limit positions live in a side table: in a uniform mesh of level K only the vertices
-  // coarser than K need theirs (a quarter), which saves 20 bytes per vertex.
-  mutable std::vector<std::int32_t> v_limit_index_;  // into limits_, or -1 if not known
+  std::vector<Vec3> v_control_;                ///< p^l(v) at insertion level l
+  /// Limit positions live in a side table: in a uniform mesh of level K only the vertices
+  /// coarser than K need theirs (a quarter), which saves 20 bytes per vertex.
+  mutable std::vector<std::int32_t> v_limit_index_;  ///< into limits_, or -1 if not known
   mutable std::vector<Vec3> limits_;
-  // Capacity kept at least limits_.size(), so that release_limit cannot fail.
+  /// Capacity kept at least limits_.size(), so that release_limit cannot fail.
   mutable std::vector<std::int32_t> limits_free_;
-  std::vector<std::uint8_t> v_flags_;  // kBoundaryFlag
+  std::vector<std::uint8_t> v_flags_;  ///< kBoundaryFlag
   bool limit_known(VertexHandle v) const { return v_limit_index_[v.idx] >= 0; }
   void store_limit(VertexHandle v, const Vec3& p) const;
   void release_limit(VertexHandle v);
-  std::vector<double> base_eigenvalue_;        // g of Eq. 7 for each base vertex
+  std::vector<double> base_eigenvalue_;        ///< g of Eq. 7 for each base vertex
   std::vector<JournalEntry>* journal_ = nullptr;
-  mutable VertexStar scratch_star_;  // for merge_kind (the mesh is not for concurrent use)
-  std::int32_t v_free_ = -1;           // the newest free vertex slot, -1 if none
-  Generations v_generation_;           // empty without checked handles
-  // Edges.
-  std::vector<std::array<VertexHandle, 2>> e_vert_;  // [0] invalid: free slot
+  mutable VertexStar scratch_star_;  ///< for merge_kind (the mesh is not for concurrent use)
+  std::int32_t v_free_ = -1;           ///< the newest free vertex slot, -1 if none
+  Generations v_generation_;           ///< empty without checked handles
+  /// Edges.
+  std::vector<std::array<VertexHandle, 2>> e_vert_;  ///< [0] invalid: free slot
   std::vector<std::array<TriangleHandle, 2>> e_tri_;
-  std::vector<std::uint8_t> e_info_;  // bit 7 red, bits 0-6 level
+  std::vector<std::uint8_t> e_info_;  ///< bit 7 red, bits 0-6 level
   std::int32_t e_free_ = -1;
   Generations e_generation_;
-  // Triangles.
-  std::vector<std::array<EdgeHandle, 3>> t_edge_;  // [0] invalid: free slot
-  std::vector<std::uint8_t> t_info_;               // bits 6-7 color, bits 0-5 level
+  /// Triangles.
+  std::vector<std::array<EdgeHandle, 3>> t_edge_;  ///< [0] invalid: free slot
+  std::vector<std::uint8_t> t_info_;               ///< bits 6-7 color, bits 0-5 level
   std::int32_t t_free_ = -1;
   Generations t_generation_;
 
@@ -820,7 +821,7 @@ inline void RgbMesh::replace_edge_triangle(EdgeHandle e, TriangleHandle from, Tr
 // triangle counter-clockwise is the one beyond the arriving edge. Whether e leaves or arrives
 // at v in t is read off the neighbouring edge of t: no corner computation needed.
 
-// The triangle in which e leaves v, and that triangle's edge arriving at v.
+/// The triangle in which e leaves v, and that triangle's edge arriving at v.
 inline std::pair<TriangleHandle, EdgeHandle> RgbMesh::leaving_triangle(VertexHandle v, EdgeHandle e) const {
   for (TriangleHandle t : e_tri_[e.idx]) {
     if (!t.valid()) continue;
@@ -832,7 +833,7 @@ inline std::pair<TriangleHandle, EdgeHandle> RgbMesh::leaving_triangle(VertexHan
   return {TriangleHandle(), EdgeHandle()};
 }
 
-// The triangle in which e arrives at v, and that triangle's edge leaving v.
+/// The triangle in which e arrives at v, and that triangle's edge leaving v.
 inline std::pair<TriangleHandle, EdgeHandle> RgbMesh::arriving_triangle(VertexHandle v, EdgeHandle e) const {
   for (TriangleHandle t : e_tri_[e.idx]) {
     if (!t.valid()) continue;

@@ -1,14 +1,15 @@
 #pragma once
-// Small base meshes built from their definitions, for defaults and examples.
+/// \file
+/// Small base meshes built from their definitions, for defaults and examples.
 
 #include "rgbmesh/soup.hpp"
 
 namespace rgbmesh {
 
-// The regular icosahedron inscribed in the unit sphere: 12 vertices of valence 5, 20 triangles.
+/// The regular icosahedron inscribed in the unit sphere: 12 vertices of valence 5, 20 triangles.
 TriangleMeshData icosahedron();
 
-// The regular octahedron inscribed in the unit sphere: 6 vertices of valence 4, 8 triangles.
+/// The regular octahedron inscribed in the unit sphere: 6 vertices of valence 4, 8 triangles.
 TriangleMeshData octahedron();
 
 }  // namespace rgbmesh

@@ -1,5 +1,6 @@
 #pragma once
-// Summary figures of a mesh, for `rgbmesh info` and reports.
+/// \file
+/// Summary figures of a mesh, for `rgbmesh info` and reports.
 
 #include <array>
 #include <cstddef>
@@ -14,17 +15,17 @@ struct MeshStatistics {
   int components = 0;
   int boundary_loops = 0;
   long euler_characteristic = 0;
-  // Sum over the components of their genus, from χ = 2c − b − 2g (every RGB mesh is an
-  // oriented manifold).
+  /// Sum over the components of their genus, from χ = 2c − b − 2g (every RGB mesh is an
+  /// oriented manifold).
   int genus = 0;
   int max_level = 0;
   std::size_t red_edges = 0;
-  std::map<int, std::size_t> valence_histogram;   // valence -> vertices
-  std::map<int, std::size_t> vertices_per_level;  // insertion level -> vertices
-  // triangles_per_level[level][color]: color 0 green, 1 red, 2 blue.
+  std::map<int, std::size_t> valence_histogram;   ///< valence -> vertices
+  std::map<int, std::size_t> vertices_per_level;  ///< insertion level -> vertices
+  /// triangles_per_level[level][color]: color 0 green, 1 red, 2 blue.
   std::map<int, std::array<std::size_t, 3>> triangles_per_level;
   double shortest_edge = 0, longest_edge = 0;
-  // The axis-aligned bounding box of the control points shown (zero for an empty mesh).
+  /// The axis-aligned bounding box of the control points shown (zero for an empty mesh).
   Vec3 bbox_min, bbox_max;
   double bbox_diagonal = 0;
 };

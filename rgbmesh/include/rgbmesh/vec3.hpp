@@ -1,6 +1,7 @@
 #pragma once
-// A small 3-vector for positions. The core stays free of Eigen/VTK so that it can be used
-// (and tested) on its own; fem maps these onto Eigen types.
+/// \file
+/// A small 3-vector for positions. The core stays free of Eigen/VTK so that it can be used
+/// (and tested) on its own; fem maps these onto Eigen types.
 
 #include <cmath>
 

@@ -1,27 +1,28 @@
 #pragma once
-// Mesh files.
-//
-// Reading: only regular files are read (a FIFO, device, socket or directory is refused and
-// named, so are symbolic-link loops and dangling links); the file is mapped, not copied, and every
-// count it declares is checked against its size before memory is reserved for it, so a damaged
-// or huge garbage file is refused at once with little memory. Text formats skip a UTF-8 byte-order
-// mark. VTP and VTU go through VTK's XML readers after the whole header has been validated against
-// the file (counts, array attributes, binary size and compression headers, cell offsets), since
-// those readers crash or allocate without limit on damaged headers. STL, OFF (VTK has none), OBJ,
-// PLY and legacy VTK are read by parsers of our own, because VTK 9.1's readers for them read out
-// of bounds or abort the process on bad input (out-of-range indices, truncated files, short cell
-// lists), accept damaged files (an STL whose triangle count disagrees with its length, misspelled
-// keywords) and silently lose data (OBJ and PLY coordinates in single precision, OBJ "nan" read as
-// 0, PLY polygons with more than 255 vertices cut short).
-//
-// Writing is atomic: a temporary file in the target's directory, flushed to disk and renamed
-// onto the target once complete; the temporary is removed on failure (and on SIGINT, SIGTERM,
-// SIGHUP, see remove_temporaries_on_signals). A target that is a symbolic link stays a link:
-// the file it leads to is replaced.
-//
-// Errors: bad or unreadable input is an InputError whose message starts with the file path;
-// failing to write is an OutputError naming the path (rgbmesh/errors.hpp). VTK's own messages are captured while
-// it works, never printed.
+/// \file
+/// Mesh files.
+///
+/// Reading: only regular files are read (a FIFO, device, socket or directory is refused and
+/// named, so are symbolic-link loops and dangling links); the file is mapped, not copied, and every
+/// count it declares is checked against its size before memory is reserved for it, so a damaged
+/// or huge garbage file is refused at once with little memory. Text formats skip a UTF-8 byte-order
+/// mark. VTP and VTU go through VTK's XML readers after the whole header has been validated against
+/// the file (counts, array attributes, binary size and compression headers, cell offsets), since
+/// those readers crash or allocate without limit on damaged headers. STL, OFF (VTK has none), OBJ,
+/// PLY and legacy VTK are read by parsers of our own, because VTK 9.1's readers for them read out
+/// of bounds or abort the process on bad input (out-of-range indices, truncated files, short cell
+/// lists), accept damaged files (an STL whose triangle count disagrees with its length, misspelled
+/// keywords) and silently lose data (OBJ and PLY coordinates in single precision, OBJ "nan" read as
+/// 0, PLY polygons with more than 255 vertices cut short).
+///
+/// Writing is atomic: a temporary file in the target's directory, flushed to disk and renamed
+/// onto the target once complete; the temporary is removed on failure (and on SIGINT, SIGTERM,
+/// SIGHUP, see remove_temporaries_on_signals). A target that is a symbolic link stays a link:
+/// the file it leads to is replaced.
+///
+/// Errors: bad or unreadable input is an InputError whose message starts with the file path;
+/// failing to write is an OutputError naming the path (rgbmesh/errors.hpp). VTK's own messages are captured while
+/// it works, never printed.
 
 #include <cstdint>
 #include <filesystem>
@@ -35,75 +36,75 @@
 
 namespace rgbmesh {
 
-// For help texts: ".obj, .off, .ply, .stl, .vtk, .vtp, .vtu" and ".obj, .off, .ply, .stl, .vtp, .vtu".
+/// For help texts: ".obj, .off, .ply, .stl, .vtk, .vtp, .vtu" and ".obj, .off, .ply, .stl, .vtp, .vtu".
 std::string supported_input_extensions();
 std::string supported_output_extensions();
 
-// The faces and points exactly as the file has them (format chosen by the extension, case-
-// insensitive; coordinates in double precision where the file has them). Points are merged only
-// where the format itself duplicates them: STL, which stores every triangle's corners separately,
-// has exactly coincident points merged. Triangle strips become triangles (skipping the zero-area
-// joints of stitched strips). Non-surface cells (vertices, lines, volume cells; OBJ 'l' and 'p')
-// are an InputError naming the cell (or line). Indices are passed through unchecked, for
-// prepare_triangle_mesh to name the face with a bad one (OBJ reports them with their line).
+/// The faces and points exactly as the file has them (format chosen by the extension, case-
+/// insensitive; coordinates in double precision where the file has them). Points are merged only
+/// where the format itself duplicates them: STL, which stores every triangle's corners separately,
+/// has exactly coincident points merged. Triangle strips become triangles (skipping the zero-area
+/// joints of stitched strips). Non-surface cells (vertices, lines, volume cells; OBJ 'l' and 'p')
+/// are an InputError naming the cell (or line). Indices are passed through unchecked, for
+/// prepare_triangle_mesh to name the face with a bad one (OBJ reports them with their line).
 PolygonSoup read_polygon_soup(const std::filesystem::path& path);
 
-// read_polygon_soup + prepare_triangle_mesh, with the file path prefixed to any InputError.
+/// read_polygon_soup + prepare_triangle_mesh, with the file path prefixed to any InputError.
 TriangleMeshData read_mesh(const std::filesystem::path& path, const SoupOptions& options = {});
 
-// Points to fit a surface to: a point cloud, or the vertices (and faces) of a mesh file.
+/// Points to fit a surface to: a point cloud, or the vertices (and faces) of a mesh file.
 struct PointCloud {
   std::vector<Vec3> points;
-  // One per point when the file has usable normals (.xyz/.pwn with 6 columns, PLY nx ny nz,
-  // VTP/VTU point normals); empty otherwise.
+  /// One per point when the file has usable normals (.xyz/.pwn with 6 columns, PLY nx ny nz,
+  /// VTP/VTU point normals); empty otherwise.
   std::vector<Vec3> normals;
-  // The file's surface polygons exactly as read_polygon_soup gives them (unchecked: the caller
-  // decides whether they make a surface); empty for a point cloud.
+  /// The file's surface polygons exactly as read_polygon_soup gives them (unchecked: the caller
+  /// decides whether they make a surface); empty for a point cloud.
   std::vector<std::vector<std::int64_t>> faces;
-  std::vector<std::string> notes;  // what was ignored, one line each
+  std::vector<std::string> notes;  ///< what was ignored, one line each
 };
 
-// For help texts: the mesh input extensions plus ".xyz, .pwn".
+/// For help texts: the mesh input extensions plus ".xyz, .pwn".
 std::string supported_point_cloud_extensions();
 
-// Reads a point cloud through the same validated readers as read_polygon_soup (same checks,
-// same messages), except that vertex cells (VTK vertices and poly-vertices, OBJ 'p') are
-// skipped instead of rejected and a file without faces is fine. Also reads .xyz and .pwn:
-// "x y z" or "x y z nx ny nz" per line. InputError naming the file (and the line, for text
-// formats) for any reading error, no points, or a non-finite coordinate. Normals that are zero
-// or not finite make the whole set unusable: they are dropped, with a note.
+/// Reads a point cloud through the same validated readers as read_polygon_soup (same checks,
+/// same messages), except that vertex cells (VTK vertices and poly-vertices, OBJ 'p') are
+/// skipped instead of rejected and a file without faces is fine. Also reads .xyz and .pwn:
+/// "x y z" or "x y z nx ny nz" per line. InputError naming the file (and the line, for text
+/// formats) for any reading error, no points, or a non-finite coordinate. Normals that are zero
+/// or not finite make the whole set unusable: they are dropped, with a note.
 PointCloud read_point_cloud(const std::filesystem::path& path);
 
-// Writes points as VTK XML PolyData (.vtp only), one vertex cell per point so that ParaView
-// shows them, with every NamedArray as Float64 point data. Atomic, like write_mesh. InputError
-// for another extension; std::invalid_argument for arrays of the wrong size.
+/// Writes points as VTK XML PolyData (.vtp only), one vertex cell per point so that ParaView
+/// shows them, with every NamedArray as Float64 point data. Atomic, like write_mesh. InputError
+/// for another extension; std::invalid_argument for arrays of the wrong size.
 void write_point_cloud(const std::filesystem::path& path, const std::vector<Vec3>& points,
                        const std::vector<NamedArray>& point_data);
 
-// Writes by extension: .obj, .ply (binary), .stl (binary), .off, .vtp, .vtu. The XML formats are
-// appended raw binary, zlib-compressed, with point data "level" (UInt8), cell data "level" and
-// "color" (UInt8: 0 green, 1 red, 2 blue) and every NamedArray as a Float64 array. OBJ, PLY and
-// STL carry geometry only, and PLY/STL store single-precision coordinates. An unknown extension
-// is an InputError; an inconsistent snapshot (sizes, indices) is std::invalid_argument.
+/// Writes by extension: .obj, .ply (binary), .stl (binary), .off, .vtp, .vtu. The XML formats are
+/// appended raw binary, zlib-compressed, with point data "level" (UInt8), cell data "level" and
+/// "color" (UInt8: 0 green, 1 red, 2 blue) and every NamedArray as a Float64 array. OBJ, PLY and
+/// STL carry geometry only, and PLY/STL store single-precision coordinates. An unknown extension
+/// is an InputError; an inconsistent snapshot (sizes, indices) is std::invalid_argument.
 void write_mesh(const std::filesystem::path& path, const MeshSnapshot& mesh);
 
-// The snapshot of `mesh` to write to `path`: points at the shown control points, or at the
-// limit positions; VTK XML files (.vtp, .vtu) also get the point data "control_point" and
-// "limit". Computes the limit positions it needs (RgbMesh::compute_limits leaves the mesh as
-// it was).
+/// The snapshot of `mesh` to write to `path`: points at the shown control points, or at the
+/// limit positions; VTK XML files (.vtp, .vtu) also get the point data "control_point" and
+/// "limit". Computes the limit positions it needs (RgbMesh::compute_limits leaves the mesh as
+/// it was).
 MeshSnapshot snapshot_for_file(RgbMesh& mesh, const std::filesystem::path& path, bool limit_points = false);
 
-// Makes SIGINT, SIGTERM and SIGHUP remove the temporary files of writes in progress before the
-// process dies of the signal (where the host has not set its own handler or ignored the
-// signal), and makes exceeding the file-size limit (SIGXFSZ) a write error instead of death.
-// The CLI calls it first thing; a program embedding rgbmesh may.
+/// Makes SIGINT, SIGTERM and SIGHUP remove the temporary files of writes in progress before the
+/// process dies of the signal (where the host has not set its own handler or ignored the
+/// signal), and makes exceeding the file-size limit (SIGXFSZ) a write error instead of death.
+/// The CLI calls it first thing; a program embedding rgbmesh may.
 void remove_temporaries_on_signals();
 
-// Replaces `path` by a file holding `contents`, atomically.
+/// Replaces `path` by a file holding `contents`, atomically.
 void write_text_atomically(const std::filesystem::path& path, const std::string& contents);
 
-// A ParaView collection (.pvd) of a time series: one DataSet per (time, file relative to the
-// .pvd's directory). Written atomically.
+/// A ParaView collection (.pvd) of a time series: one DataSet per (time, file relative to the
+/// .pvd's directory). Written atomically.
 void write_pvd(const std::filesystem::path& pvd,
                const std::vector<std::pair<double, std::string>>& time_and_relative_file);
 

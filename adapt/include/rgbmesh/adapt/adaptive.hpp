@@ -1,6 +1,7 @@
 #pragma once
-// Error-driven adaptive cycles: solve, estimate, mark, refine and coarsen through the RGB
-// queues (paper section V), carry the solution over, repeat.
+/// \file
+/// Error-driven adaptive cycles: solve, estimate, mark, refine and coarsen through the RGB
+/// queues (paper section V), carry the solution over, repeat.
 
 #include <Eigen/Core>
 #include <functional>
@@ -16,10 +17,10 @@ namespace rgbmesh::adapt {
 
 enum class Strategy { adaptive, uniform };
 enum class Marking {
-  dorfler,         // the fewest triangles carrying a fraction θ of Σ η_T² (bulk chasing)
-  fixed_fraction,  // the fraction θ of the triangles with the largest η_T
-  // every triangle with η_T > target_estimate / sqrt(number of triangles): equidistribution
-  // towards a fixed total, which keeps the mesh at a steady size for moving features
+  dorfler,         ///< the fewest triangles carrying a fraction θ of Σ η_T² (bulk chasing)
+  fixed_fraction,  ///< the fraction θ of the triangles with the largest η_T
+  /// every triangle with η_T > target_estimate / sqrt(number of triangles): equidistribution
+  /// towards a fixed total, which keeps the mesh at a steady size for moving features
   equidistribution,
 };
 enum class EstimatorKind { residual, zz };
@@ -29,59 +30,59 @@ struct AdaptOptions {
   Marking marking = Marking::dorfler;
   double theta = 0.5;
   EstimatorKind estimator = EstimatorKind::residual;
-  // Coarsening, in [0, 1): removable vertices whose largest indicator over their star is below
-  // coarsen_below times the refinement threshold (the smallest indicator marked for
-  // refinement; with equidistribution the limit target_estimate / sqrt(N)) are removed. The
-  // same scale for both halves puts the coarsest fine triangles where refinement would stop,
-  // so that a moving feature leaves as much refinement behind as it finds ahead. 0: none.
+  /// Coarsening, in [0, 1): removable vertices whose largest indicator over their star is below
+  /// coarsen_below times the refinement threshold (the smallest indicator marked for
+  /// refinement; with equidistribution the limit target_estimate / sqrt(N)) are removed. The
+  /// same scale for both halves puts the coarsest fine triangles where refinement would stop,
+  /// so that a moving feature leaves as much refinement behind as it finds ahead. 0: none.
   double coarsen_below = 0.0;
-  // Stops: after max_cycles, when the estimate is at most target_estimate, or when the mesh
-  // would exceed max_dofs (uniform refinement predicts the next size and stops before it;
-  // adaptive refinement stops once a refined mesh has more, before solving on it).
+  /// Stops: after max_cycles, when the estimate is at most target_estimate, or when the mesh
+  /// would exceed max_dofs (uniform refinement predicts the next size and stops before it;
+  /// adaptive refinement stops once a refined mesh has more, before solving on it).
   int max_cycles = 10;
   double target_estimate = 0.0;
   std::size_t max_dofs = 1000000;
   int max_level = kMaxLevel;
-  // Memory: when set, returns the bytes still free under the caller's ceiling. A cycle whose
-  // mesh would need more (kSolveBytesPerDof per new unknown, the refinement's arrays) is not
-  // run: the run stops with StopReason::memory, its results so far intact.
+  /// Memory: when set, returns the bytes still free under the caller's ceiling. A cycle whose
+  /// mesh would need more (kSolveBytesPerDof per new unknown, the refinement's arrays) is not
+  /// run: the run stops with StopReason::memory, its results so far intact.
   std::function<std::size_t()> memory_headroom;
   fem::SolveOptions solve;
-  std::optional<fem::Projection> projection;  // exact-geometry mode (e.g. the unit sphere)
+  std::optional<fem::Projection> projection;  ///< exact-geometry mode (e.g. the unit sphere)
 };
 
-// Why a run ended.
+/// Why a run ended.
 enum class StopReason {
-  cycles,        // max_cycles done
-  target_error,  // the estimate reached target_estimate
-  max_dofs,      // the next mesh would exceed max_dofs
-  steps,         // every time step done (run_dynamic)
-  memory,        // the next cycle would pass the memory ceiling (AdaptOptions::memory_headroom)
+  cycles,        ///< max_cycles done
+  target_error,  ///< the estimate reached target_estimate
+  max_dofs,      ///< the next mesh would exceed max_dofs
+  steps,         ///< every time step done (run_dynamic)
+  memory,        ///< the next cycle would pass the memory ceiling (AdaptOptions::memory_headroom)
 };
 
-// Peak memory of one cycle per unknown (mesh, finite-element mesh, assembly, CHOLMOD's factor,
-// estimate, output), measured: 1.25 GB at 655,362 unknowns (1.9 kB each) for uniform
-// sphere-peak; with a margin.
+/// Peak memory of one cycle per unknown (mesh, finite-element mesh, assembly, CHOLMOD's factor,
+/// estimate, output), measured: 1.25 GB at 655,362 unknowns (1.9 kB each) for uniform
+/// sphere-peak; with a margin.
 inline constexpr double kSolveBytesPerDof = 2500.0;
-// "cycles", "target-error", "max-dofs", "steps", "memory".
+/// "cycles", "target-error", "max-dofs", "steps", "memory".
 const char* to_string(StopReason reason);
 
 struct CycleReport {
   int cycle = 0;
-  double time = 0;  // the time of the step, for dynamic problems
+  double time = 0;  ///< the time of the step, for dynamic problems
   std::size_t triangles = 0, dofs = 0;
   double estimate = 0;
   std::optional<double> error_l2, error_h1;
-  double seconds = 0;        // the whole cycle
-  double solve_seconds = 0;  // assembly + solve
+  double seconds = 0;        ///< the whole cycle
+  double solve_seconds = 0;  ///< assembly + solve
   double estimate_seconds = 0;
-  double adapt_seconds = 0;  // marking + mesh update + solution transfer
+  double adapt_seconds = 0;  ///< marking + mesh update + solution transfer
   std::size_t marked = 0, splits = 0, removals = 0;
-  bool memory_limit_reached = false;  // the adaptation stopped at the memory ceiling
+  bool memory_limit_reached = false;  ///< the adaptation stopped at the memory ceiling
   std::string solver;
 };
 
-// Everything about one cycle, for output (before the mesh is adapted).
+/// Everything about one cycle, for output (before the mesh is adapted).
 struct CycleState {
   const CycleReport& report;
   const RgbMesh& mesh;
@@ -89,59 +90,59 @@ struct CycleState {
   const fem::Problem& problem;
   const Eigen::VectorXd& u;
   const fem::Estimate& estimate;
-  const std::vector<char>& marked;  // per FE triangle
+  const std::vector<char>& marked;  ///< per FE triangle
 };
 using CycleCallback = std::function<void(const CycleState&)>;
 
-// The cycles of a run and why it ended.
+/// The cycles of a run and why it ended.
 struct AdaptRun {
-  std::vector<CycleReport> cycles;  // one per cycle (run_cycles) or time step (run_dynamic)
-  std::vector<CycleReport> start;   // run_dynamic: the cycles that adapted to the start
+  std::vector<CycleReport> cycles;  ///< one per cycle (run_cycles) or time step (run_dynamic)
+  std::vector<CycleReport> start;   ///< run_dynamic: the cycles that adapted to the start
   StopReason stopped = StopReason::cycles;
-  double target_estimate = 0;       // run_dynamic: the equidistribution target used
+  double target_estimate = 0;       ///< run_dynamic: the equidistribution target used
 };
 
-// Runs adaptive (or uniform) cycles on the mesh for a stationary problem. The last solved
-// mesh stays as it is, except when the run stops at max_dofs after adaptive refinement: the
-// mesh is then the refined one that was not solved.
+/// Runs adaptive (or uniform) cycles on the mesh for a stationary problem. The last solved
+/// mesh stays as it is, except when the run stops at max_dofs after adaptive refinement: the
+/// mesh is then the refined one that was not solved.
 AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
                     const CycleCallback& on_cycle = {});
 
 struct DynamicOptions {
-  int steps = 24;           // time steps t = 0, 1/steps, ..., 1 (steps + 1 solves)
-  int cycles_per_step = 2;  // adaptations to each new time before it is solved and reported
-  int start_cycles = 8;     // cycles that adapt the mesh to the problem at t = 0 first
-  // Called once the start is adapted, with its cycles and the target of the steps.
+  int steps = 24;           ///< time steps t = 0, 1/steps, ..., 1 (steps + 1 solves)
+  int cycles_per_step = 2;  ///< adaptations to each new time before it is solved and reported
+  int start_cycles = 8;     ///< cycles that adapt the mesh to the problem at t = 0 first
+  /// Called once the start is adapted, with its cycles and the target of the steps.
   std::function<void(const std::vector<CycleReport>& start, double target_estimate)> on_started;
 };
 
-// A moving source: problem_at(t) gives the problem at time t. The mesh is first adapted to
-// the problem at t = 0 (start_cycles cycles with the options' strategy; equidistribution
-// starts with Dörfler marking unless a target is given); then each time step adapts
-// cycles_per_step times to the problem at its time (refining where the feature is, coarsening
-// where it was), solves and reports. With equidistribution marking and no target_estimate,
-// the target is the estimate reached at the start, which keeps the mesh at a steady size
-// (the start is then settled under that marking, so the size is steady from the first step);
-// Dörfler and fixed-fraction marking refine at every step, until max_dofs. The uniform
-// strategy refines at the start only and keeps that mesh. The run stops early if an
-// adaptation would exceed max_dofs.
+/// A moving source: problem_at(t) gives the problem at time t. The mesh is first adapted to
+/// the problem at t = 0 (start_cycles cycles with the options' strategy; equidistribution
+/// starts with Dörfler marking unless a target is given); then each time step adapts
+/// cycles_per_step times to the problem at its time (refining where the feature is, coarsening
+/// where it was), solves and reports. With equidistribution marking and no target_estimate,
+/// the target is the estimate reached at the start, which keeps the mesh at a steady size
+/// (the start is then settled under that marking, so the size is steady from the first step);
+/// Dörfler and fixed-fraction marking refine at every step, until max_dofs. The uniform
+/// strategy refines at the start only and keeps that mesh. The run stops early if an
+/// adaptation would exceed max_dofs.
 AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& problem_at,
                      const AdaptOptions& options, const DynamicOptions& dynamic, const CycleCallback& on_step = {});
 
-// The peak of fem::sphere_peak moving along a great circle by a quarter turn as t goes from
-// 0 to 1, with c = 1 (the moving-peak problem).
+/// The peak of fem::sphere_peak moving along a great circle by a quarter turn as t goes from
+/// 0 to 1, with c = 1 (the moving-peak problem).
 fem::Problem moving_peak(double t, double kappa = 100.0);
 
-// The cycle's mesh for output: the finite-element geometry (limit or projected positions)
-// with point data "solution", and "exact_solution" and "error" where the exact solution is
-// known, plus the insertion level; cell data "error_indicator", "marked", "level", "color".
+/// The cycle's mesh for output: the finite-element geometry (limit or projected positions)
+/// with point data "solution", and "exact_solution" and "error" where the exact solution is
+/// known, plus the insertion level; cell data "error_indicator", "marked", "level", "color".
 MeshSnapshot snapshot(const CycleState& state);
 
-// Marks triangles (per FE triangle) by the chosen strategy (target: for equidistribution).
+/// Marks triangles (per FE triangle) by the chosen strategy (target: for equidistribution).
 std::vector<char> mark(const std::vector<double>& eta, Marking marking, double theta, double target = 0);
 
-// The refinement threshold of a marking: the smallest marked indicator (the equidistribution
-// limit target / sqrt(N) for that marking; 0 if nothing is marked).
+/// The refinement threshold of a marking: the smallest marked indicator (the equidistribution
+/// limit target / sqrt(N) for that marking; 0 if nothing is marked).
 double refinement_threshold(const std::vector<double>& eta, const std::vector<char>& marked, Marking marking,
                             double target = 0);
 

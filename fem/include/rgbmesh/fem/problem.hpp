@@ -1,11 +1,12 @@
 #pragma once
-// Poisson-type problems on surfaces: -Δu + c u = f, with c >= 0.
-//
-// On a closed surface with c = 0 the solution is defined up to a constant: rgbmesh returns the
-// solution of zero mean, and requires a source of zero mean (the compatibility condition,
-// checked on the surface, then enforced on the discrete load). On open surfaces, the boundary is Dirichlet (u = g) except where `is_neumann`
-// says otherwise (du/dn = h there, n the outward conormal); with c = 0 and no Dirichlet part
-// the zero-mean treatment applies, and the compatibility condition includes the flux h.
+/// \file
+/// Poisson-type problems on surfaces: -Δu + c u = f, with c >= 0.
+///
+/// On a closed surface with c = 0 the solution is defined up to a constant: rgbmesh returns the
+/// solution of zero mean, and requires a source of zero mean (the compatibility condition,
+/// checked on the surface, then enforced on the discrete load). On open surfaces, the boundary is Dirichlet (u = g) except where `is_neumann`
+/// says otherwise (du/dn = h there, n the outward conormal); with c = 0 and no Dirichlet part
+/// the zero-mean treatment applies, and the compatibility condition includes the flux h.
 
 #include <functional>
 #include <optional>
@@ -19,8 +20,8 @@ namespace rgbmesh::fem {
 using ScalarField = std::function<double(const Vec3&)>;
 using VectorField = std::function<Vec3(const Vec3&)>;
 
-// An exact solution: its values, and the gradient of an extension to space (its tangential
-// part is the surface gradient).
+/// An exact solution: its values, and the gradient of an extension to space (its tangential
+/// part is the surface gradient).
 struct ExactSolution {
   ScalarField value;
   VectorField gradient;
@@ -28,35 +29,35 @@ struct ExactSolution {
 
 struct Problem {
   std::string name;
-  double c = 0;  // reaction coefficient, >= 0
+  double c = 0;  ///< reaction coefficient, >= 0
   ScalarField source;
-  ScalarField dirichlet;                       // g; zero if empty
-  std::function<bool(const Vec3&)> is_neumann;  // at a boundary edge's midpoint; none if empty
-  ScalarField neumann_flux;                    // h; zero if empty
+  ScalarField dirichlet;                       ///< g; zero if empty
+  std::function<bool(const Vec3&)> is_neumann;  ///< at a boundary edge's midpoint; none if empty
+  ScalarField neumann_flux;                    ///< h; zero if empty
   std::optional<ExactSolution> exact;
-  // Relative tolerance of the zero-mean check |∫f + ∫h| <= tol ∫(|f| + |h|), with the
-  // integrals over the surface (lifted when a projection is known, else over the flat
-  // triangles); the discrete load is then made exactly compatible by removing its mean.
+  /// Relative tolerance of the zero-mean check |∫f + ∫h| <= tol ∫(|f| + |h|), with the
+  /// integrals over the surface (lifted when a projection is known, else over the flat
+  /// triangles); the discrete load is then made exactly compatible by removing its mean.
   double mean_tolerance = 1e-3;
 };
 
 // The problems with exact solutions take them as Dirichlet data, so that they also hold on an
 // open patch of the sphere.
 
-// u = xyz on the unit sphere: a spherical harmonic of degree 3, so -Δu = 12 xyz (c = 0).
+/// u = xyz on the unit sphere: a spherical harmonic of degree 3, so -Δu = 12 xyz (c = 0).
 Problem sphere_harmonic();
 
-// u = exp(κ (x·d - 1)) on the unit sphere, a peak of width about 1/sqrt(κ) around d
-// (κ = 100 by default); with t = x·d, Δu = g''(t)(1 - t²) - 2 t g'(t) for u = g(t). Posed
-// with c = 1, so that the solution is unique without a mean condition.
+/// u = exp(κ (x·d - 1)) on the unit sphere, a peak of width about 1/sqrt(κ) around d
+/// (κ = 100 by default); with t = x·d, Δu = g''(t)(1 - t²) - 2 t g'(t) for u = g(t). Posed
+/// with c = 1, so that the solution is unique without a mean condition.
 Problem sphere_peak(const Vec3& d = Vec3(0.48, 0.6, 0.64), double kappa = 100.0, double c = 1.0);
 
-// A Gaussian source f = exp(-|x - x0|² / (2 σ²)) with c = 1, on any surface (no exact
-// solution): the problem the main job solves on its default mesh.
+/// A Gaussian source f = exp(-|x - x0|² / (2 σ²)) with c = 1, on any surface (no exact
+/// solution): the problem the main job solves on its default mesh.
 Problem gaussian_source(const Vec3& x0, double sigma);
 
-// The built-in problems by name ("sphere-harmonic", "sphere-peak"); throws InputError listing
-// the names otherwise. The third, "gaussian", needs a centre: gaussian_source().
+/// The built-in problems by name ("sphere-harmonic", "sphere-peak"); throws InputError listing
+/// the names otherwise. The third, "gaussian", needs a centre: gaussian_source().
 Problem builtin_problem(const std::string& name);
 std::vector<std::string> builtin_problem_names();
 

@@ -1,5 +1,6 @@
 #pragma once
-// Assembly and solution of -Δu + c u = f with P1 elements on a SurfaceMesh.
+/// \file
+/// Assembly and solution of -Δu + c u = f with P1 elements on a SurfaceMesh.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -12,45 +13,45 @@ namespace rgbmesh::fem {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 
-// Stiffness (Laplace-Beltrami: ∫ ∇φi·∇φj), consistent mass (∫ φi φj) and load vector
-// (∫ f φi with the degree-5 rule, plus ∫ h φi on Neumann edges) of a problem.
+/// Stiffness (Laplace-Beltrami: ∫ ∇φi·∇φj), consistent mass (∫ φi φj) and load vector
+/// (∫ f φi with the degree-5 rule, plus ∫ h φi on Neumann edges) of a problem.
 struct System {
   SparseMatrix stiffness, mass;
   Eigen::VectorXd load;
 };
 System assemble(const SurfaceMesh& mesh, const Problem& problem);
-// Only the load vector.
+/// Only the load vector.
 Eigen::VectorXd load_vector(const SurfaceMesh& mesh, const Problem& problem);
 
 enum class SolverKind {
-  automatic,        // by size: sparse LDLT, CHOLMOD above 20,000 DOFs, CG beyond 200,000 without it
-  ldlt,             // Eigen::SimplicialLDLT
-  cg_ichol,         // Eigen::ConjugateGradient with IncompleteCholesky (relative residual 1e-10)
-  cholmod,          // Eigen::CholmodSupernodalLLT (if built with SuiteSparse)
+  automatic,        ///< by size: sparse LDLT, CHOLMOD above 20,000 DOFs, CG beyond 200,000 without it
+  ldlt,             ///< Eigen::SimplicialLDLT
+  cg_ichol,         ///< Eigen::ConjugateGradient with IncompleteCholesky (relative residual 1e-10)
+  cholmod,          ///< Eigen::CholmodSupernodalLLT (if built with SuiteSparse)
 };
 const char* to_string(SolverKind k);
-// "auto", "ldlt", "cg", "cholmod"; InputError otherwise.
+/// "auto", "ldlt", "cg", "cholmod"; InputError otherwise.
 SolverKind parse_solver(const std::string& name);
 bool cholmod_available();
 
 struct SolveOptions {
   SolverKind solver = SolverKind::automatic;
   double cg_tolerance = 1e-10;
-  const Eigen::VectorXd* initial_guess = nullptr;  // for CG (e.g. the previous cycle's solution)
+  const Eigen::VectorXd* initial_guess = nullptr;  ///< for CG (e.g. the previous cycle's solution)
 };
 
 struct Solution {
-  Eigen::VectorXd u;  // one value per DOF
-  SolverKind solver = SolverKind::automatic;  // the one used
-  int iterations = 0;                         // CG only
+  Eigen::VectorXd u;  ///< one value per DOF
+  SolverKind solver = SolverKind::automatic;  ///< the one used
+  int iterations = 0;                         ///< CG only
   double assembly_seconds = 0, solve_seconds = 0;
-  bool zero_mean = false;  // solved in the zero-mean space (closed or pure Neumann, c = 0)
+  bool zero_mean = false;  ///< solved in the zero-mean space (closed or pure Neumann, c = 0)
 };
 
-// Assembles and solves. Errors (std::runtime_error, with the reason): a singular system
-// (no Dirichlet part and c = 0 is handled by the zero-mean condition; anything else singular
-// is reported), a source without zero mean where one is required (InputError), c < 0,
-// non-finite data, a solver that fails.
+/// Assembles and solves. Errors (std::runtime_error, with the reason): a singular system
+/// (no Dirichlet part and c = 0 is handled by the zero-mean condition; anything else singular
+/// is reported), a source without zero mean where one is required (InputError), c < 0,
+/// non-finite data, a solver that fails.
 Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptions& options = {});
 
 }  // namespace rgbmesh::fem

@@ -1,12 +1,13 @@
 #pragma once
-// The finite-element view of an RGB mesh: flat triangles whose vertices lie on the surface.
-//
-// One degree of freedom per mesh vertex (P1). The vertices sit at their Loop limit positions
-// (the default: the mesh is then inscribed in the limit surface), or at the image of the
-// limit positions under a projection onto a known surface (the exact-geometry mode, used to
-// verify the solver against exact solutions; the unit sphere is built in). With a projection,
-// functions of the surface (sources, exact solutions) are evaluated at the projection of each
-// quadrature point, the standard lift of surface finite elements.
+/// \file
+/// The finite-element view of an RGB mesh: flat triangles whose vertices lie on the surface.
+///
+/// One degree of freedom per mesh vertex (P1). The vertices sit at their Loop limit positions
+/// (the default: the mesh is then inscribed in the limit surface), or at the image of the
+/// limit positions under a projection onto a known surface (the exact-geometry mode, used to
+/// verify the solver against exact solutions; the unit sphere is built in). With a projection,
+/// functions of the surface (sources, exact solutions) are evaluated at the projection of each
+/// quadrature point, the standard lift of surface finite elements.
 
 #include <Eigen/Core>
 #include <array>
@@ -19,42 +20,42 @@
 
 namespace rgbmesh::fem {
 
-// A map from points near the surface onto it.
+/// A map from points near the surface onto it.
 using Projection = std::function<Vec3(const Vec3&)>;
 
-// p / |p|: the unit sphere centred at the origin.
+/// p / |p|: the unit sphere centred at the origin.
 Vec3 project_to_unit_sphere(const Vec3& p);
 
 struct SurfaceMesh {
-  std::vector<Vec3> points;                            // one per DOF
-  std::vector<std::array<std::int32_t, 3>> triangles;  // counter-clockwise
-  std::vector<VertexHandle> vertex;                    // DOF -> RGB vertex
-  std::vector<TriangleHandle> triangle;                // FE triangle -> RGB triangle
-  std::vector<std::int32_t> dof_of_vertex;             // RGB vertex slot -> DOF (-1 if none)
-  // Boundary edges as DOF pairs, oriented as in their triangle, with that triangle.
+  std::vector<Vec3> points;                            ///< one per DOF
+  std::vector<std::array<std::int32_t, 3>> triangles;  ///< counter-clockwise
+  std::vector<VertexHandle> vertex;                    ///< DOF -> RGB vertex
+  std::vector<TriangleHandle> triangle;                ///< FE triangle -> RGB triangle
+  std::vector<std::int32_t> dof_of_vertex;             ///< RGB vertex slot -> DOF (-1 if none)
+  /// Boundary edges as DOF pairs, oriented as in their triangle, with that triangle.
   struct BoundaryEdge {
     std::int32_t a, b, triangle;
   };
   std::vector<BoundaryEdge> boundary_edges;
-  std::optional<Projection> projection;  // set in exact-geometry mode
+  std::optional<Projection> projection;  ///< set in exact-geometry mode
 
   std::size_t num_dofs() const { return points.size(); }
-  // The point of the surface that x on the flat triangles stands for.
+  /// The point of the surface that x on the flat triangles stands for.
   Vec3 lift(const Vec3& x) const { return projection ? (*projection)(x) : x; }
-  // The ratio of the surface's area element to the flat triangle's at x (in the triangle with
-  // unit normal n): 1 without a projection, else |dP e1 × dP e2| for an orthonormal basis
-  // (e1, e2) of the triangle's plane, by central differences of the projection P.
+  /// The ratio of the surface's area element to the flat triangle's at x (in the triangle with
+  /// unit normal n): 1 without a projection, else |dP e1 × dP e2| for an orthonormal basis
+  /// (e1, e2) of the triangle's plane, by central differences of the projection P.
   double lift_area_factor(const Vec3& x, const Vec3& n, double size) const;
   double total_area() const;
 };
 
-// The FE mesh of the RGB mesh's current triangles. Vertices are placed at their limit
-// positions (RgbMesh::compute_limits, which leaves the mesh as it was), then projected if a
-// projection is given. Throws InputError naming the triangle if one is degenerate (zero area).
+/// The FE mesh of the RGB mesh's current triangles. Vertices are placed at their limit
+/// positions (RgbMesh::compute_limits, which leaves the mesh as it was), then projected if a
+/// projection is given. Throws InputError naming the triangle if one is degenerate (zero area).
 SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projection = std::nullopt);
 
-// Geometry of one flat triangle: area, unit normal and the (constant) gradients of its three
-// barycentric coordinates.
+/// Geometry of one flat triangle: area, unit normal and the (constant) gradients of its three
+/// barycentric coordinates.
 struct TriangleGeometry {
   double area = 0;
   Vec3 normal;
@@ -62,8 +63,8 @@ struct TriangleGeometry {
 };
 TriangleGeometry triangle_geometry(const Vec3& p0, const Vec3& p1, const Vec3& p2);
 
-// A degree-5 rule on triangles (7 points; exact for polynomials of degree 5): barycentric
-// coordinates and weights that sum to 1 (multiply by the area).
+/// A degree-5 rule on triangles (7 points; exact for polynomials of degree 5): barycentric
+/// coordinates and weights that sum to 1 (multiply by the area).
 struct QuadraturePoint {
   std::array<double, 3> barycentric;
   double weight;
