@@ -52,6 +52,7 @@ RgbMesh RgbMesh::from_triangles(const std::vector<Vec3>& points,
   m.v_control_ = points;
   m.n_vertices_ = points.size();
   m.n_base_vertices_ = m.n_vertices_;
+  m.base_triangles_ = triangles;  // kept for saving the state (rgb_state.hpp)
 #if RGBMESH_CHECKED_HANDLES
   m.v_generation_.assign(points.size(), 1);
 #endif

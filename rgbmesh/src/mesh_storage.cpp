@@ -46,6 +46,7 @@ RgbMesh::RgbMesh(const RgbMesh& o)
       n_edges_(o.n_edges_),
       n_triangles_(o.n_triangles_),
       n_base_vertices_(o.n_base_vertices_),
+      base_triangles_(o.base_triangles_),
       base_euler_(o.base_euler_),
       counters_(o.counters_) {
   limits_free_.reserve(limits_.size());  // release_limit must not allocate
@@ -104,7 +105,7 @@ std::size_t RgbMesh::memory_bytes() const {
   return bytes(v_edge_) + bytes(v_level_) + bytes(v_parents_) + bytes(v_control_) + bytes(v_limit_index_) +
          bytes(limits_) + bytes(limits_free_) + bytes(v_flags_) + bytes(e_vert_) + bytes(e_tri_) +
          bytes(e_info_) + bytes(t_edge_) + bytes(t_info_) + bytes(base_eigenvalue_) + bytes(v_generation_) +
-         bytes(e_generation_) + bytes(t_generation_);
+         bytes(e_generation_) + bytes(t_generation_) + bytes(base_triangles_);
 }
 
 std::size_t RgbMesh::storage_bytes(std::size_t vertices, std::size_t edges, std::size_t triangles) {

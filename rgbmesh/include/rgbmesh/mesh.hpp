@@ -305,6 +305,10 @@ class RgbMesh {
   std::int32_t edge_slots() const { return static_cast<std::int32_t>(e_vert_.size()); }
   std::int32_t triangle_slots() const { return static_cast<std::int32_t>(t_edge_.size()); }
   std::size_t num_base_vertices() const { return n_base_vertices_; }
+  // The base mesh Σ0's triangles exactly as from_triangles was given them (its vertices are
+  // the handles 0 .. num_base_vertices()-1, never removed): what a saved state needs to
+  // rebuild Σ0 (rgb_state.hpp).
+  const std::vector<std::array<std::int32_t, 3>>& base_triangles() const { return base_triangles_; }
 
   /// Makes room for that many vertices, edges and triangles (slots), so that a large
   /// refinement grows its arrays once instead of by repeated doubling.
@@ -755,6 +759,7 @@ class RgbMesh {
 
   std::size_t n_vertices_ = 0, n_edges_ = 0, n_triangles_ = 0;
   std::size_t n_base_vertices_ = 0;
+  std::vector<std::array<std::int32_t, 3>> base_triangles_;  // Σ0, as from_triangles got it
   long base_euler_ = 0;
   OperationCounters counters_;
 
