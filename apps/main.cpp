@@ -50,16 +50,14 @@ double peak_rss_mb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
+// A .vtp or .vtu that rgbmesh wrote comes back with its RGB state (levels, colours, parents),
+// so that info reports it and refine continues from it; any other file is a base mesh.
 RgbMesh load_mesh(const std::string& path, bool triangulate) {
   SoupOptions options;
   options.triangulate = triangulate;
-  TriangleMeshData data = read_mesh(path, options);
-  for (const auto& note : data.notes) std::cerr << "rgbmesh: note: " << path << ": " << note << "\n";
-  try {
-    return RgbMesh::from_triangles(data.points, data.triangles);
-  } catch (const InputError& e) {
-    throw InputError(path + ": " + e.what());
-  }
+  RgbMeshFile file = read_rgb_mesh(path, options);
+  for (const auto& note : file.notes) std::cerr << "rgbmesh: note: " << path << ": " << note << "\n";
+  return std::move(file.mesh);
 }
 
 // Rejects an output path before any work is done: unknown format or missing directory.

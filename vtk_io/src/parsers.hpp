@@ -10,6 +10,7 @@
 // line where there is one). Memory is reserved only for what the bytes present can hold.
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,6 +20,8 @@
 
 namespace rgbmesh::detail {
 
+struct SavedState;  // rgb_state_io.hpp
+
 // What a reader keeps besides the surface polygons. The defaults are those of mesh reading.
 struct ReadOptions {
   // Point clouds: vertex cells (VTK vertices and poly-vertices, OBJ 'p' elements) are skipped
@@ -27,7 +30,12 @@ struct ReadOptions {
   // When set, receives one normal per point where the file has them (PLY nx, ny, nz); left
   // empty otherwise.
   std::vector<Vec3>* normals = nullptr;
+  // VTK XML only: when set, receives the file's RGB state arrays (rgb_state_io.hpp).
+  SavedState* saved_state = nullptr;
 };
+
+// read_polygon_soup with these options (read_rgb_mesh asks for the state this way).
+PolygonSoup read_mesh_soup(const std::filesystem::path& path, const ReadOptions& options);
 
 // Every triangle's three corners as separate points, as the file stores them (merging them is the
 // caller's); coordinates single precision, as the format has them. Binary when the file is as long

@@ -27,6 +27,7 @@
 #include "input_file.hpp"
 #include "io_common.hpp"
 #include "parsers.hpp"
+#include "rgb_state_io.hpp"
 #include "rgbmesh/vtk_io.hpp"
 #include "vtk_messages.hpp"
 #include "xml_check.hpp"
@@ -161,12 +162,14 @@ PolygonSoup read_vtk_xml(const fs::path& path, std::string_view bytes, const std
     vtkNew<vtkXMLPolyDataReader> reader;
     reader->SetFileName(path.c_str());
     run_reader(*reader, path);
+    if (options.saved_state != nullptr) read_rgb_state(*reader->GetOutput(), path, *options.saved_state);
     return soup_of(*reader->GetOutput(), path, options);
   }
   check_vtk_xml(bytes, path.string(), "UnstructuredGrid");
   vtkNew<vtkXMLUnstructuredGridReader> reader;
   reader->SetFileName(path.c_str());
   run_reader(*reader, path);
+  if (options.saved_state != nullptr) read_rgb_state(*reader->GetOutput(), path, *options.saved_state);
   return soup_of(*reader->GetOutput(), path, options);
 }
 
@@ -207,6 +210,11 @@ std::string supported_input_extensions() {
 PolygonSoup read_polygon_soup(const fs::path& path) {
   std::vector<Vec3> unused;
   return read_soup(path, input_extensions, "mesh", {}, unused);
+}
+
+PolygonSoup detail::read_mesh_soup(const fs::path& path, const detail::ReadOptions& options) {
+  std::vector<Vec3> unused;
+  return read_soup(path, input_extensions, "mesh", options, unused);
 }
 
 std::string supported_point_cloud_extensions() {

@@ -26,6 +26,7 @@
 
 #include "atomic_file.hpp"
 #include "io_common.hpp"
+#include "rgb_state_io.hpp"
 #include "rgbmesh/vtk_io.hpp"
 #include "vtk_messages.hpp"
 
@@ -140,6 +141,7 @@ void add_arrays(vtkDataSet& data, const MeshSnapshot& mesh) {
   if (!mesh.triangle_color.empty()) data.GetCellData()->AddArray(uint8_array("color", mesh.triangle_color));
   for (const NamedArray& a : mesh.point_data) data.GetPointData()->AddArray(float64_array(a));
   for (const NamedArray& a : mesh.cell_data) data.GetCellData()->AddArray(float64_array(a));
+  add_rgb_state(data, mesh);  // rgb_state_io.cpp: the RGB state's point and field data
 }
 
 vtkSmartPointer<vtkPolyData> vtk_poly_data(const MeshSnapshot& mesh) {
@@ -241,7 +243,9 @@ MeshSnapshot snapshot_for_file(RgbMesh& mesh, const fs::path& path, bool limit_p
   const std::string ext = lowercase_extension(path);
   const bool xml = ext == ".vtp" || ext == ".vtu";
   if (limit_points || xml) mesh.compute_limits();
-  return mesh.snapshot(limit_points ? RgbMesh::Points::limit : RgbMesh::Points::control, xml);
+  MeshSnapshot snapshot = mesh.snapshot(limit_points ? RgbMesh::Points::limit : RgbMesh::Points::control, xml);
+  if (xml) snapshot.state = save_state(mesh, snapshot);  // what read_rgb_mesh restores
+  return snapshot;
 }
 
 std::string supported_output_extensions() {

@@ -52,6 +52,20 @@ PolygonSoup read_polygon_soup(const std::filesystem::path& path);
 /// read_polygon_soup + prepare_triangle_mesh, with the file path prefixed to any InputError.
 TriangleMeshData read_mesh(const std::filesystem::path& path, const SoupOptions& options = {});
 
+/// A mesh file as an RgbMesh. VTK XML files that rgbmesh wrote (.vtp, .vtu) carry the complete
+/// RGB state (rgb_state.hpp; the arrays are listed in the README): the mesh is then restored as
+/// it was written, with its levels, colours, control points and limit positions, ready to be
+/// refined or coarsened further (restored = true). Any other file, and a VTK XML file without
+/// the state, gives the base mesh of its triangles (read_mesh, then RgbMesh::from_triangles;
+/// notes as read_mesh's). A state that is inconsistent with itself or with the file's cells and
+/// arrays is an InputError "<path>: inconsistent RGB state: <what>"; nothing half-built escapes.
+struct RgbMeshFile {
+  RgbMesh mesh;
+  bool restored = false;           ///< the file had a state
+  std::vector<std::string> notes;  ///< repairs of a file without state, one line each
+};
+RgbMeshFile read_rgb_mesh(const std::filesystem::path& path, const SoupOptions& options = {});
+
 /// Points to fit a surface to: a point cloud, or the vertices (and faces) of a mesh file.
 struct PointCloud {
   std::vector<Vec3> points;

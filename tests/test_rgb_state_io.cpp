@@ -1,0 +1,255 @@
+// The RGB state in VTK XML files: what write_mesh writes for .vtp and .vtu, read_rgb_mesh
+// restores exactly; files without it read as base meshes; edited files are refused with the
+// file's name and what is wrong; and the tool's info and refine use it.
+
+#include <gtest/gtest.h>
+
+#include <vtkCellArray.h>
+#include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "rgbmesh/refinement.hpp"
+#include "rgbmesh/vtk_io.hpp"
+#include "test_meshes.hpp"
+
+namespace rgbmesh {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path temp_dir() {
+  const fs::path d = fs::temp_directory_path() / ("rgbmesh_state_io_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+// Handle-independent identity: base vertices by index, others by their parents' identities.
+class Keys {
+ public:
+  std::int64_t operator()(const RgbMesh& m, VertexHandle v) {
+    if (m.level(v) == 0) return v.idx;
+    std::int64_t a = (*this)(m, m.parents(v)[0]), b = (*this)(m, m.parents(v)[1]);
+    if (a > b) std::swap(a, b);
+    return ids_.try_emplace({a, b}, static_cast<std::int64_t>(ids_.size()) + (1 << 30)).first->second;
+  }
+
+ private:
+  std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t> ids_;
+};
+
+using Described = std::set<std::array<std::int64_t, 5>>;  // corners, level, colour
+Described describe(const RgbMesh& m, Keys& keys) {
+  Described out;
+  for (TriangleHandle t : m.triangles()) {
+    const auto c = m.triangle_vertices(t);
+    std::array<std::int64_t, 3> k{keys(m, c[0]), keys(m, c[1]), keys(m, c[2])};
+    std::rotate(k.begin(), std::min_element(k.begin(), k.end()), k.end());
+    out.insert({k[0], k[1], k[2], m.level(t), static_cast<std::int64_t>(m.color(t))});
+  }
+  return out;
+}
+
+class StateFile : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(StateFile, RoundTripAfterRandomWalks) {
+  const fs::path dir = temp_dir();
+  for (const auto& base : {testing::double_torus(), testing::grid_with_holes(6, 2), testing::icosahedron()}) {
+    RgbMesh m = base.build();
+    random_walk(m, 1500, 3);
+    const fs::path file = dir / (base.name + GetParam());
+    write_mesh(file, snapshot_for_file(m, file));
+    RgbMeshFile r = read_rgb_mesh(file);
+    ASSERT_TRUE(r.restored);
+    ASSERT_EQ(r.mesh.validate(true), "");
+    Keys keys;
+    EXPECT_EQ(describe(r.mesh, keys), describe(m, keys)) << base.name;
+    std::map<std::int64_t, VertexHandle> by_key;
+    for (VertexHandle v : m.vertices()) by_key[keys(m, v)] = v;
+    r.mesh.compute_limits();
+    for (VertexHandle w : r.mesh.vertices()) {
+      const VertexHandle v = by_key.at(keys(r.mesh, w));
+      EXPECT_LE(norm(r.mesh.control_point(w) - m.control_point(v)), 1e-12 * std::max(1.0, norm(m.control_point(v))));
+      EXPECT_LE(norm(r.mesh.limit_position(w) - m.limit_position(v)), 1e-12 * std::max(1.0, norm(m.limit_position(v))));
+    }
+    // Coarsening everything returns the base exactly.
+    selective_refinement(r.mesh, CoarsenAll());
+    EXPECT_EQ(testing::canonical_triangles(r.mesh), testing::canonical_triangles(base.build()));
+    std::vector<Vec3> points;
+    for (VertexHandle v : r.mesh.vertices()) points.push_back(r.mesh.insertion_point(v));
+    EXPECT_EQ(points, base.points);
+  }
+  fs::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, StateFile, ::testing::Values(".vtp", ".vtu"),
+                         [](const auto& p) { return std::string(p.param + 1); });
+
+TEST(StateFile, FileWithoutStateIsABaseMesh) {
+  const fs::path dir = temp_dir();
+  RgbMesh m = testing::torus(6, 5).build();
+  selective_refinement(m, UniformLevel(1));
+  write_mesh(dir / "plain.vtp", m.snapshot());  // no state: a snapshot not made for a file
+  RgbMeshFile r = read_rgb_mesh(dir / "plain.vtp");
+  EXPECT_FALSE(r.restored);
+  EXPECT_EQ(r.mesh.num_vertices(), m.num_vertices());
+  EXPECT_EQ(r.mesh.max_level(), 0);
+  write_mesh(dir / "m.obj", snapshot_for_file(m, dir / "m.obj"));
+  EXPECT_FALSE(read_rgb_mesh(dir / "m.obj").restored);
+  fs::remove_all(dir);
+}
+
+// Reads a .vtp with VTK, lets `edit` change it, writes it back (ASCII, so that nothing hides).
+void edit_file(const fs::path& file, const std::function<void(vtkPolyData&)>& edit) {
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  vtkPolyData* data = reader->GetOutput();
+  edit(*data);
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->SetDataModeToAscii();
+  writer->SetInputData(data);
+  writer->SetFileName(file.c_str());
+  ASSERT_EQ(writer->Write(), 1);
+}
+
+std::string refusal(const fs::path& file) {
+  try {
+    read_rgb_mesh(file);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+class EditedFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = temp_dir();
+    file = dir / "edited.vtp";
+    mesh = testing::grid_with_holes(6, 2).build();
+    random_walk(mesh, 1500, 21);
+    write_mesh(file, snapshot_for_file(mesh, file));
+    ASSERT_EQ(refusal(file), "");
+  }
+  void TearDown() override { fs::remove_all(dir); }
+  void expect_refused(const std::string& what) {
+    const std::string m = refusal(file);
+    EXPECT_EQ(m.rfind(file.string() + ": inconsistent RGB state: ", 0), 0u) << m;
+    EXPECT_NE(m.find(what), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+  }
+  // The last inserted point that no other point has as a parent.
+  static vtkIdType leaf(vtkPolyData& d) {
+    vtkDataArray* parents = d.GetPointData()->GetArray("rgb_parents");
+    std::vector<char> is_parent(static_cast<std::size_t>(d.GetNumberOfPoints()), 0);
+    for (vtkIdType i = 0; i < d.GetNumberOfPoints(); ++i)
+      for (int c = 0; c < 2; ++c)
+        if (parents->GetComponent(i, c) >= 0) is_parent[static_cast<std::size_t>(parents->GetComponent(i, c))] = 1;
+    for (vtkIdType i = d.GetNumberOfPoints() - 1; i >= 0; --i)
+      if (parents->GetComponent(i, 0) >= 0 && !is_parent[static_cast<std::size_t>(i)]) return i;
+    return -1;
+  }
+  fs::path dir, file;
+  RgbMesh mesh;
+};
+
+TEST_F(EditedFile, ChangedParent) {
+  edit_file(file, [](vtkPolyData& d) {
+    vtkDataArray* parents = d.GetPointData()->GetArray("rgb_parents");
+    const vtkIdType k = leaf(d);
+    parents->SetComponent(k, 1, parents->GetComponent(k, 0) == 0 ? 1 : 0);
+  });
+  expect_refused("point ");
+}
+
+TEST_F(EditedFile, ChangedLevel) {
+  edit_file(file, [](vtkPolyData& d) {
+    vtkDataArray* level = d.GetPointData()->GetArray("level");
+    level->SetComponent(leaf(d), 0, level->GetComponent(leaf(d), 0) + 1);
+  });
+  expect_refused("has level");
+}
+
+TEST_F(EditedFile, SwappedTriangle) {
+  edit_file(file, [](vtkPolyData& d) {
+    vtkNew<vtkIdList> ids;
+    d.GetPolys()->GetCellAtId(5, ids);
+    const vtkIdType swapped[3] = {ids->GetId(1), ids->GetId(0), ids->GetId(2)};
+    d.GetPolys()->ReplaceCellAtId(5, 3, swapped);
+  });
+  expect_refused("triangle 5 ");
+}
+
+TEST_F(EditedFile, ChangedBasePoints) {
+  edit_file(file, [](vtkPolyData& d) {
+    vtkDataArray* base = d.GetFieldData()->GetArray("rgb_base_points");
+    base->SetComponent(4, 2, base->GetComponent(4, 2) + 0.5);
+  });
+  expect_refused("edited base points");
+}
+
+TEST_F(EditedFile, MissingArrayAndBadValues) {
+  edit_file(file, [](vtkPolyData& d) { d.GetPointData()->RemoveArray("rgb_base_vertex"); });
+  expect_refused("the array 'rgb_base_vertex' is missing");
+  SetUp();
+  edit_file(file, [](vtkPolyData& d) { d.GetPointData()->GetArray("rgb_parents")->SetComponent(0, 0, -5); });
+  expect_refused("is -5, not an integer from -1 to");
+  SetUp();
+  edit_file(file, [](vtkPolyData& d) { d.GetFieldData()->GetArray("rgb_state_version")->SetComponent(0, 0, 7); });
+  expect_refused("version 7 is not supported");
+}
+
+// The tool: info reports the saved levels, refine continues and coarsens back to the base, an
+// edited file is one line and exit code 2.
+std::string run(const std::string& args, int* code) {
+  const fs::path out = temp_dir() / "cli_output.txt";
+  const int status = std::system((std::string(RGBMESH_CLI) + " " + args + " > " + out.string() + " 2>&1").c_str());
+  *code = WEXITSTATUS(status);
+  std::ifstream in(out);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(StateCli, InfoAndRefineUseTheState) {
+  const fs::path dir = temp_dir();
+  const std::string bunny = std::string(RGBMESH_DATA_DIR) + "/bunny.obj";
+  const std::string a = (dir / "a.vtp").string(), b = (dir / "b.vtu").string(), c = (dir / "c.vtp").string();
+  int code = 0;
+  run("refine " + bunny + " " + a + " --random-walk 3000,9", &code);
+  ASSERT_EQ(code, 0);
+  std::string info = run("info --json " + a, &code);
+  ASSERT_EQ(code, 0) << info;
+  EXPECT_EQ(info.find("\"max_level\": 0"), std::string::npos) << info;
+  // Continue: one more stage, then everything back to the base.
+  run("refine " + a + " " + b + " --random-walk 500,10", &code);
+  ASSERT_EQ(code, 0);
+  const std::string stats = run("refine " + b + " " + c + " --coarsen-all --stats", &code);
+  ASSERT_EQ(code, 0) << stats;
+  EXPECT_EQ(stats.find("\"removals\": 0,"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"max_level\": 0"), std::string::npos) << stats;
+  const std::string base_info = run("info --json " + bunny, &code), coarse_info = run("info --json " + c, &code);
+  const auto counts = [](const std::string& json) { return json.substr(json.find("\"vertices\""), 60); };
+  EXPECT_EQ(counts(coarse_info), counts(base_info));
+  // An edited state: one line naming the file, exit code 2.
+  edit_file(a, [](vtkPolyData& d) { d.GetPointData()->GetArray("rgb_parents")->SetComponent(d.GetNumberOfPoints() - 1, 0, 0); });
+  const std::string refused = run("info " + a, &code);
+  EXPECT_EQ(code, 2) << refused;
+  EXPECT_NE(refused.find(a + ": inconsistent RGB state: "), std::string::npos) << refused;
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rgbmesh

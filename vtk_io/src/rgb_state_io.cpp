@@ -1,0 +1,209 @@
+// The RGB state as VTK arrays (rgb_state_io.hpp), and read_rgb_mesh (vtk_io.hpp). Everything
+// read here is checked before use: array types, component and tuple counts, and that each value
+// is an integer in range where an index is expected; restore_state checks the rest.
+
+#include "rgb_state_io.hpp"
+
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkDataSet.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+#include <vtkTypeInt32Array.h>
+
+#include <cmath>
+#include <string>
+
+#include "io_common.hpp"
+#include "parsers.hpp"
+#include "rgbmesh/errors.hpp"
+#include "rgbmesh/vtk_io.hpp"
+
+namespace rgbmesh {
+namespace detail {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kBaseVertex = "rgb_base_vertex";
+constexpr const char* kParents = "rgb_parents";
+constexpr const char* kVersion = "rgb_state_version";
+constexpr const char* kBasePoints = "rgb_base_points";
+constexpr const char* kBaseTriangles = "rgb_base_triangles";
+
+vtkSmartPointer<vtkTypeInt32Array> int32_array(const char* name, int components, const std::int32_t* values,
+                                               std::size_t tuples) {
+  auto a = vtkSmartPointer<vtkTypeInt32Array>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  a->SetNumberOfTuples(static_cast<vtkIdType>(tuples));
+  std::copy(values, values + tuples * static_cast<std::size_t>(components), a->GetPointer(0));
+  return a;
+}
+
+[[noreturn]] void bad(const fs::path& path, const std::string& what) {
+  throw InputError(path.string() + ": inconsistent RGB state: " + what);
+}
+
+// The array `name` with `components` components and `tuples` tuples (any tuple count if
+// tuples < 0); nullptr when absent.
+vtkDataArray* array_of(vtkFieldData* data, const char* name, int components, vtkIdType tuples, const fs::path& path,
+                       const char* where) {
+  if (data == nullptr) return nullptr;
+  vtkDataArray* a = vtkDataArray::SafeDownCast(data->GetAbstractArray(name));
+  if (a == nullptr) {
+    if (data->GetAbstractArray(name) != nullptr) bad(path, std::string(where) + " array '" + name + "' is not numeric");
+    return nullptr;
+  }
+  if (a->GetNumberOfComponents() != components)
+    bad(path, std::string(where) + " array '" + name + "' has " + std::to_string(a->GetNumberOfComponents()) +
+                  " components, not " + std::to_string(components));
+  if (tuples >= 0 && a->GetNumberOfTuples() != tuples)
+    bad(path, std::string(where) + " array '" + name + "' has " + std::to_string(a->GetNumberOfTuples()) +
+                  " tuples, not " + std::to_string(tuples));
+  return a;
+}
+
+// Every value of an integer-valued array, checked to be an integer in [lo, hi].
+std::vector<std::int32_t> integers(vtkDataArray* a, std::int64_t lo, std::int64_t hi, const fs::path& path) {
+  const vtkIdType n = a->GetNumberOfTuples() * a->GetNumberOfComponents();
+  std::vector<std::int32_t> out(static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i) {
+    const double x = a->GetComponent(i / a->GetNumberOfComponents(), static_cast<int>(i % a->GetNumberOfComponents()));
+    if (!(x >= static_cast<double>(lo) && x <= static_cast<double>(hi)) || x != std::floor(x))
+      bad(path, std::string("array '") + a->GetName() + "' value " + std::to_string(i) + " is " + shortest(x) +
+                    ", not an integer from " + std::to_string(lo) + " to " + std::to_string(hi));
+    out[static_cast<std::size_t>(i)] = static_cast<std::int32_t>(x);
+  }
+  return out;
+}
+
+std::vector<Vec3> vectors(vtkDataArray* a) {
+  std::vector<Vec3> out;
+  if (a == nullptr) return out;
+  out.reserve(static_cast<std::size_t>(a->GetNumberOfTuples()));
+  for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i) {
+    double p[3];
+    a->GetTuple(i, p);
+    out.emplace_back(p[0], p[1], p[2]);
+  }
+  return out;
+}
+
+std::vector<std::uint8_t> bytes_of(vtkDataArray* a, const fs::path& path) {
+  std::vector<std::uint8_t> out;
+  if (a == nullptr) return out;
+  for (const std::int32_t x : integers(a, 0, 255, path)) out.push_back(static_cast<std::uint8_t>(x));
+  return out;
+}
+
+}  // namespace
+
+void add_rgb_state(vtkDataSet& data, const MeshSnapshot& mesh) {
+  if (!mesh.state) return;
+  const RgbState& s = *mesh.state;
+  const std::size_t n = mesh.points.size();
+  if (s.base_vertex.size() != n || s.parents.size() != n)
+    throw std::invalid_argument("the RGB state does not have one entry per point");
+  data.GetPointData()->AddArray(int32_array(kBaseVertex, 1, s.base_vertex.data(), n));
+  data.GetPointData()->AddArray(int32_array(kParents, 2, s.parents.empty() ? nullptr : s.parents[0].data(), n));
+  const std::int32_t version = s.version;
+  data.GetFieldData()->AddArray(int32_array(kVersion, 1, &version, 1));
+  auto points = vtkSmartPointer<vtkDoubleArray>::New();
+  points->SetName(kBasePoints);
+  points->SetNumberOfComponents(3);
+  points->SetNumberOfTuples(static_cast<vtkIdType>(s.base_points.size()));
+  for (std::size_t i = 0; i < s.base_points.size(); ++i) {
+    const Vec3& p = s.base_points[i];
+    points->SetTypedTuple(static_cast<vtkIdType>(i), std::array<double, 3>{p.x, p.y, p.z}.data());
+  }
+  data.GetFieldData()->AddArray(points);
+  data.GetFieldData()->AddArray(int32_array(kBaseTriangles, 3, s.base_triangles.empty() ? nullptr : s.base_triangles[0].data(),
+                                            s.base_triangles.size()));
+}
+
+void read_rgb_state(vtkDataSet& data, const fs::path& path, SavedState& out) {
+  vtkFieldData* field = data.GetFieldData();
+  vtkPointData* point_data = data.GetPointData();
+  const vtkIdType n = data.GetNumberOfPoints();
+  vtkDataArray* version = array_of(field, kVersion, 1, 1, path, "field data");
+  vtkDataArray* base_points = array_of(field, kBasePoints, 3, -1, path, "field data");
+  vtkDataArray* base_triangles = array_of(field, kBaseTriangles, 3, -1, path, "field data");
+  vtkDataArray* base_vertex = array_of(point_data, kBaseVertex, 1, n, path, "point data");
+  vtkDataArray* parents = array_of(point_data, kParents, 2, n, path, "point data");
+  const int present = (version != nullptr) + (base_points != nullptr) + (base_triangles != nullptr) +
+                      (base_vertex != nullptr) + (parents != nullptr);
+  if (present == 0) return;  // no state: a base mesh
+  if (present < 5) {
+    for (const auto& [array, name] : {std::pair{version, kVersion}, {base_points, kBasePoints},
+                                      {base_triangles, kBaseTriangles}, {base_vertex, kBaseVertex},
+                                      {parents, kParents}})
+      if (array == nullptr) bad(path, std::string("the array '") + name + "' is missing");
+  }
+  RgbState s;
+  s.version = integers(version, INT32_MIN, INT32_MAX, path)[0];
+  if (s.version != RgbState::kVersion)
+    bad(path, "version " + std::to_string(s.version) + " is not supported (this build reads version " +
+                  std::to_string(RgbState::kVersion) + ")");
+  s.base_points = vectors(base_points);
+  const std::vector<std::int32_t> corners = integers(base_triangles, 0, INT32_MAX, path);
+  for (std::size_t i = 0; i + 2 < corners.size(); i += 3) s.base_triangles.push_back({corners[i], corners[i + 1], corners[i + 2]});
+  s.base_vertex = integers(base_vertex, -1, INT32_MAX, path);
+  const std::vector<std::int32_t> ends = integers(parents, -1, INT32_MAX, path);
+  s.parents.reserve(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i + 1 < ends.size(); i += 2) s.parents.push_back({ends[i], ends[i + 1]});
+  out.state = std::move(s);
+
+  RestoreExpectations& x = out.expected;
+  const vtkIdType cells = data.GetNumberOfCells();
+  x.vertex_level = bytes_of(array_of(point_data, "level", 1, n, path, "point data"), path);
+  x.triangle_level = bytes_of(array_of(data.GetCellData(), "level", 1, cells, path, "cell data"), path);
+  x.triangle_color = bytes_of(array_of(data.GetCellData(), "color", 1, cells, path, "cell data"), path);
+  x.control_points = vectors(array_of(point_data, "control_point", 3, n, path, "point data"));
+  x.limits = vectors(array_of(point_data, "limit", 3, n, path, "point data"));
+}
+
+}  // namespace detail
+
+RgbMeshFile read_rgb_mesh(const std::filesystem::path& path, const SoupOptions& options) {
+  detail::SavedState saved;
+  detail::ReadOptions read_options;
+  read_options.saved_state = &saved;
+  const PolygonSoup soup = detail::read_mesh_soup(path, read_options);
+  RgbMeshFile file;
+  if (!saved.state) {
+    try {
+      TriangleMeshData data = prepare_triangle_mesh(soup, options);
+      file.notes = std::move(data.notes);
+      file.mesh = RgbMesh::from_triangles(data.points, data.triangles);
+    } catch (const InputError& e) {
+      throw InputError(path.string() + ": " + e.what());
+    }
+    return file;
+  }
+  // The file's cells are the triangles as written, in the state's point numbering.
+  saved.expected.triangles.reserve(soup.faces.size());
+  for (std::size_t j = 0; j < soup.faces.size(); ++j) {
+    const auto& f = soup.faces[j];
+    if (f.size() != 3)
+      detail::bad(path, "cell " + std::to_string(j) + " has " + std::to_string(f.size()) +
+                            " vertices (a file with a state has triangles only)");
+    for (const std::int64_t v : f)
+      if (v < 0 || v >= static_cast<std::int64_t>(soup.points.size()))
+        detail::bad(path, "cell " + std::to_string(j) + " names point " + std::to_string(v) + " of " +
+                              std::to_string(soup.points.size()));
+    saved.expected.triangles.push_back(
+        {static_cast<std::int32_t>(f[0]), static_cast<std::int32_t>(f[1]), static_cast<std::int32_t>(f[2])});
+  }
+  try {
+    file.mesh = std::move(restore_state(*saved.state, saved.expected).mesh);
+  } catch (const InputError& e) {
+    throw InputError(path.string() + ": " + e.what());
+  }
+  file.restored = true;
+  return file;
+}
+
+}  // namespace rgbmesh

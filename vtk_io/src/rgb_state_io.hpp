@@ -1,0 +1,39 @@
+#pragma once
+// The RGB state in VTK XML files (.vtp, .vtu): how RgbState (rgb_state.hpp) is stored as VTK
+// arrays, and read back. Format version 1:
+//
+//   point data  rgb_base_vertex     Int32, 1 component: the point's base index, -1 if inserted
+//               rgb_parents         Int32, 2 components: the points whose edge it split (-1 -1
+//                                   for a base vertex)
+//   field data  rgb_state_version   Int32, 1 value: 1
+//               rgb_base_points     Float64, 3 components: the base mesh's control points
+//               rgb_base_triangles  Int32, 3 components: the base mesh's triangles
+//
+// The file's own cells give the triangles (and with them the trapezoid diagonals), and its
+// arrays "level" (point and cell), "color", "control_point" and "limit", when present, are
+// compared with what the state gives. A file with none of these arrays has no state; a file
+// with some but not all of them is refused.
+
+#include <filesystem>
+#include <optional>
+
+#include "rgbmesh/rgb_state.hpp"
+
+class vtkDataSet;
+
+namespace rgbmesh::detail {
+
+// What read_rgb_mesh needs from a VTK XML file besides its points and cells.
+struct SavedState {
+  std::optional<RgbState> state;
+  RestoreExpectations expected;  // all but the triangles (read_rgb_mesh adds them)
+};
+
+// Attaches mesh.state (if any) to the data set as the arrays above.
+void add_rgb_state(vtkDataSet& data, const MeshSnapshot& mesh);
+
+// Reads the arrays above from a data set read from `path`; InputError naming the file and the
+// array when they are there but malformed.
+void read_rgb_state(vtkDataSet& data, const std::filesystem::path& path, SavedState& out);
+
+}  // namespace rgbmesh::detail
