@@ -1,0 +1,78 @@
+// Uses every installed rgbmesh module once: vtk_io writes the icosahedron refined once and reads
+// it back, fem solves the sphere-peak problem on it, adapt runs two adaptive cycles, and fit
+// moves a shrunken icosahedron's control points onto the unit sphere. Prints one line per step
+// for the install test, and exits non-zero when a result is not what it must be.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "rgbmesh/adapt/adaptive.hpp"
+#include "rgbmesh/fem/solver.hpp"
+#include "rgbmesh/fem/surface_mesh.hpp"
+#include "rgbmesh/fit/fit.hpp"
+#include "rgbmesh/mesh.hpp"
+#include "rgbmesh/refinement.hpp"
+#include "rgbmesh/shapes.hpp"
+#include "rgbmesh/vtk_io.hpp"
+
+using namespace rgbmesh;
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: all_modules_consumer WORK_DIR\n");
+    return 2;
+  }
+  const std::filesystem::path work = argv[1];
+  std::filesystem::create_directories(work);
+
+  // vtk_io: write and read back.
+  const TriangleMeshData ico = icosahedron();
+  RgbMesh written = RgbMesh::from_triangles(ico.points, ico.triangles);
+  selective_refinement(written, UniformLevel(1));
+  const std::filesystem::path file = work / "sphere.vtp";
+  write_mesh(file, snapshot_for_file(written, file));
+  const TriangleMeshData read = read_mesh(file);
+  RgbMesh mesh = RgbMesh::from_triangles(read.points, read.triangles);
+  std::printf("vtk_io: read %zu vertices, %zu triangles, %s\n", mesh.num_vertices(), mesh.num_triangles(),
+              mesh.validate().empty() ? "valid" : "INVALID");
+  if (mesh.num_triangles() != 80 || !mesh.validate().empty()) return 1;
+
+  // fem: one solve on the sphere, against the exact solution's values at the vertices.
+  const fem::Problem problem = fem::sphere_peak(Vec3(0, 0, 1), 4.0);
+  const fem::SurfaceMesh fe = fem::build_surface_mesh(mesh, fem::Projection(fem::project_to_unit_sphere));
+  const fem::Solution solution = fem::solve(fe, problem);
+  double largest = 0;
+  for (std::size_t i = 0; i < fe.num_dofs(); ++i)
+    largest = std::max(largest, std::abs(solution.u[static_cast<Eigen::Index>(i)] - problem.exact->value(fe.points[i])));
+  std::printf("fem: %zu unknowns, solver %s, largest nodal error %.3g\n", fe.num_dofs(), fem::to_string(solution.solver),
+              largest);
+  if (!(largest < 0.5)) return 1;
+
+  // adapt: two cycles of the adaptive loop.
+  adapt::AdaptOptions options;
+  options.max_cycles = 2;
+  options.projection = fem::Projection(fem::project_to_unit_sphere);
+  const adapt::AdaptRun run = adapt::run_cycles(mesh, fem::sphere_peak(), options);
+  for (const adapt::CycleReport& r : run.cycles)
+    std::printf("adapt: cycle %d, %zu unknowns, estimate %.3g, H1 error %.3g\n", r.cycle, r.dofs, r.estimate, *r.error_h1);
+  if (run.cycles.size() != 2 || !(run.cycles[1].dofs > run.cycles[0].dofs) || !mesh.validate().empty()) return 1;
+
+  // fit: the icosahedron shrunk to 0.8 fitted to points of the unit sphere.
+  TriangleMeshData base = ico;
+  for (Vec3& p : base.points) p = p * 0.8;
+  std::vector<Vec3> targets;
+  for (const Vec3& p : fit::limit_stencils(ico, 3).evaluate(ico.points)) targets.push_back(fem::project_to_unit_sphere(p));
+  fit::FitOptions fit_options;
+  fit_options.levels = 2;
+  fit_options.max_iterations = 10;
+  const fit::FitResult fitted = fit::fit(base, targets, fit_options);
+  const double start = fitted.iterations.front().rms / fitted.diagonal, end = fitted.rms / fitted.diagonal;
+  std::printf("fit: %zu targets, RMS %.3g -> %.3g of the diagonal\n", targets.size(), start, end);
+  if (!(end < 0.01 && end < 0.2 * start)) return 1;
+
+  std::printf("checked handles: %d\n", RGBMESH_CHECKED_HANDLES);
+  return 0;
+}
