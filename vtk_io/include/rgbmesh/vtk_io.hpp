@@ -26,6 +26,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -89,17 +90,49 @@ std::string supported_point_cloud_extensions();
 /// or not finite make the whole set unusable: they are dropped, with a note.
 PointCloud read_point_cloud(const std::filesystem::path& path);
 
+/// How the binary data of VTK XML files (.vtp, .vtu) is compressed.
+enum class Compression {
+  lz4,   ///< The default: the fastest to write and to read. VTK 8.2 and later read it (ParaView
+         ///< 5.6 and later).
+  zlib,  ///< Smaller files (about 0.8 times lz4's), several times slower to write (level 1);
+         ///< every VTK XML reader reads it.
+  none,  ///< Raw binary: no compression work, the largest files.
+};
+
+/// "lz4", "zlib", "none".
+const char* compression_name(Compression compression);
+/// Sets `compression` to the one named "lz4", "zlib" or "none" (exactly); false for any other name.
+bool compression_from_name(const std::string& name, Compression& compression);
+
+/// How write_mesh and write_point_cloud write.
+struct WriteOptions {
+  /// VTK XML files only; the other formats are not compressed.
+  Compression compression = Compression::lz4;
+  /// When set, called while the file is written with the fraction done: 0 first, then not
+  /// decreasing, and 1 once the file is complete (before it replaces the target). VTK XML files
+  /// report after every compressed block of 32 KiB, OBJ and OFF every 100,000 lines, PLY and STL
+  /// only at their start and end. It runs while VTK is locked: it must not read or write files
+  /// through rgbmesh. An exception it throws fails the write (the temporary file is removed)
+  /// and is rethrown unchanged.
+  std::function<void(double fraction)> progress;
+};
+
 /// Writes points as VTK XML PolyData (.vtp only), one vertex cell per point so that ParaView
 /// shows them, with every NamedArray as Float64 point data. Atomic, like write_mesh. InputError
 /// for another extension; std::invalid_argument for arrays of the wrong size.
 void write_point_cloud(const std::filesystem::path& path, const std::vector<Vec3>& points,
-                       const std::vector<NamedArray>& point_data);
+                       const std::vector<NamedArray>& point_data, const WriteOptions& options = {});
 
 /// Writes by extension: .obj, .ply (binary), .stl (binary), .off, .vtp, .vtu. The XML formats are
-/// appended raw binary, zlib-compressed, with point data "level" (UInt8), cell data "level" and
-/// "color" (UInt8: 0 green, 1 red, 2 blue) and every NamedArray as a Float64 array. OBJ, PLY and
-/// STL carry geometry only, and PLY/STL store single-precision coordinates. An unknown extension
-/// is an InputError; an inconsistent snapshot (sizes, indices) is std::invalid_argument.
+/// appended raw binary, compressed as options.compression says (lz4 by default), with point
+/// data "level" (UInt8), cell data "level" and "color" (UInt8: 0 green, 1 red, 2 blue) and every
+/// NamedArray as a Float64 array. The snapshot's points, triangles and arrays
+/// are handed to VTK without copies (connectivity and offsets are Int32 in the file), so that
+/// writing needs little memory besides the snapshot. OBJ, PLY and STL carry geometry only, and
+/// PLY/STL store single-precision coordinates. An unknown extension is an InputError; an
+/// inconsistent snapshot (sizes, indices) is std::invalid_argument.
+void write_mesh(const std::filesystem::path& path, const MeshSnapshot& mesh, const WriteOptions& options);
+/// write_mesh with the default WriteOptions (kept for source and binary compatibility).
 void write_mesh(const std::filesystem::path& path, const MeshSnapshot& mesh);
 
 /// The snapshot of `mesh` to write to `path`: points at the shown control points, or at the
