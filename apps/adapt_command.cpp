@@ -16,6 +16,7 @@
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/shapes.hpp"
 #include "rgbmesh/vtk_io.hpp"
+#include "write_progress.hpp"
 
 #ifndef RGBMESH_VERSION
 #define RGBMESH_VERSION "unknown"
@@ -251,7 +252,7 @@ int run_adapt(const AdaptArgs& a) {
   auto on_cycle = [&](const adapt::CycleState& c) {
     const auto& r = c.report;
     const std::string file = (s.moving ? "step_" : "cycle_") + number(r.cycle, "%03.0f") + ".vtp";
-    write_mesh(dir / file, adapt::snapshot(c));
+    write_mesh(dir / file, adapt::snapshot(c), output_options((dir / file).string(), a.compression));
     series.emplace_back(s.moving ? r.time : r.cycle, file);
     write_pvd(dir / "solution.pvd", series);  // after every cycle: usable while running
     progress.cycles.push_back(r);

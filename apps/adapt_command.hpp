@@ -7,9 +7,12 @@
 #include <string>
 #include <vector>
 
+#include "rgbmesh/vtk_io.hpp"
+
 namespace rgbmesh::cli {
 
 struct AdaptArgs {
+  Compression compression = Compression::lz4;  // of the .vtp files (--compression)
   std::string mesh;                   // empty: the embedded icosahedron
   bool triangulate = false;           // fan-split the mesh's polygons
   std::string problem;                // sphere-harmonic, sphere-peak, moving-peak, gaussian;

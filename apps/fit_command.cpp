@@ -12,6 +12,7 @@
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/vtk_io.hpp"
+#include "write_progress.hpp"
 
 namespace rgbmesh::cli {
 namespace {
@@ -123,10 +124,12 @@ int run_fit(const FitArgs& a) {
   fit::TriangleDistances per_triangle = fit::distances_per_triangle(r);
   limit.cell_data.push_back({"targets", 1, std::move(per_triangle.targets)});
   limit.cell_data.push_back({"rms_distance", 1, std::move(per_triangle.rms_distance)});
-  write_mesh(dir / "limit_surface.vtp", limit);
+  const auto vtk_options = [&](const char* file) { return output_options((dir / file).string(), a.compression); };
+  write_mesh(dir / "limit_surface.vtp", limit, vtk_options("limit_surface.vtp"));
   // The limit surface of the starting base, for comparison (subdivision shrinks a coarse base).
-  write_mesh(dir / "initial_limit_surface.vtp", limit_snapshot(r.stencils, base.mesh.points));
-  write_point_cloud(dir / "targets.vtp", target.points, {{"distance", 1, r.distance}});
+  write_mesh(dir / "initial_limit_surface.vtp", limit_snapshot(r.stencils, base.mesh.points),
+             vtk_options("initial_limit_surface.vtp"));
+  write_point_cloud(dir / "targets.vtp", target.points, {{"distance", 1, r.distance}}, vtk_options("targets.vtp"));
   const double total_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

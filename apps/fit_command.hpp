@@ -4,9 +4,12 @@
 #include <cstddef>
 #include <string>
 
+#include "rgbmesh/vtk_io.hpp"
+
 namespace rgbmesh::cli {
 
 struct FitArgs {
+  Compression compression = Compression::lz4;  // of the .vtp files (--compression)
   std::string target;        // points: a point cloud (.xyz, .pwn, or a mesh format without faces) or a mesh
   std::string base;          // empty: built from the target (decimated, or reconstructed and decimated)
   bool triangulate = false;  // fan-split the polygons of --target's and --base's faces

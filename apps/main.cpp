@@ -33,6 +33,7 @@
 #include "rgbmesh/vtk_io.hpp"
 #include "resources.hpp"
 #include "stages.hpp"
+#include "write_progress.hpp"
 
 namespace fs = std::filesystem;
 using namespace rgbmesh;
@@ -216,6 +217,25 @@ int main(int argc, char** argv) {
                  "Memory ceiling of the process: bytes with K/M/G/T, or a percentage of the available memory "
                  "[default: 80%]; larger work is refused or stopped (exit code 3)")
       ->type_name("SIZE");
+  // --compression: before the subcommand, or on any subcommand that writes files.
+  std::string compression_text = compression_name(WriteOptions().compression);
+  const CLI::Validator compression_check(
+      [](std::string& value) -> std::string {
+        Compression c;
+        return compression_from_name(value, c) ? "" : "must be lz4, zlib or none, got '" + value + "'";
+      },
+      "");
+  const std::string compression_help =
+      "Compression of VTK XML outputs (.vtp, .vtu): lz4 (the fastest; ParaView 5.6 and later), zlib (smaller, "
+      "slower; every VTK reader) or none";
+  std::vector<CLI::Option*> compression_options;
+  const auto add_compression = [&](CLI::App* where) {
+    compression_options.push_back(where->add_option("--compression", compression_text, compression_help)
+                                      ->type_name("lz4|zlib|none")
+                                      ->check(compression_check));
+    return compression_options.back();
+  };
+  add_compression(&app)->capture_default_str();
   auto* global_out_option =
       app.add_option("--out", global_out,
                      "Output directory of the default job, and of adapt and fit when given before the subcommand")
@@ -238,6 +258,7 @@ int main(int argc, char** argv) {
   convert->add_option("IN", convert_in, "Input mesh (" + supported_input_extensions() + ")")->required();
   convert->add_option("OUT", convert_out, "Output mesh (" + supported_output_extensions() + ")")->required();
   convert->add_flag("--triangulate", convert_triangulate, "Fan-split polygons with more than three vertices");
+  add_compression(convert);
 
   // refine
   auto* refine =
@@ -289,6 +310,7 @@ int main(int argc, char** argv) {
   refine->add_flag("--triangulate", refine_triangulate, "Fan-split polygons with more than three vertices");
   refine->add_flag("--limit", refine_limit,
                    "Write the vertices at their Loop limit positions instead of their control points");
+  add_compression(refine);
 
   // adapt
   auto* adapt_cmd = app.add_subcommand(
@@ -340,6 +362,7 @@ int main(int argc, char** argv) {
       ->check(number_in("a finite number > 0", [](double x) { return x > 0 && std::isfinite(x); }));
   adapt_cmd->add_option("--solver", adapt_args.solver, "auto, ldlt, cg or cholmod")->capture_default_str();
   auto* adapt_out = adapt_cmd->add_option("--out", adapt_args.out, "Output directory")->capture_default_str();
+  add_compression(adapt_cmd);
   adapt_cmd->add_option("--report", adapt_args.report,
                         "Write a JSON report (settings, cycles, why the run stopped) to this file, after every cycle");
 
@@ -375,6 +398,7 @@ int main(int argc, char** argv) {
       ->check(number_in("an integer in [1, 1000]", [](double x) { return x >= 1 && x <= 1000; }));
   auto* fit_out = fit_cmd->add_option("--out", fit_args.out, "Output directory")->capture_default_str();
   fit_cmd->add_option("--report", fit_args.report, "Write a JSON report to this file");
+  add_compression(fit_cmd);
 
   try {
     app.parse(argc, argv);
@@ -395,6 +419,14 @@ int main(int argc, char** argv) {
       }
     }
   }
+  Compression compression = WriteOptions().compression;
+  compression_from_name(compression_text, compression);  // checked by the options' validator
+  if (info->parsed() && compression_options.front()->count() > 0) {
+    std::cerr << "rgbmesh: error: --compression: info writes no file\n";
+    return 2;
+  }
+  adapt_args.compression = compression;
+  fit_args.compression = compression;
   for (const char* name : {"--mesh", "--problem", "--strategy", "--marking", "--theta", "--estimator", "--coarsen",
                            "--cycles", "--steps", "--target-error", "--max-dofs", "--geometry", "--center", "--width",
                            "--solver"}) {
@@ -417,7 +449,7 @@ int main(int argc, char** argv) {
     if (convert->parsed()) {
       check_output_path(convert_out);
       RgbMesh mesh = load_mesh(convert_in, convert_triangulate);
-      write_mesh(convert_out, snapshot_for_file(mesh, convert_out));
+      write_mesh(convert_out, snapshot_for_file(mesh, convert_out), output_options(convert_out, compression));
       return 0;
     }
     if (refine->parsed()) {
@@ -442,7 +474,8 @@ int main(int argc, char** argv) {
       t0 = std::chrono::steady_clock::now();
       if (refine_out != "-") {
         check_output_memory(mesh, refine_out, ceiling);
-        write_mesh(refine_out, snapshot_for_file(mesh, refine_out, refine_limit));
+        write_mesh(refine_out, snapshot_for_file(mesh, refine_out, refine_limit),
+                   output_options(refine_out, compression));
       }
       const double write_s = seconds_since(t0);
       if (refine_stats) std::cout << stats_json(mesh, totals, read_s, write_s) << "\n";
@@ -455,6 +488,7 @@ int main(int argc, char** argv) {
     defaults.out = global_out;
     defaults.command_line = adapt_args.command_line;
     defaults.memory_limit = memory_limit;
+    defaults.compression = compression;
     return run_adapt(defaults);
   } catch (const InputError& e) {
     std::cerr << "rgbmesh: error: " << e.what() << "\n";

@@ -933,7 +933,7 @@ TEST_F(VtkIo, DamagedXmlHeadersAreNamedBeforeVtkReadsThem) {
        "CellData array 'grad': NumberOfComponents=\"-1\" is not a positive count"},
       {"type.vtp", edited(vtp, "type=\"Float64\"", "type=\"Float65\""), "unsupported type=\"Float65\""},
       {"offset.vtp", edited(vtp, "offset=\"0\"", "offset=\"-1\""), "offset=\"-1\" is not an offset"},
-      {"compressor.vtp", edited(vtp, "vtkZLibDataCompressor", "vtkZipDataCompressor"), "unknown compressor"},
+      {"compressor.vtp", edited(vtp, "vtkLZ4DataCompressor", "vtkZipDataCompressor"), "unknown compressor"},
       {"header.vtp", edited(vtp, "header_type=\"UInt32\"", "header_type=\"UInt8\""), "header_type=\"UInt8\""},
       {"more.vtp", edited(vtp, count(vtp, "NumberOfPoints"), "NumberOfPoints=\"10\""),
        "piece 0 points: the array holds 27 values, the header announces 30"},
@@ -1175,11 +1175,11 @@ void check_xml_arrays(const fs::path& file, const MeshSnapshot& m) {
   check_named(data->GetPointData(), m.point_data.at(0));
   check_named(data->GetCellData(), m.cell_data.at(0));
 
-  // Compressed, appended, raw binary: the header says so.
+  // Compressed (LZ4, the default), appended, raw binary: the header says so.
   std::ifstream in(file, std::ios::binary);
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::string header = text.substr(0, text.find("<AppendedData"));
-  EXPECT_NE(header.find("compressor=\"vtkZLibDataCompressor\""), std::string::npos) << header;
+  EXPECT_NE(header.find("compressor=\"vtkLZ4DataCompressor\""), std::string::npos) << header;
   EXPECT_NE(text.find("<AppendedData encoding=\"raw\">"), std::string::npos);
   EXPECT_EQ(header.find("format=\"ascii\""), std::string::npos);
   EXPECT_EQ(header.find("format=\"binary\""), std::string::npos);
