@@ -3,15 +3,19 @@
 # the Google Benchmark cases (insertions/s, removals/s, the time ratio to OpenSubdiv measured
 # in the same process), then the command-line tool's --stats on the Stanford bunny refined to
 # uniform level 5 (1.9 million vertices: peak memory per vertex) and coarsened back, and the
-# finite-element benchmark (assembly and solve, 10^4 to 10^6 unknowns, each solver).
+# finite-element benchmark (assembly and solve, 10^4 to 10^6 unknowns, each solver), the fit,
+# and the output formats on 1.9 million vertices (bench_write: seconds against PLY, memory).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh test
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DRGBMESH_BUILD_TESTS=ON -DRGBMESH_BUILD_BENCH=ON
-cmake --build build --target bench_refinement bench_fem bench_fit rgbmesh_cli
+cmake --build build --target bench_refinement bench_fem bench_fit bench_write rgbmesh_cli
 build/bin/bench_refinement --benchmark_min_time=1 "$@"
 build/bin/bench_fem
 build/bin/bench_fit
+echo
+echo "writing 1.9 million vertices in each output format (seconds against PLY, peak memory):"
+build/bin/bench_write 3 3
 echo
 echo "bunny, uniform level 5:"
 build/bin/rgbmesh refine data/bunny.obj - --uniform 5 --stats 2>/dev/null | tail -n 1
