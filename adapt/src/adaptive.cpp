@@ -4,8 +4,11 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
 
+#include "rgbmesh/errors.hpp"
 #include "rgbmesh/refinement.hpp"
+#include "rgbmesh/rgb_state.hpp"
 
 namespace rgbmesh::adapt {
 
@@ -20,12 +23,7 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 // their values. The values seed the next solve (an initial guess for CG).
 class SolutionTransfer {
  public:
-  explicit SolutionTransfer(RgbMesh& mesh) : mesh_(mesh) {
-    id_ = mesh_.add_insertion_observer([this](VertexHandle v, VertexHandle a, VertexHandle b) {
-      grow();
-      values_[v.idx] = 0.5 * (values_[a.idx] + values_[b.idx]);
-    });
-  }
+  explicit SolutionTransfer(RgbMesh& mesh) : mesh_(mesh) { observe(); }
   ~SolutionTransfer() { mesh_.remove_observer(id_); }
   SolutionTransfer(const SolutionTransfer&) = delete;
   SolutionTransfer& operator=(const SolutionTransfer&) = delete;
@@ -42,8 +40,23 @@ class SolutionTransfer {
     for (std::size_t i = 0; i < fe.num_dofs(); ++i) u[static_cast<Eigen::Index>(i)] = values_[fe.vertex[i].idx];
     return u;
   }
+  // The mesh object now holds a rebuilt mesh (its observers gone): vertex slot `old` of the
+  // previous one is moved[old] (invalid for a free slot).
+  void rebuilt(const std::vector<VertexHandle>& moved) {
+    std::vector<double> values(static_cast<std::size_t>(mesh_.vertex_slots()), 0.0);
+    for (std::size_t old = 0; old < moved.size() && old < values_.size(); ++old)
+      if (moved[old].valid()) values[static_cast<std::size_t>(moved[old].idx)] = values_[old];
+    values_ = std::move(values);
+    observe();
+  }
 
  private:
+  void observe() {
+    id_ = mesh_.add_insertion_observer([this](VertexHandle v, VertexHandle a, VertexHandle b) {
+      grow();
+      values_[v.idx] = 0.5 * (values_[a.idx] + values_[b.idx]);
+    });
+  }
   void grow() {
     if (values_.size() < static_cast<std::size_t>(mesh_.vertex_slots()))
       values_.resize(static_cast<std::size_t>(mesh_.vertex_slots()), 0.0);
@@ -61,8 +74,81 @@ struct SolvedCycle {
   CycleReport report;
 };
 
+// Rebuilds the mesh from its RGB state with the points in an order that depends on the mesh
+// alone: base vertices by base index, then level by level, each level by its parents' ranks.
+// restore_state inserts in that order, so the rebuilt mesh's handles (and the order of every
+// later split, removal and FE unknown) are those any process gets for this mesh. The trapezoid
+// diagonals are handed over as a sorted triangle list. Returns where each old vertex slot went.
+std::vector<VertexHandle> rebuild_canonically(RgbMesh& mesh) {
+  MeshSnapshot ids;
+  ids.vertex_handle.reserve(mesh.num_vertices());
+  for (const VertexHandle v : mesh.vertices()) ids.vertex_handle.push_back(v);
+  const RgbState state = save_state(mesh, ids);
+  const std::size_t n = state.parents.size();
+  // Ranks: base vertices first, then by (level, smaller parent rank, larger parent rank).
+  std::vector<std::int32_t> rank(n, -1), order;
+  order.reserve(n);
+  std::vector<std::vector<std::int32_t>> by_level;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto level = static_cast<std::size_t>(mesh.level(ids.vertex_handle[i]));
+    if (by_level.size() <= level) by_level.resize(level + 1);
+    by_level[level].push_back(static_cast<std::int32_t>(i));
+  }
+  for (std::size_t l = 0; l < by_level.size(); ++l) {
+    auto& points = by_level[l];
+    if (l == 0) {
+      std::sort(points.begin(), points.end(),
+                [&](std::int32_t a, std::int32_t b) { return state.base_vertex[a] < state.base_vertex[b]; });
+    } else {
+      const auto key = [&](std::int32_t p) {
+        const std::int32_t r0 = rank[state.parents[p][0]], r1 = rank[state.parents[p][1]];
+        return std::pair(std::min(r0, r1), std::max(r0, r1));
+      };
+      std::sort(points.begin(), points.end(), [&](std::int32_t a, std::int32_t b) { return key(a) < key(b); });
+    }
+    for (const std::int32_t p : points) {
+      rank[p] = static_cast<std::int32_t>(order.size());
+      order.push_back(p);
+    }
+  }
+  RgbState sorted;
+  sorted.base_points = state.base_points;
+  sorted.base_triangles = state.base_triangles;
+  sorted.base_vertex.resize(n);
+  sorted.parents.resize(n);
+  for (std::size_t r = 0; r < n; ++r) {
+    const std::int32_t p = order[r];
+    sorted.base_vertex[r] = state.base_vertex[p];
+    const auto [a, b] = state.parents[p];
+    sorted.parents[r] = a < 0 ? std::array<std::int32_t, 2>{-1, -1} : std::array<std::int32_t, 2>{rank[a], rank[b]};
+  }
+  std::vector<std::int32_t> rank_of_slot(static_cast<std::size_t>(mesh.vertex_slots()), -1);
+  for (std::size_t i = 0; i < n; ++i) rank_of_slot[static_cast<std::size_t>(ids.vertex_handle[i].idx)] = rank[i];
+  RestoreExpectations expected;
+  expected.triangles.reserve(mesh.num_triangles());
+  for (const TriangleHandle t : mesh.triangles()) {
+    const auto c = mesh.triangle_vertices(t);
+    std::array<std::int32_t, 3> tri{rank_of_slot[c[0].idx], rank_of_slot[c[1].idx], rank_of_slot[c[2].idx]};
+    std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());  // orientation kept
+    expected.triangles.push_back(tri);
+  }
+  std::sort(expected.triangles.begin(), expected.triangles.end());
+  RestoredMesh rebuilt = [&] {
+    try {
+      return restore_state(sorted, expected);
+    } catch (const InputError& e) {  // the state of a valid mesh: a bug of ours
+      throw std::logic_error(std::string("rebuilding the mesh from its own state: ") + e.what());
+    }
+  }();
+  std::vector<VertexHandle> moved(static_cast<std::size_t>(mesh.vertex_slots()));
+  for (std::size_t i = 0; i < n; ++i) moved[static_cast<std::size_t>(ids.vertex_handle[i].idx)] = rebuilt.vertex[rank[i]];
+  mesh = std::move(rebuilt.mesh);
+  return moved;
+}
+
 SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
-                               const SolutionTransfer& transfer) {
+                               SolutionTransfer& transfer) {
+  if (options.resumable) transfer.rebuilt(rebuild_canonically(mesh));
   SolvedCycle c;
   c.fe = fem::build_surface_mesh(mesh, options.projection);
   fem::SolveOptions so = options.solve;
@@ -84,6 +170,26 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
     c.report.error_h1 = e.h1;
   }
   return c;
+}
+
+// The levels and colours of the mesh a solution lives on, and its RGB state if asked: taken
+// before the mesh is adapted.
+SolvedMesh describe(const RgbMesh& mesh, const fem::SurfaceMesh& fe, bool with_state) {
+  SolvedMesh m;
+  m.vertex_level.reserve(fe.vertex.size());
+  for (const VertexHandle v : fe.vertex) m.vertex_level.push_back(static_cast<std::uint8_t>(mesh.level(v)));
+  m.triangle_level.reserve(fe.triangle.size());
+  m.triangle_color.reserve(fe.triangle.size());
+  for (const TriangleHandle t : fe.triangle) {
+    m.triangle_level.push_back(static_cast<std::uint8_t>(mesh.level(t)));
+    m.triangle_color.push_back(mesh.color(t));
+  }
+  if (with_state) {
+    MeshSnapshot points;  // save_state names the points by their vertices only
+    points.vertex_handle = fe.vertex;
+    m.state = save_state(mesh, points);
+  }
+  return m;
 }
 
 // The number of vertices after one more uniform level: every green edge of the finest level
@@ -199,7 +305,9 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
   SolutionTransfer transfer(mesh);
   AdaptRun run;
   std::size_t solved_dofs = 0;
-  for (int cycle = 0; cycle < options.max_cycles; ++cycle) {
+  for (int cycle = std::max(0, options.first_cycle - 1); cycle < options.max_cycles; ++cycle) {
+    // Resuming: the earlier run's last cycle, solved again to be adapted as it was.
+    const bool replay = cycle < options.first_cycle;
     const auto t0 = std::chrono::steady_clock::now();
     if (!next_cycle_fits(mesh, options, solved_dofs)) {
       run.stopped = StopReason::memory;
@@ -208,6 +316,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
     SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer);
     solved_dofs = c.fe.num_dofs();
     c.report.cycle = cycle;
+    const SolvedMesh solved = replay ? SolvedMesh{} : describe(mesh, c.fe, options.resumable);
     bool last = true;
     if (cycle + 1 == options.max_cycles)
       run.stopped = StopReason::cycles;
@@ -223,8 +332,10 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
       marked = adapt_mesh(mesh, c, options, c.report);
     }
     c.report.seconds = seconds_since(t0);
-    run.cycles.push_back(c.report);
-    if (on_cycle) on_cycle({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked});
+    if (!replay) {
+      run.cycles.push_back(c.report);
+      if (on_cycle) on_cycle({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved});
+    }
     if (last) break;
     if (c.report.memory_limit_reached) {
       run.stopped = StopReason::memory;
@@ -241,20 +352,26 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
 AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& problem_at,
                      const AdaptOptions& options, const DynamicOptions& dynamic, const CycleCallback& on_step) {
   AdaptRun run;
-  // Adapt to the start, refinement only.
-  AdaptOptions start = options;
-  start.coarsen_below = 0;
-  start.max_cycles = std::max(1, dynamic.start_cycles);
-  if (start.marking == Marking::equidistribution && !(start.target_estimate > 0)) start.marking = Marking::dorfler;
-  AdaptRun started = run_cycles(mesh, problem_at(0.0), start);
-  run.start = std::move(started.cycles);
-  if ((started.stopped == StopReason::max_dofs && mesh.num_vertices() > options.max_dofs) ||
-      started.stopped == StopReason::memory) {
-    run.stopped = started.stopped;  // even the start needs more than max_dofs, or the memory
-    return run;
+  const bool resuming = dynamic.first_step > 0;
+  if (resuming && options.marking == Marking::equidistribution && !(options.target_estimate > 0))
+    throw std::invalid_argument("run_dynamic: resuming under equidistribution needs the earlier run's target");
+  if (!resuming) {
+    // Adapt to the start, refinement only.
+    AdaptOptions start = options;
+    start.coarsen_below = 0;
+    start.max_cycles = std::max(1, dynamic.start_cycles);
+    start.first_cycle = 0;
+    if (start.marking == Marking::equidistribution && !(start.target_estimate > 0)) start.marking = Marking::dorfler;
+    AdaptRun started = run_cycles(mesh, problem_at(0.0), start);
+    run.start = std::move(started.cycles);
+    if ((started.stopped == StopReason::max_dofs && mesh.num_vertices() > options.max_dofs) ||
+        started.stopped == StopReason::memory) {
+      run.stopped = started.stopped;  // even the start needs more than max_dofs, or the memory
+      return run;
+    }
   }
   // After an adaptation: whether the mesh is still within bounds for the next solve.
-  std::size_t solved_dofs = run.start.empty() ? 0 : run.start.back().dofs;
+  std::size_t solved_dofs = run.start.empty() ? mesh.num_vertices() : run.start.back().dofs;
   const auto out_of_bounds = [&](const CycleReport& adapted) {
     if (adapted.memory_limit_reached || !next_cycle_fits(mesh, options, solved_dofs)) {
       run.stopped = StopReason::memory;
@@ -269,13 +386,20 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
   AdaptOptions o = options;
   if (o.marking == Marking::equidistribution && !(o.target_estimate > 0)) o.target_estimate = run.start.back().estimate;
   run.target_estimate = o.target_estimate;
-  if (dynamic.on_started) dynamic.on_started(run.start, run.target_estimate);
+  if (dynamic.on_started && !resuming) dynamic.on_started(run.start, run.target_estimate);
 
   SolutionTransfer transfer(mesh);
-  // Settle the start under the steps' own marking and coarsening (equidistribution towards a
-  // target reached by Dörfler marking is a different balance), so that the size is steady
-  // from the first step on: until an adaptation changes the size by less than 2%.
-  if (o.strategy == Strategy::adaptive && o.marking == Marking::equidistribution) {
+  if (resuming) {
+    // The earlier run's last step solved again: its values seed the next solve, as they did.
+    const int last = dynamic.first_step - 1;
+    const double t = dynamic.steps > 0 ? static_cast<double>(last) / dynamic.steps : 0.0;
+    SolvedCycle c = solve_and_estimate(mesh, problem_at(t), o, transfer);
+    transfer.store(c.fe, c.solution.u);
+    solved_dofs = c.fe.num_dofs();
+  } else if (o.strategy == Strategy::adaptive && o.marking == Marking::equidistribution) {
+    // Settle the start under the steps' own marking and coarsening (equidistribution towards a
+    // target reached by Dörfler marking is a different balance), so that the size is steady
+    // from the first step on: until an adaptation changes the size by less than 2%.
     const fem::Problem problem = problem_at(0.0);
     for (int k = 0; k < 10; ++k) {
       SolvedCycle c = solve_and_estimate(mesh, problem, o, transfer);
@@ -290,7 +414,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     }
   }
   run.stopped = StopReason::steps;
-  for (int step = 0; step <= dynamic.steps; ++step) {
+  for (int step = std::max(0, dynamic.first_step); step <= dynamic.steps; ++step) {
     const auto t0 = std::chrono::steady_clock::now();
     const double t = dynamic.steps > 0 ? static_cast<double>(step) / dynamic.steps : 0.0;
     const fem::Problem problem = problem_at(t);
@@ -317,7 +441,8 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     const std::vector<char> marked = o.strategy == Strategy::adaptive
                                          ? mark(c.estimate.eta, o.marking, o.theta, o.target_estimate)
                                          : std::vector<char>(c.fe.triangles.size(), 0);
-    if (on_step) on_step({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked});
+    const SolvedMesh solved = describe(mesh, c.fe, o.resumable);
+    if (on_step) on_step({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved});
   }
   return run;
 }
@@ -330,8 +455,14 @@ MeshSnapshot snapshot(const CycleState& s) {
   out.vertex_handle = s.fe.vertex;
   out.triangle_handle = s.fe.triangle;
   NamedArray u{"solution", 1, {}}, exact{"exact_solution", 1, {}}, error{"error", 1, {}};
+  if (s.solved) {
+    out.vertex_level = s.solved->vertex_level;
+    out.triangle_level = s.solved->triangle_level;
+    out.triangle_color = s.solved->triangle_color;
+    out.state = s.solved->state;
+  }
   for (std::size_t i = 0; i < n; ++i) {
-    out.vertex_level.push_back(static_cast<std::uint8_t>(s.mesh.level(s.fe.vertex[i])));
+    if (!s.solved) out.vertex_level.push_back(static_cast<std::uint8_t>(s.mesh.level(s.fe.vertex[i])));
     const double uh = s.u[static_cast<Eigen::Index>(i)];
     u.values.push_back(uh);
     if (s.problem.exact) {
@@ -347,8 +478,10 @@ MeshSnapshot snapshot(const CycleState& s) {
   }
   NamedArray eta{"error_indicator", 1, {}}, marked{"marked", 1, {}};
   for (std::size_t i = 0; i < s.fe.triangles.size(); ++i) {
-    out.triangle_level.push_back(static_cast<std::uint8_t>(s.mesh.level(s.fe.triangle[i])));
-    out.triangle_color.push_back(s.mesh.color(s.fe.triangle[i]));
+    if (!s.solved) {
+      out.triangle_level.push_back(static_cast<std::uint8_t>(s.mesh.level(s.fe.triangle[i])));
+      out.triangle_color.push_back(s.mesh.color(s.fe.triangle[i]));
+    }
     eta.values.push_back(s.estimate.eta[i]);
     marked.values.push_back(s.marked[i] ? 1.0 : 0.0);
   }

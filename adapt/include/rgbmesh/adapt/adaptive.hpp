@@ -12,6 +12,7 @@
 #include "rgbmesh/fem/estimators.hpp"
 #include "rgbmesh/fem/solver.hpp"
 #include "rgbmesh/mesh.hpp"
+#include "rgbmesh/snapshot.hpp"
 
 namespace rgbmesh::adapt {
 
@@ -49,6 +50,20 @@ struct AdaptOptions {
   std::function<std::size_t()> memory_headroom;
   fem::SolveOptions solve;
   std::optional<fem::Projection> projection;  ///< exact-geometry mode (e.g. the unit sphere)
+  /// Resumable runs: every solve happens on the mesh rebuilt from its RGB state with the
+  /// points in a canonical order (base vertices, then by level and parents), so that its
+  /// handles, and with them the order of every later operation, depend on the mesh alone and
+  /// not on how it was reached; and each cycle's CycleState carries that state
+  /// (SolvedMesh::state), so that snapshot() gives a file that read_rgb_mesh restores. A run
+  /// continued from such a file (first_cycle, DynamicOptions::first_step) then repeats the
+  /// uninterrupted run exactly. Costs a restore_state per solve; the mesh object is replaced
+  /// each time (its handles change, observers the caller registered on it are dropped).
+  bool resumable = false;
+  /// Resuming (run_cycles): the mesh is the one solved in cycle first_cycle - 1 of an earlier
+  /// run (e.g. restored from that cycle's file). That cycle is solved again, without a report
+  /// or callback, and marked and adapted as the earlier run did; the run goes on with cycle
+  /// first_cycle (max_cycles counts the earlier cycles too). 0: a new run.
+  int first_cycle = 0;
 };
 
 /// Why a run ended.
@@ -82,7 +97,17 @@ struct CycleReport {
   std::string solver;
 };
 
-/// Everything about one cycle, for output (before the mesh is adapted).
+/// What the mesh of a cycle's solution was, per FE point and triangle, taken before the mesh
+/// is adapted (the callback comes after the adaptation, when the FE handles may name other
+/// elements or none).
+struct SolvedMesh {
+  std::vector<std::uint8_t> vertex_level, triangle_level;
+  std::vector<Color> triangle_color;
+  std::optional<RgbState> state;  ///< with AdaptOptions::resumable; point i is FE point i
+};
+
+/// Everything about one cycle, for output. `mesh` is the mesh after the cycle's adaptation
+/// (the next cycle's mesh); the cycle's own mesh is `fe` and `solved`.
 struct CycleState {
   const CycleReport& report;
   const RgbMesh& mesh;
@@ -91,6 +116,7 @@ struct CycleState {
   const Eigen::VectorXd& u;
   const fem::Estimate& estimate;
   const std::vector<char>& marked;  ///< per FE triangle
+  const SolvedMesh* solved = nullptr;  ///< set by run_cycles and run_dynamic
 };
 using CycleCallback = std::function<void(const CycleState&)>;
 
@@ -112,6 +138,11 @@ struct DynamicOptions {
   int steps = 24;           ///< time steps t = 0, 1/steps, ..., 1 (steps + 1 solves)
   int cycles_per_step = 2;  ///< adaptations to each new time before it is solved and reported
   int start_cycles = 8;     ///< cycles that adapt the mesh to the problem at t = 0 first
+  /// Resuming: the mesh is the one solved at step first_step - 1 of an earlier run with the
+  /// same steps. The start is skipped (with equidistribution marking, options.target_estimate
+  /// must be the earlier run's target), that step is solved again for the transferred values,
+  /// and the steps go on from first_step. 0: a new run.
+  int first_step = 0;
   /// Called once the start is adapted, with its cycles and the target of the steps.
   std::function<void(const std::vector<CycleReport>& start, double target_estimate)> on_started;
 };
@@ -135,7 +166,8 @@ fem::Problem moving_peak(double t, double kappa = 100.0);
 
 /// The cycle's mesh for output: the finite-element geometry (limit or projected positions)
 /// with point data "solution", and "exact_solution" and "error" where the exact solution is
-/// known, plus the insertion level; cell data "error_indicator", "marked", "level", "color".
+/// known, plus the insertion level; cell data "error_indicator", "marked", "level", "color";
+/// and the RGB state when the cycle carries one (AdaptOptions::resumable).
 MeshSnapshot snapshot(const CycleState& state);
 
 /// Marks triangles (per FE triangle) by the chosen strategy (target: for equidistribution).
