@@ -1,13 +1,18 @@
 #include "adapt_command.hpp"
 
 #include <cmath>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <initializer_list>
 #include <iostream>
+#include <optional>
 #include <sstream>
+#include <tuple>
 
 #include "json.hpp"
+#include "json_read.hpp"
 #include "output_dir.hpp"
 #include "resources.hpp"
 #include "rgbmesh/errors.hpp"
@@ -28,18 +33,27 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Exactly the double, as JSON (the JSON helper rounds to 6 digits): a resumed run continues
+// from the report's figures, and runs are compared through them.
+std::string exact(double x) {
+  if (!std::isfinite(x)) return "null";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
 std::string cycles_json(const std::vector<adapt::CycleReport>& reports, bool dynamic) {
   std::string out = "[";
   for (std::size_t i = 0; i < reports.size(); ++i) {
     const auto& r = reports[i];
     JsonObject o;
     o.add("cycle", r.cycle);
-    if (dynamic) o.add("time", r.time);
+    if (dynamic) o.raw("time", exact(r.time));
     o.add("triangles", static_cast<std::uint64_t>(r.triangles))
         .add("dofs", static_cast<std::uint64_t>(r.dofs))
-        .add("estimate", r.estimate);
-    if (r.error_l2) o.add("error_l2", *r.error_l2);
-    if (r.error_h1) o.add("error_h1", *r.error_h1);
+        .raw("estimate", exact(r.estimate));
+    if (r.error_l2) o.raw("error_l2", exact(*r.error_l2));
+    if (r.error_h1) o.raw("error_h1", exact(*r.error_h1));
     o.add("seconds", r.seconds)
         .add("solve_seconds", r.solve_seconds)
         .add("adapt_seconds", r.adapt_seconds)
@@ -185,24 +199,281 @@ std::string stop_message(adapt::StopReason reason, const Settings& s, const Adap
   return "";
 }
 
+// ---- --resume ---------------------------------------------------------------------------
+
+std::string cycle_file(bool moving, int cycle) {
+  return (moving ? "step_" : "cycle_") + number(cycle, "%03.0f") + ".vtp";
+}
+
+// A run folder read back for --resume: the settings and cycles of its report, the last
+// cycle's mesh restored from its file.
+struct PriorRun {
+  fs::path dir;
+  AdaptArgs args;  // the run's settings, as its report gives them
+  bool moving = false;
+  std::string mesh_name, command, stopped;
+  std::vector<std::string> resumed;  // the command lines that resumed it before
+  adapt::AdaptRun done;              // its cycles (steps), start cycles and target estimate
+  RgbMesh mesh;                      // the mesh of its last cycle
+};
+
+[[noreturn]] void damaged(const fs::path& file, const std::string& what) {
+  throw InputError(file.string() + ": cannot resume from this run: " + what);
+}
+
+const JsonValue& member(const JsonValue& o, const char* key, JsonValue::Kind kind, const fs::path& file) {
+  const JsonValue* v = o.find(key);
+  if (v == nullptr || v->kind != kind) damaged(file, std::string("'") + key + "' is missing or has the wrong type");
+  return *v;
+}
+double real(const JsonValue& o, const char* key, const fs::path& file) {
+  return member(o, key, JsonValue::Kind::number, file).number;
+}
+std::int64_t count(const JsonValue& o, const char* key, const fs::path& file) {
+  const double x = real(o, key, file);
+  if (!(x >= 0 && x <= 1e15) || x != std::floor(x)) damaged(file, std::string("'") + key + "' is not a count");
+  return static_cast<std::int64_t>(x);
+}
+std::string text(const JsonValue& o, const char* key, const fs::path& file) {
+  return member(o, key, JsonValue::Kind::string, file).string;
+}
+
+std::vector<adapt::CycleReport> cycles_from(const JsonValue& list, const fs::path& file) {
+  std::vector<adapt::CycleReport> out;
+  for (const JsonValue& c : list.array) {
+    if (c.kind != JsonValue::Kind::object) damaged(file, "a cycle is not an object");
+    adapt::CycleReport r;
+    r.cycle = static_cast<int>(count(c, "cycle", file));
+    if (c.find("time")) r.time = real(c, "time", file);
+    r.triangles = static_cast<std::size_t>(count(c, "triangles", file));
+    r.dofs = static_cast<std::size_t>(count(c, "dofs", file));
+    r.estimate = real(c, "estimate", file);
+    if (c.find("error_l2")) r.error_l2 = real(c, "error_l2", file);
+    if (c.find("error_h1")) r.error_h1 = real(c, "error_h1", file);
+    r.seconds = real(c, "seconds", file);
+    r.solve_seconds = real(c, "solve_seconds", file);
+    r.adapt_seconds = real(c, "adapt_seconds", file);
+    r.marked = static_cast<std::size_t>(count(c, "marked", file));
+    r.splits = static_cast<std::size_t>(count(c, "splits", file));
+    r.removals = static_cast<std::size_t>(count(c, "removals", file));
+    r.solver = text(c, "solver", file);
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
+PriorRun read_prior_run(const std::string& folder) {
+  PriorRun p;
+  p.dir = folder;
+  std::error_code ec;
+  if (!fs::is_directory(p.dir, ec)) throw InputError("--resume " + folder + ": no such folder");
+  const fs::path file = p.dir / "report.json";
+  std::ifstream in(file, std::ios::binary);
+  if (!in)
+    throw InputError(file.string() + ": missing: " + folder +
+                     " is not the folder of an adapt run (or of one from before runs could be resumed)");
+  std::stringstream contents;
+  contents << in.rdbuf();
+  JsonValue root;
+  try {
+    root = JsonReader::parse(contents.str());
+  } catch (const std::runtime_error& e) {
+    damaged(file, std::string("not valid JSON (") + e.what() + ")");
+  }
+  if (root.kind != JsonValue::Kind::object) damaged(file, "not a JSON object");
+  AdaptArgs& a = p.args;
+  a.problem = text(root, "problem", file);
+  a.strategy = text(root, "strategy", file);
+  a.marking = text(root, "marking", file);
+  a.estimator = text(root, "estimator", file);
+  a.solver = text(root, "solver", file);
+  a.geometry = text(root, "geometry", file);
+  a.theta = real(root, "theta", file);
+  a.coarsen = real(root, "coarsen", file);
+  a.cycles = static_cast<int>(count(root, "max_cycles", file));
+  a.target_error = real(root, "target_error", file);
+  a.max_dofs = count(root, "max_dofs", file);
+  p.moving = a.problem == "moving-peak";
+  if (p.moving) {
+    a.steps = static_cast<int>(count(root, "steps", file));
+    p.done.target_estimate = real(root, "target_estimate", file);
+    p.done.start = cycles_from(member(root, "start_cycles", JsonValue::Kind::array, file), file);
+  }
+  if (a.problem == "gaussian") {
+    for (const JsonValue& x : member(root, "center", JsonValue::Kind::array, file).array) {
+      if (x.kind != JsonValue::Kind::number) damaged(file, "'center' is not three numbers");
+      a.center.push_back(x.number);
+    }
+    if (a.center.size() != 3) damaged(file, "'center' is not three numbers");
+    a.width = real(root, "width", file);
+  }
+  p.mesh_name = text(root, "mesh", file);
+  p.command = text(root, "command", file);
+  if (const JsonValue* r = root.find("resumed"); r != nullptr && r->kind == JsonValue::Kind::array)
+    for (const JsonValue& line : r->array) p.resumed.push_back(line.string);
+  if (const JsonValue* s = root.find("stopped"); s != nullptr && s->kind == JsonValue::Kind::string) p.stopped = s->string;
+  p.done.cycles = cycles_from(member(root, "cycles", JsonValue::Kind::array, file), file);
+  if (p.done.cycles.empty())
+    throw InputError(folder + ": the run completed no " + (p.moving ? "time step" : "cycle") +
+                     ", so there is nothing to resume from (start it again)");
+  for (std::size_t i = 0; i < p.done.cycles.size(); ++i) {
+    if (p.done.cycles[i].cycle != static_cast<int>(i))
+      damaged(file, "its cycle " + std::to_string(i) + " is numbered " + std::to_string(p.done.cycles[i].cycle));
+    const fs::path f = p.dir / cycle_file(p.moving, p.done.cycles[i].cycle);
+    if (!fs::is_regular_file(f, ec)) throw InputError(f.string() + ": missing (the run's report lists it): cannot resume");
+  }
+  const adapt::CycleReport& last = p.done.cycles.back();
+  const fs::path last_file = p.dir / cycle_file(p.moving, last.cycle);
+  RgbMeshFile saved = read_rgb_mesh(last_file);
+  if (!saved.restored)
+    throw InputError(last_file.string() + ": carries no RGB state (written before adapt saved it?): cannot resume from it");
+  if (saved.mesh.num_vertices() != last.dofs || saved.mesh.num_triangles() != last.triangles)
+    damaged(last_file, "it has " + std::to_string(saved.mesh.num_vertices()) + " vertices and " +
+                           std::to_string(saved.mesh.num_triangles()) + " triangles, the report says " +
+                           std::to_string(last.dofs) + " and " + std::to_string(last.triangles));
+  p.mesh = std::move(saved.mesh);
+  return p;
+}
+
+bool same_path(const fs::path& a, const fs::path& b) {
+  std::error_code ec1, ec2;
+  const fs::path x = fs::weakly_canonical(a, ec1), y = fs::weakly_canonical(b, ec2);
+  return !ec1 && !ec2 && x == y;
+}
+
+// The settings of a resumed run: the run's own, with what the command line may change
+// (--cycles and --max-dofs to extend it, --target-error where it only stops the run, where
+// and how the outputs are written). Any other setting given must be the run's; InputError
+// otherwise, and when nothing would be left to do.
+AdaptArgs resumed_args(const AdaptArgs& given, const PriorRun& p) {
+  AdaptArgs r = p.args;
+  r.resume = given.resume;
+  r.out = p.dir.string();
+  r.report = given.report;
+  r.compression = given.compression;
+  r.memory_limit = given.memory_limit;
+  r.command_line = given.command_line;
+  const auto has = [&](const char* option) { return given.given.count(option) > 0; };
+  const std::string last_file = (p.dir / cycle_file(p.moving, p.done.cycles.back().cycle)).string();
+  for (const char* option : {"--mesh", "--triangulate"})
+    if (has(option))
+      throw InputError(std::string(option) + ": does not apply with --resume (the mesh is the run's last; for a new run "
+                       "from it: adapt --mesh " + last_file + ")");
+  if (has("--out") && !same_path(given.out, p.dir))
+    throw InputError("--out " + given.out + ": --resume writes into the run's own folder " + p.dir.string());
+  const auto conflict = [](const char* option, const std::string& value, const std::string& saved) {
+    throw InputError(std::string(option) + " " + value + ": conflicts with the resumed run's " + saved +
+                     " (a resumed run keeps its settings; --cycles, --max-dofs and --target-error may change)");
+  };
+  for (const auto& [option, value, saved] : {std::tuple{"--problem", given.problem, r.problem},
+                                             {"--strategy", given.strategy, r.strategy},
+                                             {"--marking", given.marking, r.marking},
+                                             {"--estimator", given.estimator, r.estimator},
+                                             {"--solver", given.solver, r.solver},
+                                             {"--geometry", given.geometry, r.geometry}})
+    if (has(option) && value != saved) conflict(option, value, saved);
+  for (const auto& [option, value, saved] : {std::tuple{"--theta", given.theta, r.theta},
+                                             {"--coarsen", given.coarsen, r.coarsen},
+                                             {"--width", given.width, r.width},
+                                             {"--steps", static_cast<double>(given.steps), static_cast<double>(r.steps)}})
+    if (has(option) && value != saved) conflict(option, number(value, "%.17g"), number(saved, "%.17g"));
+  if (has("--center") && given.center != r.center) conflict("--center", "", "centre");
+  // The target drives the marking of equidistribution and every step of moving-peak.
+  const bool target_marks = p.moving || (r.marking == "equidistribution" && r.strategy == "adaptive");
+  if (has("--target-error")) {
+    if (target_marks && given.target_error != r.target_error)
+      conflict("--target-error", number(given.target_error, "%.17g"), number(r.target_error, "%.17g"));
+    r.target_error = given.target_error;
+  }
+  if (has("--cycles")) {
+    if (p.moving && given.cycles != r.cycles)
+      conflict("--cycles", std::to_string(given.cycles), std::to_string(r.cycles) + " start cycles (done)");
+    r.cycles = given.cycles;
+  }
+  if (has("--max-dofs")) r.max_dofs = given.max_dofs;
+
+  // Something left to do.
+  const adapt::CycleReport& last = p.done.cycles.back();
+  const std::string stopped = p.dir.string() + ": nothing to resume: ";
+  if (p.moving && last.cycle >= r.steps)
+    throw InputError(stopped + "all " + std::to_string(r.steps) +
+                     " time steps are done (a moving-peak run cannot be extended: its steps divide one quarter turn)");
+  if (!p.moving && last.cycle + 1 >= r.cycles)
+    throw InputError(stopped + "the run has done " + std::to_string(last.cycle + 1) + " cycles of --cycles " +
+                     std::to_string(r.cycles) + " (give a larger --cycles to extend it)");
+  if (!p.moving && r.target_error > 0 && last.estimate <= r.target_error)
+    throw InputError(stopped + "its estimate " + number(last.estimate, "%.4g") + " reached --target-error " +
+                     number(r.target_error, "%.4g") + " (give a smaller one to extend it)");
+  if (p.stopped == "max-dofs" && !(r.max_dofs > p.args.max_dofs))
+    throw InputError(stopped + "the run stopped at --max-dofs " + std::to_string(p.args.max_dofs) +
+                     " (give a larger --max-dofs to extend it)");
+  return r;
+}
+
+// The base mesh of an RGB mesh, for the checks that a new run makes on its input.
+TriangleMeshData base_of(const RgbMesh& mesh) {
+  TriangleMeshData base;
+  for (std::size_t b = 0; b < mesh.num_base_vertices(); ++b)
+    base.points.push_back(mesh.insertion_point(VertexHandle(static_cast<std::int32_t>(b))));
+  base.triangles = mesh.base_triangles();
+  return base;
+}
+
+bool is_vtk_xml(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".vtp" || ext == ".vtu";
+}
+
 }  // namespace
 
-int run_adapt(const AdaptArgs& a) {
-  // Mesh, then every setting checked before anything is written.
+int run_adapt(const AdaptArgs& args) {
+  // Resuming: the run folder's settings and last mesh.
+  std::optional<PriorRun> prior;
+  if (!args.resume.empty()) prior = read_prior_run(args.resume);
+  const AdaptArgs a = prior ? resumed_args(args, *prior) : args;
+  // Mesh, then every setting checked before anything is written. A .vtp or .vtu that rgbmesh
+  // wrote (a cycle of an earlier run, a refined mesh) comes back with its RGB state.
   SoupOptions read_options;
   read_options.triangulate = a.triangulate;
-  TriangleMeshData base = a.mesh.empty() ? icosahedron() : read_mesh(a.mesh, read_options);
-  for (const auto& note : base.notes) std::cerr << "rgbmesh: note: " << a.mesh << ": " << note << "\n";
+  TriangleMeshData base;
+  RgbMesh mesh;
+  if (prior) {
+    mesh = std::move(prior->mesh);
+    base = base_of(mesh);
+  } else if (is_vtk_xml(a.mesh)) {
+    RgbMeshFile file = read_rgb_mesh(a.mesh, read_options);
+    for (const auto& note : file.notes) std::cerr << "rgbmesh: note: " << a.mesh << ": " << note << "\n";
+    mesh = std::move(file.mesh);
+    base = base_of(mesh);
+  } else {
+    base = a.mesh.empty() ? icosahedron() : read_mesh(a.mesh, read_options);
+    for (const auto& note : base.notes) std::cerr << "rgbmesh: note: " << a.mesh << ": " << note << "\n";
+  }
   Settings s = settle(a, base);
-  RgbMesh mesh = [&] {
-    try {
-      return RgbMesh::from_triangles(base.points, base.triangles);
-    } catch (const InputError& e) {
-      throw InputError(a.mesh + ": " + e.what());
+  if (prior) {
+    s.mesh_name = prior->mesh_name;
+  } else if (!is_vtk_xml(a.mesh)) {
+    mesh = [&] {
+      try {
+        return RgbMesh::from_triangles(base.points, base.triangles);
+      } catch (const InputError& e) {
+        throw InputError(a.mesh + ": " + e.what());
+      }
+    }();
+    if (a.mesh.empty()) selective_refinement(mesh, UniformLevel(1));  // 42 vertices to start from
+  }
+  s.options.resumable = true;  // every cycle's file can be resumed from, exactly
+  if (prior) {
+    const int next = prior->done.cycles.back().cycle + 1;
+    if (s.moving) {
+      s.dynamic.first_step = next;
+      s.options.target_estimate = prior->done.target_estimate;
+    } else {
+      s.options.first_cycle = next;
     }
-  }();
-  if (a.mesh.empty()) selective_refinement(mesh, UniformLevel(1));  // 42 vertices to start from
-  if (mesh.num_vertices() > s.options.max_dofs)
+  }
+  if (!prior && mesh.num_vertices() > s.options.max_dofs)
     throw InputError("--max-dofs " + std::to_string(a.max_dofs) + ": the starting mesh already has " +
                      std::to_string(mesh.num_vertices()) + " vertices");
   fem::Problem problem;
@@ -217,33 +488,55 @@ int run_adapt(const AdaptArgs& a) {
   }
 
   // Output: the folder, the per-cycle files, the series and the report after every cycle.
+  // A resumed run keeps its folder, series and report, and goes on with them.
   const fs::path dir(a.out);
-  prepare_output_directory(dir);
+  if (!prior) prepare_output_directory(dir);
   std::vector<std::pair<double, std::string>> series;
   adapt::AdaptRun progress;  // what has been computed so far, for the report
+  std::vector<std::string> resumed;
+  if (prior) {
+    progress = prior->done;
+    for (const auto& r : progress.cycles) series.emplace_back(s.moving ? r.time : r.cycle, cycle_file(s.moving, r.cycle));
+    resumed = prior->resumed;
+    resumed.push_back(a.command_line);
+  }
   auto report_json = [&](const char* status, const std::string& stopped, const std::string& message) {
     JsonObject j;
-    j.add("version", RGBMESH_VERSION).add("command", a.command_line).add("status", status);
+    j.add("version", RGBMESH_VERSION).add("command", prior ? prior->command : a.command_line).add("status", status);
+    if (!resumed.empty()) {
+      std::string lines;
+      for (const auto& line : resumed) lines += (lines.empty() ? "" : ", ") + JsonObject::quote(line);
+      j.raw("resumed", "[" + lines + "]");
+    }
     j.raw("stopped", stopped.empty() ? "null" : JsonObject::quote(stopped));
     j.add("stop_message", message);
     j.add("mesh", s.mesh_name).add("problem", s.problem).add("strategy", a.strategy).add("marking", s.marking);
-    j.add("theta", s.options.theta).add("estimator", a.estimator).add("solver", a.solver).add("geometry", s.geometry);
-    j.add("coarsen", s.options.coarsen_below).add("max_cycles", s.options.max_cycles);
-    j.add("target_error", a.target_error).add("max_dofs", static_cast<std::int64_t>(a.max_dofs));
+    j.raw("theta", exact(s.options.theta)).add("estimator", a.estimator).add("solver", a.solver).add("geometry", s.geometry);
+    j.raw("coarsen", exact(s.options.coarsen_below)).add("max_cycles", s.options.max_cycles);
+    j.raw("target_error", exact(a.target_error)).add("max_dofs", static_cast<std::int64_t>(a.max_dofs));
     if (s.moving) j.add("steps", s.dynamic.steps).add("cycles_per_step", s.dynamic.cycles_per_step);
     if (s.problem == "gaussian") {
       j.raw("center", "[" + number(s.center.x, "%.17g") + ", " + number(s.center.y, "%.17g") + ", " +
                           number(s.center.z, "%.17g") + "]");
-      j.add("width", s.width);
+      j.raw("width", exact(s.width));
     }
     if (s.moving) {
-      j.add("target_estimate", progress.target_estimate);
+      j.raw("target_estimate", exact(progress.target_estimate));
       j.raw("start_cycles", cycles_json(progress.start, false));
     }
     j.raw("cycles", cycles_json(progress.cycles, s.moving));
     return j.str() + "\n";
   };
+  // The report goes into the run's folder (what --resume reads), and to --report FILE.
+  const fs::path run_report = dir / "report.json";
+  auto write_report = [&](const std::string& json) {
+    write_text_atomically(run_report, json);
+    if (!a.report.empty() && !same_path(a.report, run_report)) write_text_atomically(a.report, json);
+  };
 
+  if (prior)
+    std::cout << "rgbmesh adapt: resuming " << dir.string() << " after " << (s.moving ? "step " : "cycle ")
+              << prior->done.cycles.back().cycle << "\n";
   std::cout << "rgbmesh adapt: problem " << s.problem << ", " << a.strategy
             << (s.options.strategy == adapt::Strategy::adaptive ? " (" + s.marking + ")" : std::string())
             << ", geometry " << s.geometry << ", mesh " << s.mesh_name << "\n"
@@ -251,12 +544,12 @@ int run_adapt(const AdaptArgs& a) {
             << "  triangles      dofs    estimate    error_L2    error_H1  seconds\n";
   auto on_cycle = [&](const adapt::CycleState& c) {
     const auto& r = c.report;
-    const std::string file = (s.moving ? "step_" : "cycle_") + number(r.cycle, "%03.0f") + ".vtp";
+    const std::string file = cycle_file(s.moving, r.cycle);
     write_mesh(dir / file, adapt::snapshot(c), output_options((dir / file).string(), a.compression));
     series.emplace_back(s.moving ? r.time : r.cycle, file);
     write_pvd(dir / "solution.pvd", series);  // after every cycle: usable while running
     progress.cycles.push_back(r);
-    if (!a.report.empty()) write_text_atomically(a.report, report_json("running", "", ""));
+    write_report(report_json("running", "", ""));
     std::cout << number(r.cycle, "%5.0f") << (s.moving ? number(r.time, "%7.3f") : "")
               << number(static_cast<double>(r.triangles), "%11.0f") << number(static_cast<double>(r.dofs), "%10.0f")
               << number(r.estimate, "%12.4e") << (r.error_l2 ? number(*r.error_l2, "%12.4e") : std::string(12, ' '))
@@ -280,9 +573,14 @@ int run_adapt(const AdaptArgs& a) {
   } else {
     run = adapt::run_cycles(mesh, problem, s.options, on_cycle);
   }
+  if (prior) {  // the report lists every cycle of the run
+    run.cycles.insert(run.cycles.begin(), prior->done.cycles.begin(), prior->done.cycles.end());
+    run.start = prior->done.start;
+    run.target_estimate = prior->done.target_estimate;
+  }
   progress = run;
   const std::string message = stop_message(run.stopped, s, a, run);
-  if (!a.report.empty()) write_text_atomically(a.report, report_json("finished", adapt::to_string(run.stopped), message));
+  write_report(report_json("finished", adapt::to_string(run.stopped), message));
   std::cout << "stopped: " << message << "\n"
             << "wrote " << series.size() << " files and " << (dir / "solution.pvd").string()
             << " (open the .pvd in ParaView: color by 'solution', 'error_indicator' or 'level')\n";

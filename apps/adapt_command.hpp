@@ -36,6 +36,7 @@ struct AdaptArgs {
   std::set<std::string> given;  // the options the user gave ("--theta", ...), for refusals
   std::string command_line;     // for the report
   std::string memory_limit;     // the global --memory-limit ("" for the default)
+  std::string resume;           // --resume DIR: continue the run in DIR; empty: a new run
 };
 
 // Checks the arguments against each other and the mesh, runs, writes everything; returns the

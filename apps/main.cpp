@@ -364,7 +364,12 @@ int main(int argc, char** argv) {
   auto* adapt_out = adapt_cmd->add_option("--out", adapt_args.out, "Output directory")->capture_default_str();
   add_compression(adapt_cmd);
   adapt_cmd->add_option("--report", adapt_args.report,
-                        "Write a JSON report (settings, cycles, why the run stopped) to this file, after every cycle");
+                        "Also write the JSON report (settings, cycles, why the run stopped; always written as "
+                        "DIR/report.json) to this file, after every cycle");
+  adapt_cmd->add_option("--resume", adapt_args.resume,
+                        "Continue the run in this folder from its last cycle, with its settings (--cycles and "
+                        "--max-dofs may extend it)")
+      ->type_name("DIR");
 
   // fit
   auto* fit_cmd = app.add_subcommand(
@@ -429,7 +434,7 @@ int main(int argc, char** argv) {
   fit_args.compression = compression;
   for (const char* name : {"--mesh", "--problem", "--strategy", "--marking", "--theta", "--estimator", "--coarsen",
                            "--cycles", "--steps", "--target-error", "--max-dofs", "--geometry", "--center", "--width",
-                           "--solver"}) {
+                           "--solver", "--out", "--triangulate"}) {
     if (adapt_cmd->count(name) > 0) adapt_args.given.insert(name);
   }
   {

@@ -201,14 +201,16 @@ TEST_F(Cli, ARunNeverMixesItsFilesWithAPreviousRuns) {
   { std::ofstream(dir + "/notes.txt") << "mine\n"; }
   const RunResult r = run("adapt --cycles 2 --out " + dir);
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(files_in(dir), (std::set<std::string>{"cycle_000.vtp", "cycle_001.vtp", "solution.pvd", "notes.txt"}));
-  EXPECT_NE(r.err.find("removed 7 files of a previous run"), std::string::npos) << r.err;
+  EXPECT_EQ(files_in(dir), (std::set<std::string>{"cycle_000.vtp", "cycle_001.vtp", "solution.pvd", "report.json",
+                                                  "notes.txt"}));
+  EXPECT_NE(r.err.find("removed 8 files of a previous run"), std::string::npos) << r.err;
   const std::string pvd = read_text(dir + "/solution.pvd");
   EXPECT_EQ(pvd.find("cycle_002"), std::string::npos) << pvd;
   // A moving run in the same folder replaces the cycles by its steps.
   ASSERT_EQ(run("adapt --problem moving-peak --steps 2 --out " + dir).code, 0);
   EXPECT_EQ(files_in(dir),
-            (std::set<std::string>{"step_000.vtp", "step_001.vtp", "step_002.vtp", "solution.pvd", "notes.txt"}));
+            (std::set<std::string>{"step_000.vtp", "step_001.vtp", "step_002.vtp", "solution.pvd", "report.json",
+                                   "notes.txt"}));
 }
 
 TEST_F(Cli, GlobalOptionsWorkAnywhereOnTheLine) {
