@@ -1,0 +1,230 @@
+// `rgbmesh adapt --resume DIR` and `adapt --mesh saved.vtp`: a run interrupted after K cycles
+// and resumed repeats the uninterrupted run (unknowns, errors and estimates, the final mesh),
+// for a stationary problem with Dörfler marking and for the moving peak with coarsening; a
+// finished run extends with more cycles or unknowns; options that contradict the run, and
+// damaged or missing run folders, are refused with one line and exit code 2.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <set>
+#include <vector>
+
+#include <vtkCellArray.h>
+#include <vtkIdList.h>
+#include <vtkPoints.h>
+
+#include "../apps/json_read.hpp"
+#include "cli_fixture.hpp"
+
+namespace {
+
+using namespace rgbmesh::testing;
+using rgbmesh::cli::JsonReader;
+using rgbmesh::cli::JsonValue;
+
+struct Cycle {
+  long dofs = 0, triangles = 0, removals = 0;
+  double estimate = 0, error_l2 = 0, error_h1 = 0, time = 0;
+};
+
+// The cycles of a report, and the report itself.
+std::vector<Cycle> cycles_of(const JsonValue& report) {
+  std::vector<Cycle> out;
+  const JsonValue* list = report.find("cycles");
+  if (list == nullptr) return out;
+  for (const JsonValue& c : list->array) {
+    Cycle r;
+    const auto num = [&c](const char* key) { return c.find(key) ? c.find(key)->number : std::nan(""); };
+    r.dofs = static_cast<long>(num("dofs"));
+    r.triangles = static_cast<long>(num("triangles"));
+    r.removals = static_cast<long>(num("removals"));
+    r.estimate = num("estimate");
+    r.error_l2 = num("error_l2");
+    r.error_h1 = num("error_h1");
+    r.time = c.find("time") ? num("time") : 0.0;
+    out.push_back(r);
+  }
+  return out;
+}
+JsonValue report_of(const std::string& dir) { return JsonReader::parse(read_text(dir + "/report.json")); }
+
+bool close(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b)); }
+
+// The same unknowns, triangles and figures per cycle (relative 1e-9).
+void expect_same_cycles(const std::vector<Cycle>& a, const std::vector<Cycle>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].dofs, b[i].dofs) << "cycle " << i;
+    EXPECT_EQ(a[i].triangles, b[i].triangles) << "cycle " << i;
+    EXPECT_TRUE(close(a[i].estimate, b[i].estimate)) << "cycle " << i << ": " << a[i].estimate << " " << b[i].estimate;
+    EXPECT_TRUE(close(a[i].error_l2, b[i].error_l2)) << "cycle " << i << ": " << a[i].error_l2 << " " << b[i].error_l2;
+    EXPECT_TRUE(close(a[i].error_h1, b[i].error_h1)) << "cycle " << i << ": " << a[i].error_h1 << " " << b[i].error_h1;
+    EXPECT_EQ(a[i].time, b[i].time) << "cycle " << i;
+  }
+}
+
+// A file's triangles as sets of their corners' positions: the mesh, whatever its numbering.
+std::set<std::set<std::array<double, 3>>> triangles_of(const std::string& file) {
+  const vtkSmartPointer<vtkPolyData> pd = read_vtp(file);
+  std::set<std::set<std::array<double, 3>>> out;
+  auto ids = vtkSmartPointer<vtkIdList>::New();
+  for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c) {
+    pd->GetCellPoints(c, ids);
+    std::set<std::array<double, 3>> corners;
+    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
+      std::array<double, 3> p;
+      pd->GetPoint(ids->GetId(k), p.data());
+      corners.insert(p);
+    }
+    out.insert(corners);
+  }
+  return out;
+}
+
+int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+class Resume : public Cli {
+ protected:
+  // The run folder `dir` as an interruption after `k` cycles (steps) would have left it: the
+  // report lists k, says "running", and the later files are gone.
+  void interrupt_after(const std::string& dir, int k, const char* prefix) {
+    std::string json = read_text(dir + "/report.json");
+    const auto list = json.find("\"cycles\": [");
+    ASSERT_NE(list, std::string::npos);
+    const auto cut = json.find(", {\"cycle\": " + std::to_string(k) + ",", list);
+    ASSERT_NE(cut, std::string::npos);
+    json = json.substr(0, cut) + "]}\n";
+    const auto status = json.find("\"status\": \"finished\"");
+    ASSERT_NE(status, std::string::npos);
+    json.replace(status, 20, "\"status\": \"running\"");
+    std::ofstream(dir + "/report.json") << json;
+    for (const auto& e : fs::directory_iterator(dir)) {
+      const std::string name = e.path().filename().string();
+      if (name.rfind(prefix, 0) == 0 && std::stoi(name.substr(std::string(prefix).size())) >= k) fs::remove(e.path());
+    }
+  }
+};
+
+TEST_F(Resume, ASpherePeakRunResumedRepeatsTheUninterruptedRun) {
+  // Dörfler marking, 12 cycles; the interrupted run did 5 (it finished them: its --cycles).
+  const std::string full = path("full"), part = path("part");
+  ASSERT_EQ(run("adapt --cycles 12 --out " + full).code, 0);
+  ASSERT_EQ(run("adapt --cycles 5 --out " + part).code, 0);
+  const RunResult r = run("adapt --resume " + part + " --cycles 12 --report " + path("copy.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("resuming " + part + " after cycle 4"), std::string::npos) << r.out;
+  const JsonValue a = report_of(full), b = report_of(part);
+  const std::vector<Cycle> ca = cycles_of(a), cb = cycles_of(b);
+  ASSERT_EQ(cb.size(), 12u);
+  expect_same_cycles(ca, cb);
+  EXPECT_GT(ca.back().dofs, 3 * ca[5].dofs) << "the resumed cycles refined";
+  EXPECT_EQ(triangles_of(full + "/cycle_011.vtp"), triangles_of(part + "/cycle_011.vtp"));
+  EXPECT_EQ(b.find("status")->string, "finished");
+  EXPECT_EQ(b.find("max_cycles")->number, 12);
+  ASSERT_NE(b.find("resumed"), nullptr);
+  EXPECT_EQ(b.find("resumed")->array.size(), 1u);
+  EXPECT_EQ(b.find("command")->string.find("--resume"), std::string::npos) << "the command that started the run";
+  EXPECT_EQ(read_text(path("copy.json")), read_text(part + "/report.json"));
+  const std::string pvd = read_text(part + "/solution.pvd");
+  for (const char* f : {"cycle_000.vtp", "cycle_004.vtp", "cycle_005.vtp", "cycle_011.vtp"})
+    EXPECT_NE(pvd.find(f), std::string::npos) << f << " in " << pvd;
+
+  // Resumed again without more cycles: nothing to do, said in one line.
+  const RunResult again = run("adapt --resume " + part);
+  EXPECT_EQ(again.code, 2);
+  EXPECT_EQ(lines(again.err), 1) << again.err;
+  EXPECT_NE(again.err.find("--cycles"), std::string::npos) << again.err;
+}
+
+TEST_F(Resume, AMaxDofsStopExtendsWithMoreUnknowns) {
+  const std::string full = path("full"), part = path("part");
+  ASSERT_EQ(run("adapt --max-dofs 1500 --out " + full).code, 0);
+  ASSERT_EQ(run("adapt --max-dofs 300 --out " + part).code, 0);
+  EXPECT_EQ(report_of(part).find("stopped")->string, "max-dofs");
+  const RunResult same = run("adapt --resume " + part + " --max-dofs 300");
+  EXPECT_EQ(same.code, 2);
+  EXPECT_NE(same.err.find("--max-dofs"), std::string::npos) << same.err;
+  const RunResult r = run("adapt --resume " + part + " --max-dofs 1500");
+  ASSERT_EQ(r.code, 0) << r.err;
+  expect_same_cycles(cycles_of(report_of(full)), cycles_of(report_of(part)));
+  EXPECT_EQ(report_of(part).find("max_dofs")->number, 1500);
+}
+
+TEST_F(Resume, AMovingPeakRunResumedRepeatsTheUninterruptedRun) {
+  // Equidistribution with coarsening (0.25, the default), 8 steps; interrupted after 3.
+  const std::string full = path("mfull"), part = path("mpart");
+  ASSERT_EQ(run("adapt --problem moving-peak --steps 8 --out " + full).code, 0);
+  fs::copy(full, part);
+  interrupt_after(part, 3, "step_");
+  ASSERT_FALSE(fs::exists(part + "/step_003.vtp"));
+  const RunResult r = run("adapt --resume " + part);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("after step 2"), std::string::npos) << r.out;
+  const JsonValue a = report_of(full), b = report_of(part);
+  const std::vector<Cycle> ca = cycles_of(a), cb = cycles_of(b);
+  ASSERT_EQ(cb.size(), 9u);
+  expect_same_cycles(ca, cb);
+  EXPECT_EQ(cb[3].time, 3.0 / 8) << "the time goes on";
+  long removals = 0;
+  for (std::size_t i = 3; i < cb.size(); ++i) removals += cb[i].removals;
+  EXPECT_GT(removals, 0) << "the resumed steps coarsened behind the peak";
+  EXPECT_EQ(a.find("target_estimate")->number, b.find("target_estimate")->number);
+  EXPECT_EQ(triangles_of(full + "/step_008.vtp"), triangles_of(part + "/step_008.vtp"));
+  EXPECT_EQ(b.find("stopped")->string, "steps");
+  // All steps done: a moving run does not extend.
+  const RunResult more = run("adapt --resume " + part);
+  EXPECT_EQ(more.code, 2);
+  EXPECT_EQ(lines(more.err), 1) << more.err;
+}
+
+TEST_F(Resume, ConflictingOptionsAndDamagedFoldersAreRefused) {
+  const std::string dir = path("run");
+  ASSERT_EQ(run("adapt --cycles 3 --theta 0.4 --out " + dir).code, 0);
+  const std::string report = read_text(dir + "/report.json");
+  const auto refused = [&](const std::string& args, const std::string& says) {
+    const RunResult r = run("adapt --resume " + args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(says), std::string::npos) << args << ": " << r.err;
+  };
+  refused(dir + " --cycles 5 --theta 0.5", "--theta 0.5: conflicts");
+  refused(dir + " --cycles 5 --problem moving-peak", "--problem moving-peak: conflicts");
+  refused(dir + " --cycles 5 --estimator zz", "--estimator zz: conflicts");
+  refused(dir + " --cycles 5 --mesh " + dir + "/cycle_002.vtp", "--mesh: does not apply with --resume");
+  refused(dir + " --cycles 5 --out " + path("elsewhere"), "--out");
+  refused(dir, "has done 3 cycles");
+  refused(path("nowhere") + " --cycles 5", "no such folder");
+  EXPECT_EQ(read_text(dir + "/report.json"), report) << "refusals write nothing";
+  // The same value as the run's is no conflict.
+  ASSERT_EQ(run("adapt --resume " + dir + " --cycles 4 --theta 0.4").code, 0);
+  EXPECT_EQ(cycles_of(report_of(dir)).size(), 4u);
+
+  // Damaged folders.
+  fs::create_directories(path("empty"));
+  refused(path("empty") + " --cycles 5", "report.json: missing");
+  std::ofstream(dir + "/report.json") << report.substr(0, report.size() / 2);
+  refused(dir + " --cycles 5", "not valid JSON");
+  std::ofstream(dir + "/report.json") << report;
+  fs::remove(dir + "/cycle_002.vtp");
+  refused(dir + " --cycles 5", "cycle_002.vtp: missing");
+  fs::copy_file(dir + "/cycle_000.vtp", dir + "/cycle_002.vtp");
+  refused(dir + " --cycles 5", "cycle_002.vtp: cannot resume from this run");
+}
+
+TEST_F(Resume, ANewRunStartsFromASavedAdaptedMesh) {
+  const std::string first = path("first");
+  ASSERT_EQ(run("adapt --cycles 7 --out " + first).code, 0);
+  const std::vector<Cycle> before = cycles_of(report_of(first));
+  // The restored mesh is cycle 6's (not its base): the same unknowns, the same solution.
+  const RunResult r = run("adapt --problem sphere-peak --mesh " + first + "/cycle_006.vtp --cycles 2 --out " + path("next"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::vector<Cycle> after = cycles_of(report_of(path("next")));
+  ASSERT_EQ(after.size(), 2u);
+  EXPECT_EQ(after[0].dofs, before[6].dofs);
+  EXPECT_TRUE(close(after[0].estimate, before[6].estimate)) << after[0].estimate << " " << before[6].estimate;
+  EXPECT_GT(after[1].dofs, after[0].dofs);
+  EXPECT_EQ(triangles_of(first + "/cycle_006.vtp"), triangles_of(path("next") + "/cycle_000.vtp"));
+}
+
+}  // namespace
