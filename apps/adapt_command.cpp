@@ -376,13 +376,13 @@ AdaptArgs resumed_args(const AdaptArgs& given, const PriorRun& p) {
                                              {"--coarsen", given.coarsen, r.coarsen},
                                              {"--width", given.width, r.width},
                                              {"--steps", static_cast<double>(given.steps), static_cast<double>(r.steps)}})
-    if (has(option) && value != saved) conflict(option, number(value, "%.17g"), number(saved, "%.17g"));
+    if (has(option) && value != saved) conflict(option, number(value, "%.10g"), number(saved, "%.10g"));
   if (has("--center") && given.center != r.center) conflict("--center", "", "centre");
   // The target drives the marking of equidistribution and every step of moving-peak.
   const bool target_marks = p.moving || (r.marking == "equidistribution" && r.strategy == "adaptive");
   if (has("--target-error")) {
     if (target_marks && given.target_error != r.target_error)
-      conflict("--target-error", number(given.target_error, "%.17g"), number(r.target_error, "%.17g"));
+      conflict("--target-error", number(given.target_error, "%.10g"), number(r.target_error, "%.10g"));
     r.target_error = given.target_error;
   }
   if (has("--cycles")) {
