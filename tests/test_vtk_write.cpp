@@ -152,7 +152,8 @@ TEST_F(WriteFiles, EveryCompressionReadsBackBitExactlyThroughVtk) {
       for (const Color k : s.triangle_color) colors.push_back(static_cast<int>(k));
       expect_same_bytes(data->GetCellData()->GetArray("color"), colors, "color");
       for (const NamedArray& a : s.point_data)
-        expect_same_array(data->GetPointData()->GetArray(a.name.c_str()), a.values, a.components, a.name);
+        expect_same_array(data->GetPointData()->GetArray(a.name.c_str()), a.same_as_points ? coordinates : a.values,
+                          a.components, a.name);
       for (const NamedArray& a : s.cell_data)
         expect_same_array(data->GetCellData()->GetArray(a.name.c_str()), a.values, a.components, a.name);
 
@@ -170,6 +171,39 @@ TEST_F(WriteFiles, TheDefaultIsLz4AndTheTwoArgumentCallStillWorks) {
   write_mesh(file, mixed_snapshot(file));
   EXPECT_EQ(compressor_of(file), "vtkLZ4DataCompressor");
   EXPECT_EQ(WriteOptions().compression, Compression::lz4);
+}
+
+// snapshot_for_file is lean (no handles; the points are not copied into the array they equal)
+// and holds the same values as the full snapshot, bit for bit, with control or limit points.
+TEST_F(WriteFiles, TheSnapshotForAFileHoldsTheFullSnapshotsValuesWithoutCopies) {
+  for (const bool limit_points : {false, true}) {
+    const fs::path file = dir_ / "lean.vtp";
+    RgbMesh mesh = RgbMesh::from_triangles({{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}},
+                                           {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}});
+    selective_refinement(mesh, UniformLevel(2));
+    selective_refinement(mesh, BallLevel({1, 0, 0}, 0.5, 5));
+    const MeshSnapshot lean = snapshot_for_file(mesh, file, limit_points);
+    const MeshSnapshot full =
+        mesh.snapshot(limit_points ? RgbMesh::Points::limit : RgbMesh::Points::control, true);
+    EXPECT_TRUE(lean.vertex_handle.empty());
+    EXPECT_TRUE(lean.triangle_handle.empty());
+    ASSERT_EQ(lean.points.size(), full.points.size());
+    EXPECT_EQ(0, std::memcmp(lean.points.data(), full.points.data(), lean.points.size() * sizeof(Vec3)));
+    ASSERT_EQ(lean.point_data.size(), 2u);
+    for (std::size_t k = 0; k < 2; ++k) {
+      const NamedArray& a = lean.point_data[k];
+      EXPECT_EQ(a.name, full.point_data[k].name);
+      EXPECT_EQ(a.same_as_points, (a.name == "limit") == limit_points) << a.name;
+      std::vector<double> values = a.values;
+      if (a.same_as_points)
+        for (const Vec3& p : lean.points) values.insert(values.end(), {p.x, p.y, p.z});
+      ASSERT_EQ(values.size(), full.point_data[k].values.size());
+      EXPECT_EQ(0, std::memcmp(values.data(), full.point_data[k].values.data(), values.size() * sizeof(double)))
+          << a.name;
+    }
+    write_mesh(file, lean);
+    EXPECT_TRUE(read_rgb_mesh(file).restored);
+  }
 }
 
 TEST_F(WriteFiles, CompressionNames) {

@@ -13,6 +13,8 @@
 
 #include <algorithm>
 #include <exception>
+#include <thread>
+#include <vector>
 
 #include "rgbmesh/loop_rules.hpp"
 #include "rgbmesh/mesh.hpp"
@@ -162,6 +164,91 @@ bool RgbMesh::try_limit(VertexHandle v) const {
   return true;
 }
 
+bool RgbMesh::ring_limit(VertexHandle v, Vec3& limit) const {
+  // try_limit without its recursion and without storing: the same sums in the same order, so
+  // that the values are bit for bit those try_limit stores.
+  const int l = level(v);
+  const auto [pa, pb] = v_parents_[v.idx];
+  if (!pa.valid() || !pb.valid() || !limit_known(pa) || !limit_known(pb)) return false;
+  if (v_flags_[v.idx] & kBoundaryFlag) {
+    limit = loop::kBoundaryLimitSelf * v_control_[v.idx] +
+            loop::kBoundaryLimitNeighbor * (control_point(pa, l) + control_point(pb, l));
+    return true;
+  }
+  Vec3 sum;
+  int count = 0;
+  bool complete = true;
+  visit_edges(v, [&](EdgeHandle e) {
+    if (is_red(e)) {
+      if (level(e) < l) complete = false;
+      return complete;
+    }
+    VertexHandle w = other_vertex(e, v);
+    while (level(w) > l) {
+      const auto& p = v_parents_[w.idx];
+      w = (p[0] == v) ? p[1] : p[0];
+    }
+    if (level(w) < l && !limit_known(w)) {
+      complete = false;
+      return false;
+    }
+    sum += (level(w) == l) ? v_control_[w.idx] : control_point(w, l);
+    ++count;
+    return true;
+  });
+  if (!complete || count != 6) return false;
+  limit = 0.5 * v_control_[v.idx] + (1.0 / 12.0) * sum;
+  return true;
+}
+
+void RgbMesh::store_ring_limits() {
+  // A vertex's limit needs only the limits of coarser vertices (its parents and the coarser
+  // ones of its ring), so each level's can be computed at once, in parallel, once the coarser
+  // levels' are stored. The mesh does not change meanwhile; results are stored in vertex
+  // order by this thread. A vertex left out (incomplete ring) is left to compute_limits.
+  std::vector<std::vector<VertexHandle>> by_level;
+  for (VertexHandle v : vertices()) {
+    if (limit_known(v) || v_level_[v.idx] == 0) continue;
+    const std::size_t l = v_level_[v.idx];
+    if (by_level.size() <= l) by_level.resize(l + 1);
+    by_level[l].push_back(v);
+  }
+  constexpr std::size_t kBlock = std::size_t{1} << 16;
+  const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
+  std::vector<Vec3> value;
+  std::vector<char> known;
+  for (const std::vector<VertexHandle>& level_vertices : by_level) {
+    for (std::size_t begin = 0; begin < level_vertices.size(); begin += kBlock) {
+      const std::size_t n = std::min(kBlock, level_vertices.size() - begin);
+      value.resize(n);
+      known.assign(n, 0);
+      const auto run = [&](std::size_t from, std::size_t to) {
+        for (std::size_t i = from; i < to; ++i) known[i] = ring_limit(level_vertices[begin + i], value[i]) ? 1 : 0;
+      };
+      const std::size_t threads = std::min(cores, std::max<std::size_t>(1, n / 4096));
+      if (threads <= 1) {
+        run(0, n);
+      } else {
+        // ring_limit reads the mesh only and throws nothing for live vertices. Where a thread
+        // cannot be started, this one does its share.
+        std::vector<std::thread> pool;
+        std::size_t started = 1;
+        try {
+          pool.reserve(threads - 1);
+          for (; started < threads; ++started)
+            pool.emplace_back(run, n * started / threads, n * (started + 1) / threads);
+        } catch (const std::exception&) {
+        }
+        run(0, n / threads);
+        run(n * started / threads, n);
+        for (std::thread& thread : pool) thread.join();
+      }
+      for (std::size_t i = 0; i < n; ++i)
+        if (known[i]) store_limit(level_vertices[begin + i], value[i]);
+    }
+  }
+}
+
 void RgbMesh::raise_star(VertexHandle v) {
   const int l = level(v);
   VertexStar s;
@@ -248,6 +335,7 @@ Vec3 RgbMesh::stencil_point(const std::array<VertexHandle, 4>& st, int l) const 
 }
 
 std::size_t RgbMesh::compute_limits() {
+  store_ring_limits();
   std::vector<VertexHandle> missing;
   for (VertexHandle v : vertices()) {
     if (!try_limit(v)) missing.push_back(v);

@@ -43,6 +43,18 @@ vtkSmartPointer<vtkTypeInt32Array> int32_array(const char* name, int components,
   return a;
 }
 
+// The per-point arrays, borrowed rather than copied (VTK is told not to free them and only
+// reads them; the data set lives inside one write call, shorter than the snapshot).
+vtkSmartPointer<vtkTypeInt32Array> borrowed_int32_array(const char* name, int components, const std::int32_t* values,
+                                                        std::size_t tuples) {
+  auto a = vtkSmartPointer<vtkTypeInt32Array>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  if (tuples > 0)
+    a->SetArray(const_cast<std::int32_t*>(values), static_cast<vtkIdType>(tuples * static_cast<std::size_t>(components)), 1);
+  return a;
+}
+
 [[noreturn]] void bad(const fs::path& path, const std::string& what) {
   throw InputError(path.string() + ": inconsistent RGB state: " + what);
 }
@@ -107,8 +119,9 @@ void add_rgb_state(vtkDataSet& data, const MeshSnapshot& mesh) {
   const std::size_t n = mesh.points.size();
   if (s.base_vertex.size() != n || s.parents.size() != n)
     throw std::invalid_argument("the RGB state does not have one entry per point");
-  data.GetPointData()->AddArray(int32_array(kBaseVertex, 1, s.base_vertex.data(), n));
-  data.GetPointData()->AddArray(int32_array(kParents, 2, s.parents.empty() ? nullptr : s.parents[0].data(), n));
+  data.GetPointData()->AddArray(borrowed_int32_array(kBaseVertex, 1, s.base_vertex.data(), n));
+  data.GetPointData()->AddArray(
+      borrowed_int32_array(kParents, 2, s.parents.empty() ? nullptr : s.parents[0].data(), n));
   const std::int32_t version = s.version;
   data.GetFieldData()->AddArray(int32_array(kVersion, 1, &version, 1));
   auto points = vtkSmartPointer<vtkDoubleArray>::New();

@@ -129,14 +129,19 @@ void check_snapshot(const MeshSnapshot& mesh, const fs::path& path) {
     fail("triangle_level has the wrong size");
   if (!mesh.triangle_color.empty() && mesh.triangle_color.size() != n_cells)
     fail("triangle_color has the wrong size");
-  const auto check_arrays = [&](const std::vector<NamedArray>& arrays, std::size_t n) {
-    for (const NamedArray& a : arrays)
-      if (a.name.empty() || a.components < 1 || a.values.size() != n * static_cast<std::size_t>(a.components))
+  const auto check_arrays = [&](const std::vector<NamedArray>& arrays, std::size_t n, bool points) {
+    for (const NamedArray& a : arrays) {
+      if (a.same_as_points) {
+        if (!points || a.name.empty() || a.components != 3 || !a.values.empty())
+          fail("array '" + a.name + "': only a named point-data array of 3 components and no values can be the points");
+      } else if (a.name.empty() || a.components < 1 || a.values.size() != n * static_cast<std::size_t>(a.components)) {
         fail("array '" + a.name + "' needs a name and " + std::to_string(a.components) + " x " +
              std::to_string(n) + " values");
+      }
+    }
   };
-  check_arrays(mesh.point_data, n_points);
-  check_arrays(mesh.cell_data, n_cells);
+  check_arrays(mesh.point_data, n_points, true);
+  check_arrays(mesh.cell_data, n_cells, false);
 }
 
 // The snapshot's vectors are handed to VTK as they are, without copies (a mesh of millions of
@@ -189,8 +194,13 @@ vtkSmartPointer<vtkUnsignedCharArray> uint8_array(const char* name, const std::v
   return array;
 }
 
-vtkSmartPointer<vtkDoubleArray> float64_array(const NamedArray& named) {
-  auto array = borrowed<vtkDoubleArray>(named.values.data(), named.values.size(), named.components);
+// A point-data array that is the points (same_as_points) borrows the points' memory: a second
+// VTK array over the same buffer, so that the file is as if the values had been copied.
+vtkSmartPointer<vtkDoubleArray> float64_array(const NamedArray& named, const MeshSnapshot& mesh) {
+  auto array = named.same_as_points
+                   ? borrowed<vtkDoubleArray>(reinterpret_cast<const double*>(mesh.points.data()),
+                                              3 * mesh.points.size(), 3)
+                   : borrowed<vtkDoubleArray>(named.values.data(), named.values.size(), named.components);
   array->SetName(named.name.c_str());
   return array;
 }
@@ -199,8 +209,8 @@ void add_arrays(vtkDataSet& data, const MeshSnapshot& mesh) {
   if (!mesh.vertex_level.empty()) data.GetPointData()->AddArray(uint8_array("level", mesh.vertex_level));
   if (!mesh.triangle_level.empty()) data.GetCellData()->AddArray(uint8_array("level", mesh.triangle_level));
   if (!mesh.triangle_color.empty()) data.GetCellData()->AddArray(uint8_array("color", mesh.triangle_color));
-  for (const NamedArray& a : mesh.point_data) data.GetPointData()->AddArray(float64_array(a));
-  for (const NamedArray& a : mesh.cell_data) data.GetCellData()->AddArray(float64_array(a));
+  for (const NamedArray& a : mesh.point_data) data.GetPointData()->AddArray(float64_array(a, mesh));
+  for (const NamedArray& a : mesh.cell_data) data.GetCellData()->AddArray(float64_array(a, mesh));
   add_rgb_state(data, mesh);  // rgb_state_io.cpp: the RGB state's point and field data
 }
 
@@ -395,8 +405,38 @@ MeshSnapshot snapshot_for_file(RgbMesh& mesh, const fs::path& path, bool limit_p
   const std::string ext = lowercase_extension(path);
   const bool xml = ext == ".vtp" || ext == ".vtu";
   if (limit_points || xml) mesh.compute_limits();
-  MeshSnapshot snapshot = mesh.snapshot(limit_points ? RgbMesh::Points::limit : RgbMesh::Points::control, xml);
-  if (xml) snapshot.state = save_state(mesh, snapshot);  // what read_rgb_mesh restores
+  if (!xml) {
+    MeshSnapshot snapshot = mesh.snapshot(limit_points ? RgbMesh::Points::limit : RgbMesh::Points::control);
+    std::vector<VertexHandle>().swap(snapshot.vertex_handle);  // writers do not use the handles
+    std::vector<TriangleHandle>().swap(snapshot.triangle_handle);
+    return snapshot;
+  }
+  // The same arrays as mesh.snapshot(..., true) gives, with less memory: the points are the
+  // "control_point" (or "limit") array too, and the handles are dropped once the state and
+  // the limits have been read through them.
+  MeshSnapshot snapshot = mesh.snapshot(RgbMesh::Points::control);
+  std::vector<TriangleHandle>().swap(snapshot.triangle_handle);
+  snapshot.state = save_state(mesh, snapshot);  // what read_rgb_mesh restores
+  const std::size_t n = snapshot.points.size();
+  NamedArray control{"control_point", 3, {}}, limit{"limit", 3, {}};
+  if (limit_points) {
+    control.values.resize(3 * n);
+    std::copy_n(reinterpret_cast<const double*>(snapshot.points.data()), 3 * n, control.values.data());
+    for (std::size_t i = 0; i < n; ++i) snapshot.points[i] = mesh.limit_position(snapshot.vertex_handle[i]);
+    limit.same_as_points = true;
+  } else {
+    limit.values.resize(3 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 p = mesh.limit_position(snapshot.vertex_handle[i]);
+      limit.values[3 * i] = p.x;
+      limit.values[3 * i + 1] = p.y;
+      limit.values[3 * i + 2] = p.z;
+    }
+    control.same_as_points = true;
+  }
+  std::vector<VertexHandle>().swap(snapshot.vertex_handle);
+  snapshot.point_data.push_back(std::move(control));
+  snapshot.point_data.push_back(std::move(limit));
   return snapshot;
 }
 

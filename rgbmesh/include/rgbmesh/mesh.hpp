@@ -632,6 +632,13 @@ class RgbMesh {
   }
   /// Computes and caches the limit position if the Loop rings allow it; false otherwise.
   bool try_limit(VertexHandle v) const;
+  /// try_limit's value for v when the limits of the coarser vertices it needs are stored
+  /// (false otherwise, or when v's ring is incomplete); stores nothing, so that several
+  /// threads may call it while the mesh does not change.
+  bool ring_limit(VertexHandle v, Vec3& limit) const;
+  /// Stores every limit position the current rings allow, level by level, on several
+  /// threads for large meshes (compute_limits' first pass).
+  void store_ring_limits();
   /// Makes the limit positions of the stencil's vertices coarser than l known (may insert
   /// vertices elsewhere); returns whether it had to insert any.
   bool prepare_stencil(const std::array<VertexHandle, 4>& st, int l);

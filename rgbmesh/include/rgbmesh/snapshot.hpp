@@ -19,6 +19,9 @@ struct NamedArray {
   std::string name;
   int components = 1;
   std::vector<double> values;  // size = components * number of points (or cells)
+  // A point-data array equal to the points themselves (components 3, values empty): writers
+  // write the points' memory under this name, so that it is not held twice.
+  bool same_as_points = false;
 };
 
 // The complete RGB state of a mesh as plain arrays (what rgb_state.hpp saves and restores;
@@ -45,8 +48,8 @@ struct MeshSnapshot {
   std::vector<std::uint8_t> vertex_level;             // insertion level per point
   std::vector<std::uint8_t> triangle_level;
   std::vector<Color> triangle_color;
-  std::vector<VertexHandle> vertex_handle;      // point i -> mesh vertex
-  std::vector<TriangleHandle> triangle_handle;  // cell i -> mesh triangle
+  std::vector<VertexHandle> vertex_handle;      // point i -> mesh vertex (RgbMesh::snapshot)
+  std::vector<TriangleHandle> triangle_handle;  // cell i -> mesh triangle (RgbMesh::snapshot)
   std::vector<NamedArray> point_data;           // extra per-point arrays
   std::vector<NamedArray> cell_data;            // extra per-cell arrays
   // The RGB state, for formats that carry it (VTK XML); indices are point indices.

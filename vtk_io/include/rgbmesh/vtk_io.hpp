@@ -138,7 +138,9 @@ void write_mesh(const std::filesystem::path& path, const MeshSnapshot& mesh);
 /// The snapshot of `mesh` to write to `path`: points at the shown control points, or at the
 /// limit positions; VTK XML files (.vtp, .vtu) also get the point data "control_point" and
 /// "limit". Computes the limit positions it needs (RgbMesh::compute_limits leaves the mesh as
-/// it was).
+/// it was). Made lean for writing: no vertex_handle or triangle_handle arrays, and the one of
+/// "control_point" and "limit" that the points already are is NamedArray::same_as_points
+/// (written from the points' memory) instead of a copy.
 MeshSnapshot snapshot_for_file(RgbMesh& mesh, const std::filesystem::path& path, bool limit_points = false);
 
 /// Makes SIGINT, SIGTERM and SIGHUP remove the temporary files of writes in progress before the
