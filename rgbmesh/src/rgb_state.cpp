@@ -8,7 +8,6 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 
 #include "rgbmesh/errors.hpp"
 
@@ -19,15 +18,60 @@ std::string str(std::int64_t i) { return std::to_string(i); }
 
 [[noreturn]] void inconsistent(const std::string& what) { throw InputError("inconsistent RGB state: " + what); }
 
-// An unordered pair of point indices as one key.
-std::uint64_t pair_key(std::int32_t a, std::int32_t b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-}
+// The inserted points by their parents' pair, without hashing: the children of point p whose
+// smaller parent is p are listed together (a counting sort by that parent), each with its
+// other parent. A point has a few such children, so a look-up reads one short run.
+class ChildIndex {
+ public:
+  // The point whose parents are a and b (in either order), or -1. Ids from n on (the helper
+  // vertices of Replay) have no children here.
+  std::int32_t find(std::int32_t a, std::int32_t b) const {
+    if (a > b) std::swap(a, b);
+    if (a < 0 || static_cast<std::size_t>(a) + 1 >= first_.size()) return -1;
+    for (std::int32_t i = first_[a]; i < first_[a + 1]; ++i)
+      if (other_[i] == b) return child_[i];
+    return -1;
+  }
+
+  // From parents already checked: every inserted point has two different parents in range.
+  void build(const RgbState& s) {
+    const std::size_t n = s.parents.size();
+    first_.assign(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      if (s.base_vertex[i] < 0) ++first_[std::min(s.parents[i][0], s.parents[i][1]) + 1];
+    for (std::size_t p = 0; p < n; ++p) first_[p + 1] += first_[p];
+    other_.resize(static_cast<std::size_t>(first_[n]));
+    child_.resize(static_cast<std::size_t>(first_[n]));
+    std::vector<std::int32_t> next(first_.begin(), first_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (s.base_vertex[i] >= 0) continue;
+      const auto [p0, p1] = s.parents[i];
+      const std::int32_t slot = next[std::min(p0, p1)]++;
+      other_[slot] = std::max(p0, p1);
+      child_[slot] = static_cast<std::int32_t>(i);  // increasing within each run
+    }
+  }
+
+  // The first point (in index order) that splits the same pair as an earlier one: {earlier,
+  // later}, or {-1, -1}.
+  std::array<std::int32_t, 2> first_duplicate() const {
+    std::array<std::int32_t, 2> found{-1, -1};
+    for (std::size_t p = 0; p + 1 < first_.size(); ++p)
+      for (std::int32_t i = first_[p]; i < first_[p + 1]; ++i)
+        for (std::int32_t j = i + 1; j < first_[p + 1]; ++j)
+          if (other_[i] == other_[j] && (found[1] < 0 || child_[j] < found[1])) found = {child_[i], child_[j]};
+    return found;
+  }
+
+ private:
+  std::vector<std::int32_t> first_;  // per point p, where its run starts; then the end
+  std::vector<std::int32_t> other_;  // the other (larger) parent
+  std::vector<std::int32_t> child_;
+};
 
 // Checks the arrays by themselves: sizes, ranges, each base vertex once, parents that are
 // other points; and indexes the inserted vertices by their parents' pair.
-std::unordered_map<std::uint64_t, std::int32_t> check_arrays(const RgbState& s) {
+ChildIndex check_arrays(const RgbState& s) {
   if (s.version != RgbState::kVersion)
     inconsistent("version " + str(s.version) + " is not supported (this build reads version " +
                  str(RgbState::kVersion) + ")");
@@ -38,8 +82,6 @@ std::unordered_map<std::uint64_t, std::int32_t> check_arrays(const RgbState& s) 
   if (n > static_cast<std::size_t>(INT32_MAX)) inconsistent("too many points");
   const auto n0 = static_cast<std::int64_t>(s.base_points.size());
   std::vector<std::int32_t> point_of_base(s.base_points.size(), -1);
-  std::unordered_map<std::uint64_t, std::int32_t> by_parents;
-  by_parents.reserve(n - std::min<std::size_t>(n, s.base_points.size()));
   for (std::size_t i = 0; i < n; ++i) {
     const auto point = static_cast<std::int32_t>(i);
     const std::int32_t b = s.base_vertex[i];
@@ -59,23 +101,24 @@ std::unordered_map<std::uint64_t, std::int32_t> check_arrays(const RgbState& s) 
         inconsistent("point " + str(point) + " has parent " + str(p) + " (points are 0 to " +
                      str(static_cast<std::int64_t>(n) - 1) + ")");
     if (p0 == p1) inconsistent("point " + str(point) + " has the same parent twice");
-    const auto [it, inserted] = by_parents.try_emplace(pair_key(p0, p1), point);
-    if (!inserted)
-      inconsistent("points " + str(it->second) + " and " + str(point) + " both split the edge between points " +
-                   str(p0) + " and " + str(p1));
   }
+  ChildIndex children;
+  children.build(s);
+  if (const auto [earlier, later] = children.first_duplicate(); later >= 0)
+    inconsistent("points " + str(earlier) + " and " + str(later) + " both split the edge between points " +
+                 str(s.parents[later][0]) + " and " + str(s.parents[later][1]));
   for (std::size_t b = 0; b < point_of_base.size(); ++b)
     if (point_of_base[b] < 0)
       inconsistent("base vertex " + str(static_cast<std::int64_t>(b)) + " is missing (base vertices are never removed)");
-  return by_parents;
+  return children;
 }
 
 // Inserts the state's vertices into the base mesh, each after its parents, and records which
 // vertex every point became.
 class Replay {
  public:
-  Replay(const RgbState& s, RgbMesh& mesh, std::unordered_map<std::uint64_t, std::int32_t> by_parents)
-      : s_(s), mesh_(mesh), by_parents_(std::move(by_parents)), vertex_(s.parents.size()), mark_(s.parents.size(), 0) {
+  Replay(const RgbState& s, RgbMesh& mesh, ChildIndex children)
+      : s_(s), mesh_(mesh), children_(std::move(children)), vertex_(s.parents.size()), mark_(s.parents.size(), 0) {
     point_of_slot_.assign(static_cast<std::size_t>(mesh.vertex_slots()), -1);
     for (std::size_t i = 0; i < s.parents.size(); ++i) {
       if (s.base_vertex[i] < 0) continue;
@@ -152,8 +195,8 @@ class Replay {
 
   void created(VertexHandle v, VertexHandle a, VertexHandle b) {
     const std::int32_t pa = point_of(a), pb = point_of(b);
-    const auto it = by_parents_.find(pair_key(pa, pb));
-    if (it == by_parents_.end()) {
+    const std::int32_t k = children_.find(pa, pb);
+    if (k < 0) {
       // Not saved: a helper that the split's Loop stencil needed for a limit position (the
       // original process may have needed others), or a forced vertex the state lacks. Which
       // one is known at the end, when finish() tries to remove it.
@@ -162,7 +205,6 @@ class Replay {
       remember(v, id);
       return;
     }
-    const std::int32_t k = it->second;
     if (mark_[k] == kDone)  // cannot happen: an existing midpoint's edge no longer exists
       throw std::logic_error("restore_state: point " + str(k) + " was created twice");
     vertex_[k] = v;
@@ -208,7 +250,7 @@ class Replay {
 
   const RgbState& s_;
   RgbMesh& mesh_;
-  std::unordered_map<std::uint64_t, std::int32_t> by_parents_;
+  ChildIndex children_;
   std::vector<VertexHandle> vertex_;
   std::vector<std::uint8_t> mark_;
   std::vector<std::int32_t> point_of_slot_;
@@ -232,19 +274,62 @@ bool in_range(const std::array<std::int32_t, 3>& t, std::size_t n) {
   return true;
 }
 
-// The mesh's triangle with these corners in this (cyclic) order, or an invalid handle.
-TriangleHandle find_triangle(const RestoredMesh& r, const std::array<std::int32_t, 3>& t) {
-  const std::array<VertexHandle, 3> v{r.vertex[t[0]], r.vertex[t[1]], r.vertex[t[2]]};
-  const EdgeHandle e = r.mesh.find_edge(v[0], v[1]);
-  if (!e.valid()) return TriangleHandle();
-  for (const TriangleHandle c : r.mesh.edge_triangles(e)) {
-    if (!c.valid()) continue;
-    auto w = r.mesh.triangle_vertices(c);
-    std::rotate(w.begin(), std::find(w.begin(), w.end(), v[0]), w.end());
-    if (w == v) return c;
-  }
-  return TriangleHandle();
+// A triangle's corners rotated so that the smallest comes first: two triangles have the same
+// corners in the same cyclic order exactly when these are equal.
+std::array<std::int32_t, 3> smallest_first(const std::array<std::int32_t, 3>& t) {
+  const int k = t[0] <= t[1] ? (t[0] <= t[2] ? 0 : 2) : (t[1] <= t[2] ? 1 : 2);
+  return {t[k], t[(k + 1) % 3], t[(k + 2) % 3]};
 }
+
+// The mesh's triangles in the state's point indices, grouped by their smallest corner (a
+// counting sort), so that a triangle of the file is found by reading one short run: walking
+// around a vertex for each of millions of triangles cost more than the refinement itself.
+class TriangleIndex {
+ public:
+  explicit TriangleIndex(const RestoredMesh& r) {
+    const std::size_t n = r.vertex.size();
+    std::vector<std::int32_t> point_of_slot(static_cast<std::size_t>(r.mesh.vertex_slots()), -1);
+    for (std::size_t i = 0; i < n; ++i) point_of_slot[static_cast<std::size_t>(r.vertex[i].idx)] = static_cast<std::int32_t>(i);
+    std::vector<std::array<std::int32_t, 3>> corners;
+    std::vector<TriangleHandle> handles;
+    corners.reserve(r.mesh.num_triangles());
+    handles.reserve(r.mesh.num_triangles());
+    for (const TriangleHandle t : r.mesh.triangles()) {
+      const auto v = r.mesh.triangle_vertices(t);
+      const std::array<std::int32_t, 3> c{point_of_slot[static_cast<std::size_t>(v[0].idx)],
+                                          point_of_slot[static_cast<std::size_t>(v[1].idx)],
+                                          point_of_slot[static_cast<std::size_t>(v[2].idx)]};
+      if (c[0] < 0 || c[1] < 0 || c[2] < 0) continue;  // not a point (cannot happen): never found
+      corners.push_back(smallest_first(c));
+      handles.push_back(t);
+    }
+    first_.assign(n + 1, 0);
+    for (const auto& c : corners) ++first_[static_cast<std::size_t>(c[0]) + 1];
+    for (std::size_t p = 0; p < n; ++p) first_[p + 1] += first_[p];
+    entries_.resize(corners.size());
+    std::vector<std::int32_t> next(first_.begin(), first_.end() - 1);
+    for (std::size_t j = 0; j < corners.size(); ++j)
+      entries_[static_cast<std::size_t>(next[static_cast<std::size_t>(corners[j][0])]++)] = {corners[j][1], corners[j][2],
+                                                                                          handles[j]};
+  }
+
+  // The mesh's triangle with these corners (points in range) in this cyclic order, or an
+  // invalid handle.
+  TriangleHandle find(const std::array<std::int32_t, 3>& t) const {
+    const auto c = smallest_first(t);
+    for (std::int32_t i = first_[c[0]]; i < first_[c[0] + 1]; ++i)
+      if (entries_[i].b == c[1] && entries_[i].c == c[2]) return entries_[i].t;
+    return TriangleHandle();
+  }
+
+ private:
+  struct Entry {
+    std::int32_t b, c;  // the corners after the smallest, in order
+    TriangleHandle t;
+  };
+  std::vector<std::int32_t> first_;  // per point, where the run of its triangles starts
+  std::vector<Entry> entries_;
+};
 
 // The vertex set leaves one choice open (tests/test_rgb_state.cpp found it): a parent triangle
 // with two split edges is a green corner and a trapezoid, and which diagonal of the trapezoid
@@ -282,11 +367,12 @@ void choose_diagonals(RestoredMesh& r, const std::vector<std::array<std::int32_t
 // With `missing`, triangles the mesh does not have are listed there instead of refused.
 void check_triangles(const RestoredMesh& r, const RestoreExpectations& x, std::vector<std::size_t>* missing) {
   std::vector<char> seen(static_cast<std::size_t>(r.mesh.triangle_slots()), 0);
+  const TriangleIndex index(r);
   for (std::size_t j = 0; j < x.triangles.size(); ++j) {
     const auto name = [&] { return "triangle " + str(static_cast<std::int64_t>(j)); };
     if (!in_range(x.triangles[j], r.vertex.size()))
       inconsistent(name() + " " + triangle_text(x.triangles[j]) + " names a point that does not exist");
-    const TriangleHandle t = find_triangle(r, x.triangles[j]);
+    const TriangleHandle t = index.find(x.triangles[j]);
     if (!t.valid() && missing != nullptr) {
       missing->push_back(j);
       continue;
@@ -307,9 +393,21 @@ void check_triangles(const RestoredMesh& r, const RestoreExpectations& x, std::v
                  " triangles, the file has " + str(static_cast<std::int64_t>(x.triangles.size())));
 }
 
+// shown_level of every vertex slot, in one pass over the edges (as RgbMesh::snapshot does)
+// rather than a walk around each vertex.
+std::vector<std::uint8_t> shown_levels(const RgbMesh& mesh) {
+  std::vector<std::uint8_t> shown(static_cast<std::size_t>(mesh.vertex_slots()), static_cast<std::uint8_t>(kMaxLevel + 1));
+  for (const EdgeHandle e : mesh.edges()) {
+    if (mesh.is_red(e)) continue;
+    const auto l = static_cast<std::uint8_t>(mesh.level(e));
+    for (const VertexHandle v : mesh.edge_vertices(e)) shown[v.idx] = std::min(shown[v.idx], l);
+  }
+  return shown;
+}
+
 // Compares per-point positions with the mesh's, within 1e-9 of their bounding-box diagonal.
-void check_positions(const RestoredMesh& r, const std::vector<Vec3>& expected, const char* what,
-                     Vec3 (*of)(const RgbMesh&, VertexHandle)) {
+template <class Position>
+void check_positions(const RestoredMesh& r, const std::vector<Vec3>& expected, const char* what, Position of) {
   if (expected.empty()) return;
   if (expected.size() != r.vertex.size())
     inconsistent(str(static_cast<std::int64_t>(expected.size())) + " " + what + "s for " +
@@ -321,7 +419,7 @@ void check_positions(const RestoredMesh& r, const std::vector<Vec3>& expected, c
   }
   const double tolerance = 1e-9 * std::max(norm(hi - lo), 1e-300);
   for (std::size_t i = 0; i < expected.size(); ++i) {
-    const double d = norm(of(r.mesh, r.vertex[i]) - expected[i]);
+    const double d = norm(of(r.vertex[i]) - expected[i]);
     if (!(d <= tolerance))
       inconsistent("point " + str(static_cast<std::int64_t>(i)) + ": the file's " + what + " is " +
                    std::to_string(d) + " away from the one the state gives (edited base points?)");
@@ -367,7 +465,7 @@ RgbState save_state(const RgbMesh& mesh, const MeshSnapshot& snapshot) {
 }
 
 RestoredMesh restore_state(const RgbState& state, const RestoreExpectations& expected) {
-  std::unordered_map<std::uint64_t, std::int32_t> by_parents = check_arrays(state);
+  ChildIndex children = check_arrays(state);
   RestoredMesh r;
   try {
     r.mesh = RgbMesh::from_triangles(state.base_points, state.base_triangles);
@@ -376,7 +474,7 @@ RestoredMesh restore_state(const RgbState& state, const RestoreExpectations& exp
   }
   const std::size_t n = state.parents.size();
   r.mesh.reserve(n, 3 * n, 2 * n);
-  r.vertex = Replay(state, r.mesh, std::move(by_parents)).run();
+  r.vertex = Replay(state, r.mesh, std::move(children)).run();
   if (!expected.vertex_level.empty()) {
     if (expected.vertex_level.size() != n)
       inconsistent(str(static_cast<std::int64_t>(expected.vertex_level.size())) + " levels for " +
@@ -400,10 +498,12 @@ RestoredMesh restore_state(const RgbState& state, const RestoreExpectations& exp
     inconsistent("the rebuilt mesh is not valid: " + problem);
   if (!expected.control_points.empty() || !expected.limits.empty()) {
     r.mesh.compute_limits();  // leaves the mesh as it is
-    check_positions(r, expected.control_points, "control point",
-                    [](const RgbMesh& m, VertexHandle v) { return m.control_point(v); });
-    check_positions(r, expected.limits, "limit position",
-                    [](const RgbMesh& m, VertexHandle v) { return m.limit_position(v); });
+    if (!expected.control_points.empty()) {
+      const std::vector<std::uint8_t> shown = shown_levels(r.mesh);
+      check_positions(r, expected.control_points, "control point",
+                      [&](VertexHandle v) { return r.mesh.control_point(v, shown[v.idx]); });
+    }
+    check_positions(r, expected.limits, "limit position", [&](VertexHandle v) { return r.mesh.limit_position(v); });
   }
   return r;
 }
