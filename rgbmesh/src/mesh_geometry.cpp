@@ -166,13 +166,14 @@ bool RgbMesh::try_limit(VertexHandle v) const {
 
 bool RgbMesh::ring_limit(VertexHandle v, Vec3& limit) const {
   // try_limit without its recursion and without storing: the same sums in the same order, so
-  // that the values are bit for bit those try_limit stores.
+  // that the values are bit for bit those try_limit stores (known_control_point is
+  // control_point's expression, inline, for vertices whose limit is stored).
   const int l = level(v);
   const auto [pa, pb] = v_parents_[v.idx];
   if (!pa.valid() || !pb.valid() || !limit_known(pa) || !limit_known(pb)) return false;
   if (v_flags_[v.idx] & kBoundaryFlag) {
     limit = loop::kBoundaryLimitSelf * v_control_[v.idx] +
-            loop::kBoundaryLimitNeighbor * (control_point(pa, l) + control_point(pb, l));
+            loop::kBoundaryLimitNeighbor * (known_control_point(pa, l) + known_control_point(pb, l));
     return true;
   }
   Vec3 sum;
@@ -192,7 +193,7 @@ bool RgbMesh::ring_limit(VertexHandle v, Vec3& limit) const {
       complete = false;
       return false;
     }
-    sum += (level(w) == l) ? v_control_[w.idx] : control_point(w, l);
+    sum += known_control_point(w, l);
     ++count;
     return true;
   });
