@@ -1,11 +1,13 @@
 // End-to-end fuzz target for one mesh format (RGBMESH_FUZZ_EXTENSION): the file is read as the
 // tool reads it (read_polygon_soup, through a per-process scratch file), and whatever reads is
 // taken on as far as an RGB mesh goes: prepare_triangle_mesh, RgbMesh::from_triangles,
-// validate(). Each stage may refuse the input with an InputError, except from_triangles: what
-// prepare_triangle_mesh makes is a clean triangle mesh, and refusing it is a finding, like a
-// mesh that validate() finds broken.
+// validate(); for VTP and VTU also read_rgb_mesh, which restores a saved RGB state. Each stage
+// may refuse the input with an InputError, except from_triangles: what prepare_triangle_mesh
+// makes is a clean triangle mesh, and refusing it is a finding, like a mesh that validate()
+// finds broken.
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 
 #include "fuzz_support.hpp"
@@ -15,10 +17,28 @@
 
 using namespace rgbmesh;
 
+namespace {
+
+// VTK XML files may carry a saved RGB state (rgb_state_io.cpp): read_rgb_mesh restores it, or
+// refuses it as inconsistent. What it accepts must be a valid, stable RGB mesh.
+void restore_saved_state(const std::filesystem::path& file) {
+  const std::string extension = RGBMESH_FUZZ_EXTENSION;
+  if (extension != ".vtp" && extension != ".vtu") return;
+  RgbMeshFile read;
+  if (!fuzz::accepted([&] { read = read_rgb_mesh(file); })) return;
+  const std::string problem = read.mesh.validate(read.restored);
+  if (!problem.empty())
+    fuzz::finding(std::string("validate() on the mesh read_rgb_mesh ") + (read.restored ? "restored: " : "built: ") +
+                  problem);
+}
+
+}  // namespace
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   PolygonSoup soup;
   {
     const fuzz::ScratchInput input(RGBMESH_FUZZ_EXTENSION, data, size);
+    restore_saved_state(input.path());
     if (!fuzz::accepted([&] { soup = read_polygon_soup(input.path()); })) return 0;
   }
   // Triangulating: a soup of triangles gives the same mesh as without, and polygons go on too.

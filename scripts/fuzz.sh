@@ -126,6 +126,12 @@ for mesh in "$root/data/bunny.obj" "$seeds/valid/octahedron.obj"; do
     echo "fuzz.sh: no python3: no legacy VTK, ASCII PLY/STL, .xyz and .pwn seeds derived" >&2
   fi
 done
+# Saved RGB states with inserted vertices, forced splits and all three colours (read_rgb_mesh):
+# the octahedron refined uniformly, and inside a ball.
+for ext in vtp vtu; do
+  "$cli" refine "$seeds/valid/octahedron.obj" "$seeds/valid/octahedron-uniform2.$ext" --uniform 2 > /dev/null
+  "$cli" refine "$seeds/valid/octahedron.obj" "$seeds/valid/octahedron-ball.$ext" --ball 1,0,0,0.5,4 > /dev/null
+done
 for ext in obj off ply stl vtk vtp vtu xyz pwn; do
   mkdir -p "$seeds/$ext"
   for f in "$seeds/valid"/*."$ext" "$root/build/public-data"/*."$ext" "$root/tests/corpus/files"/*."$ext"; do

@@ -582,6 +582,16 @@ def make(c):
         twice += [("CellData", Array("level", "UInt8", [0] * 8))] * 2
         c.add(name("cell-arrays-same-name"), xml_file(kind, twice, twice_attrs),
               "piece 0 CellData has two arrays named 'level'")
+        # Found by fuzzing once the tool's files carried field data (the RGB state): VTK makes an
+        # array of every element inside FieldData and reads through a null pointer for any other.
+        tag = b"<" + kind.encode() + b">"
+        c.add(name("field-data-not-an-array"),
+              replace_once(text, tag, tag + b'\n    <FieldData><Datar Name="d7"/></FieldData>'),
+              "the field data holds a <Datar> element, where only DataArray elements belong")
+        c.add(name("points-not-an-array"), replace_once(text, b"<Points>", b"<Points><Coordinates/>"),
+              "piece 0 Points holds a <Coordinates> element, where only DataArray elements belong")
+        c.add(name("point-data-not-an-array"), replace_once(text, b"<PointData>", b"<PointData><D/>"),
+              "piece 0 PointData holds a <D> element, where only DataArray elements belong")
         # ASCII values that VTK misread (it stops at the first character that does not fit,
         # content when it has enough values) or fails on.
         c.add(name("ascii-comma"), replace_once(text, b"0 0 -1\n", b"0 0 -1,5\n"), "'-1,5' is not a Float64 number")

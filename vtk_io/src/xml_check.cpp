@@ -436,6 +436,14 @@ class Checker {
     return nullptr;
   }
 
+  // VTK's writers put nothing but arrays in these sections, and its readers take what they find
+  // there for arrays without looking (see check_field_data).
+  void only_arrays(const Element& section, const std::string& where) const {
+    for (const Element& a : section.children)
+      if (!is_array(a))
+        throw error(where + " holds a <" + shown(a.name) + "> element, where only DataArray elements belong");
+  }
+
   // VTK's attribute data hold one array per name: a second array of the same name replaces the
   // first while VTK's XML readers still read one array per element, by position, so that two
   // CellData arrays of the same name make vtkXMLPolyDataReader and
@@ -451,10 +459,13 @@ class Checker {
     if (repeated != names.end()) throw error(where + " has two arrays named '" + shown(*repeated) + "'");
   }
 
+  // VTK 9.1's readers make an array of every element inside FieldData, whatever its name, and
+  // read through the null pointer they get for anything that is not an array (found by
+  // fuzz_mesh_vtp once the tool's files carried field data).
   void check_field_data(const Element& field) {
     check_unique_names(field, "the field data");
+    only_arrays(field, "the field data");
     for (const Element& a : field.children) {
-      if (!is_array(a)) continue;
       std::optional<u64> tuples;
       if (const auto text = a.attribute("NumberOfTuples")) {
         u64 n = 0;
@@ -485,12 +496,11 @@ class Checker {
     // before it reads: the points by the Points array, the cells by their offsets.
     const Element* point_set = child(piece, "Points");
     const Element* coordinates = nullptr;
-    if (point_set != nullptr)
-      for (const Element& a : point_set->children)
-        if (is_array(a)) {
-          coordinates = &a;
-          break;
-        }
+    if (point_set != nullptr) {
+      // VTK reads the first element inside Points as the coordinates, whatever it is.
+      only_arrays(*point_set, where + " Points");
+      if (!point_set->children.empty()) coordinates = &point_set->children.front();
+    }
     if (points > 0 && coordinates == nullptr)
       throw error(where + " has " + std::to_string(points) + " points but no Points array");
     if (coordinates != nullptr) {
@@ -502,6 +512,7 @@ class Checker {
     for (const auto& [data_name, tuples] :
          {std::pair<std::string_view, u64>{"PointData", points}, {"CellData", cells}}) {
       if (const Element* data = child(piece, data_name)) {
+        only_arrays(*data, where + " " + std::string(data_name));
         check_unique_names(*data, where + " " + std::string(data_name));
         for (const Element& a : data->children)
           if (is_array(a))
