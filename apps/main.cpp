@@ -454,7 +454,7 @@ int main(int argc, char** argv) {
     if (convert->parsed()) {
       check_output_path(convert_out);
       RgbMesh mesh = load_mesh(convert_in, convert_triangulate);
-      write_mesh(convert_out, snapshot_for_file(mesh, convert_out), output_options(convert_out, compression));
+      write_rgb_mesh(convert_out, mesh, output_options(convert_out, compression));
       return 0;
     }
     if (refine->parsed()) {
@@ -479,8 +479,7 @@ int main(int argc, char** argv) {
       t0 = std::chrono::steady_clock::now();
       if (refine_out != "-") {
         check_output_memory(mesh, refine_out, ceiling);
-        write_mesh(refine_out, snapshot_for_file(mesh, refine_out, refine_limit),
-                   output_options(refine_out, compression));
+        write_rgb_mesh(refine_out, mesh, output_options(refine_out, compression), refine_limit);
       }
       const double write_s = seconds_since(t0);
       if (refine_stats) std::cout << stats_json(mesh, totals, read_s, write_s) << "\n";

@@ -13,9 +13,11 @@
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -95,6 +97,71 @@ TEST_P(StateFile, RoundTripAfterRandomWalks) {
 
 INSTANTIATE_TEST_SUITE_P(Formats, StateFile, ::testing::Values(".vtp", ".vtu"),
                          [](const auto& p) { return std::string(p.param + 1); });
+
+std::string bytes_of_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// write_rgb_mesh (what the tool writes) computes VTK XML files from the mesh block by block; the
+// file must be the snapshot's, byte for byte: on meshes with and without free slots, with
+// boundaries and genus, with arrays of many blocks whose boundaries fall inside tuples and
+// triangles, in every compression, with control or limit points. (The snapshot's files are
+// read back bit-exactly by VTK's readers in test_vtk_write.)
+TEST(StateFile, StreamedFromTheMeshIsTheSnapshotsFileByteForByte) {
+  const fs::path dir = temp_dir();
+  struct Case {
+    std::string name;
+    RgbMesh mesh;
+  };
+  std::vector<Case> cases;
+  // Removals free slots (later insertions take them again): every third removable vertex.
+  const auto remove_some = [](RgbMesh& m) {
+    std::vector<VertexHandle> vertices(m.vertices().begin(), m.vertices().end());
+    int k = 0;
+    for (const VertexHandle v : vertices)
+      if (m.alive(v) && m.is_removable(v) && ++k % 3 == 0) m.remove_vertex(v);
+  };
+  RgbMesh uniform = testing::double_torus().build();
+  selective_refinement(uniform, UniformLevel(4));
+  cases.push_back({"double torus, level 4", std::move(uniform)});
+  RgbMesh holes = testing::grid_with_holes(6, 2).build();
+  selective_refinement(holes, UniformLevel(3));
+  random_walk(holes, 4000, 11);
+  remove_some(holes);
+  cases.push_back({"grid with two holes, level 3, random walk", std::move(holes)});
+  RgbMesh walked = testing::icosahedron().build();
+  random_walk(walked, 1500, 3);
+  cases.push_back({"icosahedron, random walk", std::move(walked)});
+  std::set<bool> free_slots;
+  for (Case& c : cases) {
+    free_slots.insert(static_cast<std::size_t>(c.mesh.vertex_slots()) != c.mesh.num_vertices() ||
+                      static_cast<std::size_t>(c.mesh.triangle_slots()) != c.mesh.num_triangles());
+    for (const char* ext : {".vtp", ".vtu"})
+      for (const Compression compression : {Compression::lz4, Compression::zlib, Compression::none})
+        for (const bool limit_points : {false, true}) {
+          SCOPED_TRACE(c.name + " " + ext + " " + compression_name(compression) + (limit_points ? " limit" : " control"));
+          WriteOptions options;
+          options.compression = compression;
+          const fs::path streamed = dir / (std::string("streamed") + ext), snapshot = dir / (std::string("snapshot") + ext);
+          write_rgb_mesh(streamed, c.mesh, options, limit_points);
+          write_mesh(snapshot, snapshot_for_file(c.mesh, snapshot, limit_points), options);
+          const std::string a = bytes_of_file(streamed), b = bytes_of_file(snapshot);
+          ASSERT_GT(a.size(), 1000u);
+          ASSERT_TRUE(a == b) << "the files differ at byte "
+                              << std::mismatch(a.begin(), a.end(), b.begin(), b.end()).first - a.begin();
+        }
+  }
+  EXPECT_EQ(free_slots, (std::set<bool>{false, true})) << "both kinds of mesh are covered";
+  EXPECT_GT(3 * 4 * cases.front().mesh.num_triangles(), 8 * 32768u) << "the connectivity spans many blocks";
+  // And what it writes is read back as the same mesh.
+  RgbMeshFile r = read_rgb_mesh(dir / "streamed.vtu");
+  ASSERT_TRUE(r.restored);
+  ASSERT_EQ(r.mesh.validate(true), "");
+  Keys keys;
+  EXPECT_EQ(describe(r.mesh, keys), describe(cases.back().mesh, keys));
+  fs::remove_all(dir);
+}
 
 TEST(StateFile, FileWithoutStateIsABaseMesh) {
   const fs::path dir = temp_dir();

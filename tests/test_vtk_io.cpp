@@ -762,7 +762,7 @@ TEST_F(VtkIo, DamagedXmlHeadersAreNamedBeforeVtkReadsThem) {
       {"type.vtp", edited(vtp, "type=\"Float64\"", "type=\"Float65\""), "unsupported type=\"Float65\""},
       {"offset.vtp", edited(vtp, "offset=\"0\"", "offset=\"-1\""), "offset=\"-1\" is not an offset"},
       {"compressor.vtp", edited(vtp, "vtkLZ4DataCompressor", "vtkZipDataCompressor"), "unknown compressor"},
-      {"header.vtp", edited(vtp, "header_type=\"UInt32\"", "header_type=\"UInt8\""), "header_type=\"UInt8\""},
+      {"header.vtp", edited(vtp, "header_type=\"UInt64\"", "header_type=\"UInt8\""), "header_type=\"UInt8\""},
       {"more.vtp", edited(vtp, count(vtp, "NumberOfPoints"), "NumberOfPoints=\"10\""),
        "piece 0 points: the array holds 27 values, the header announces 30"},
   };

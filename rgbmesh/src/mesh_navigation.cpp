@@ -125,18 +125,22 @@ int RgbMesh::boundary_loops() const {
 // ---------------------------------------------------------------------------------------
 // Output
 
-MeshSnapshot RgbMesh::snapshot(Points points, bool geometry_arrays) const {
-  MeshSnapshot s;
-  std::vector<std::int32_t> index(v_edge_.size(), -1);
-  // The level each vertex is shown at (shown_level: the lowest level of its edges that are not
-  // red), in one pass over the edge arrays: walking around every vertex took most of the time
-  // of a snapshot of millions of vertices.
+std::vector<std::uint8_t> RgbMesh::shown_levels() const {
+  // The lowest level of the edges that are not red, in one pass over the edge arrays: walking
+  // around every vertex took most of the time of a snapshot of millions of vertices.
   std::vector<std::uint8_t> shown(v_edge_.size(), static_cast<std::uint8_t>(kMaxLevel + 1));
   for (std::size_t e = 0; e < e_vert_.size(); ++e) {
     if (!e_vert_[e][0].valid() || (e_info_[e] & 0x80) != 0) continue;
     const auto edge_level = static_cast<std::uint8_t>(e_info_[e] & 0x7f);
     for (const VertexHandle v : e_vert_[e]) shown[v.idx] = std::min(shown[v.idx], edge_level);
   }
+  return shown;
+}
+
+MeshSnapshot RgbMesh::snapshot(Points points, bool geometry_arrays) const {
+  MeshSnapshot s;
+  std::vector<std::int32_t> index(v_edge_.size(), -1);
+  std::vector<std::uint8_t> shown = shown_levels();
   s.points.reserve(n_vertices_);
   s.vertex_level.reserve(n_vertices_);
   s.vertex_handle.reserve(n_vertices_);

@@ -27,34 +27,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kBaseVertex = "rgb_base_vertex";
-constexpr const char* kParents = "rgb_parents";
-constexpr const char* kVersion = "rgb_state_version";
-constexpr const char* kBasePoints = "rgb_base_points";
-constexpr const char* kBaseTriangles = "rgb_base_triangles";
-
-vtkSmartPointer<vtkTypeInt32Array> int32_array(const char* name, int components, const std::int32_t* values,
-                                               std::size_t tuples) {
-  auto a = vtkSmartPointer<vtkTypeInt32Array>::New();
-  a->SetName(name);
-  a->SetNumberOfComponents(components);
-  a->SetNumberOfTuples(static_cast<vtkIdType>(tuples));
-  std::copy(values, values + tuples * static_cast<std::size_t>(components), a->GetPointer(0));
-  return a;
-}
-
-// The per-point arrays, borrowed rather than copied (VTK is told not to free them and only
-// reads them; the data set lives inside one write call, shorter than the snapshot).
-vtkSmartPointer<vtkTypeInt32Array> borrowed_int32_array(const char* name, int components, const std::int32_t* values,
-                                                        std::size_t tuples) {
-  auto a = vtkSmartPointer<vtkTypeInt32Array>::New();
-  a->SetName(name);
-  a->SetNumberOfComponents(components);
-  if (tuples > 0)
-    a->SetArray(const_cast<std::int32_t*>(values), static_cast<vtkIdType>(tuples * static_cast<std::size_t>(components)), 1);
-  return a;
-}
-
 [[noreturn]] void bad(const fs::path& path, const std::string& what) {
   throw InputError(path.string() + ": inconsistent RGB state: " + what);
 }
@@ -113,46 +85,22 @@ std::vector<std::uint8_t> bytes_of(vtkDataArray* a, const fs::path& path) {
 
 }  // namespace
 
-void add_rgb_state(vtkDataSet& data, const MeshSnapshot& mesh) {
-  if (!mesh.state) return;
-  const RgbState& s = *mesh.state;
-  const std::size_t n = mesh.points.size();
-  if (s.base_vertex.size() != n || s.parents.size() != n)
-    throw std::invalid_argument("the RGB state does not have one entry per point");
-  data.GetPointData()->AddArray(borrowed_int32_array(kBaseVertex, 1, s.base_vertex.data(), n));
-  data.GetPointData()->AddArray(
-      borrowed_int32_array(kParents, 2, s.parents.empty() ? nullptr : s.parents[0].data(), n));
-  const std::int32_t version = s.version;
-  data.GetFieldData()->AddArray(int32_array(kVersion, 1, &version, 1));
-  auto points = vtkSmartPointer<vtkDoubleArray>::New();
-  points->SetName(kBasePoints);
-  points->SetNumberOfComponents(3);
-  points->SetNumberOfTuples(static_cast<vtkIdType>(s.base_points.size()));
-  for (std::size_t i = 0; i < s.base_points.size(); ++i) {
-    const Vec3& p = s.base_points[i];
-    points->SetTypedTuple(static_cast<vtkIdType>(i), std::array<double, 3>{p.x, p.y, p.z}.data());
-  }
-  data.GetFieldData()->AddArray(points);
-  data.GetFieldData()->AddArray(int32_array(kBaseTriangles, 3, s.base_triangles.empty() ? nullptr : s.base_triangles[0].data(),
-                                            s.base_triangles.size()));
-}
-
 void read_rgb_state(vtkDataSet& data, const fs::path& path, SavedState& out) {
   vtkFieldData* field = data.GetFieldData();
   vtkPointData* point_data = data.GetPointData();
   const vtkIdType n = data.GetNumberOfPoints();
-  vtkDataArray* version = array_of(field, kVersion, 1, 1, path, "field data");
-  vtkDataArray* base_points = array_of(field, kBasePoints, 3, -1, path, "field data");
-  vtkDataArray* base_triangles = array_of(field, kBaseTriangles, 3, -1, path, "field data");
-  vtkDataArray* base_vertex = array_of(point_data, kBaseVertex, 1, n, path, "point data");
-  vtkDataArray* parents = array_of(point_data, kParents, 2, n, path, "point data");
+  vtkDataArray* version = array_of(field, kStateVersionArray, 1, 1, path, "field data");
+  vtkDataArray* base_points = array_of(field, kBasePointsArray, 3, -1, path, "field data");
+  vtkDataArray* base_triangles = array_of(field, kBaseTrianglesArray, 3, -1, path, "field data");
+  vtkDataArray* base_vertex = array_of(point_data, kBaseVertexArray, 1, n, path, "point data");
+  vtkDataArray* parents = array_of(point_data, kParentsArray, 2, n, path, "point data");
   const int present = (version != nullptr) + (base_points != nullptr) + (base_triangles != nullptr) +
                       (base_vertex != nullptr) + (parents != nullptr);
   if (present == 0) return;  // no state: a base mesh
   if (present < 5) {
-    for (const auto& [array, name] : {std::pair{version, kVersion}, {base_points, kBasePoints},
-                                      {base_triangles, kBaseTriangles}, {base_vertex, kBaseVertex},
-                                      {parents, kParents}})
+    for (const auto& [array, name] : {std::pair{version, kStateVersionArray}, {base_points, kBasePointsArray},
+                                      {base_triangles, kBaseTrianglesArray}, {base_vertex, kBaseVertexArray},
+                                      {parents, kParentsArray}})
       if (array == nullptr) bad(path, std::string("the array '") + name + "' is missing");
   }
   RgbState s;

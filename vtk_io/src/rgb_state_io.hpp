@@ -23,14 +23,18 @@ class vtkDataSet;
 
 namespace rgbmesh::detail {
 
+// The arrays' names.
+inline constexpr const char* kBaseVertexArray = "rgb_base_vertex";
+inline constexpr const char* kParentsArray = "rgb_parents";
+inline constexpr const char* kStateVersionArray = "rgb_state_version";
+inline constexpr const char* kBasePointsArray = "rgb_base_points";
+inline constexpr const char* kBaseTrianglesArray = "rgb_base_triangles";
+
 // What read_rgb_mesh needs from a VTK XML file besides its points and cells.
 struct SavedState {
   std::optional<RgbState> state;
   RestoreExpectations expected;  // all but the triangles (read_rgb_mesh adds them)
 };
-
-// Attaches mesh.state (if any) to the data set as the arrays above.
-void add_rgb_state(vtkDataSet& data, const MeshSnapshot& mesh);
 
 // Reads the arrays above from a data set read from `path`; InputError naming the file and the
 // array when they are there but malformed.

@@ -36,6 +36,8 @@
 #include "rgb_state_io.hpp"
 #include "rgbmesh/vtk_io.hpp"
 #include "vtk_messages.hpp"
+#include "xml_datasets.hpp"
+#include "xml_stream.hpp"
 
 namespace rgbmesh {
 namespace {
@@ -186,61 +188,11 @@ vtkSmartPointer<vtkCellArray> vtk_triangles(const MeshSnapshot& mesh) {
   return cells;
 }
 
-template <class T>
-vtkSmartPointer<vtkUnsignedCharArray> uint8_array(const char* name, const std::vector<T>& values) {
-  static_assert(sizeof(T) == 1, "one byte per value");
-  auto array = borrowed<vtkUnsignedCharArray>(reinterpret_cast<const unsigned char*>(values.data()), values.size(), 1);
-  array->SetName(name);
-  return array;
-}
-
-// A point-data array that is the points (same_as_points) borrows the points' memory: a second
-// VTK array over the same buffer, so that the file is as if the values had been copied.
-vtkSmartPointer<vtkDoubleArray> float64_array(const NamedArray& named, const MeshSnapshot& mesh) {
-  auto array = named.same_as_points
-                   ? borrowed<vtkDoubleArray>(reinterpret_cast<const double*>(mesh.points.data()),
-                                              3 * mesh.points.size(), 3)
-                   : borrowed<vtkDoubleArray>(named.values.data(), named.values.size(), named.components);
-  array->SetName(named.name.c_str());
-  return array;
-}
-
-void add_arrays(vtkDataSet& data, const MeshSnapshot& mesh) {
-  if (!mesh.vertex_level.empty()) data.GetPointData()->AddArray(uint8_array("level", mesh.vertex_level));
-  if (!mesh.triangle_level.empty()) data.GetCellData()->AddArray(uint8_array("level", mesh.triangle_level));
-  if (!mesh.triangle_color.empty()) data.GetCellData()->AddArray(uint8_array("color", mesh.triangle_color));
-  for (const NamedArray& a : mesh.point_data) data.GetPointData()->AddArray(float64_array(a, mesh));
-  for (const NamedArray& a : mesh.cell_data) data.GetCellData()->AddArray(float64_array(a, mesh));
-  add_rgb_state(data, mesh);  // rgb_state_io.cpp: the RGB state's point and field data
-}
-
 vtkSmartPointer<vtkPolyData> vtk_poly_data(const MeshSnapshot& mesh) {
   auto data = vtkSmartPointer<vtkPolyData>::New();
   data->SetPoints(vtk_points(mesh));
   data->SetPolys(vtk_triangles(mesh));
   return data;
-}
-
-// Appended raw binary (no base64), compressed in VTK's blocks of 32 KiB (blocks of 1 MiB made
-// files no smaller and writes no faster). LZ4 at VTK's level 9, LZ4's own default acceleration
-// (VTK's default level 5 wrote files 3% larger, no faster); zlib at level 1 (VTK's default 5
-// took 1.7 times as long for files of the same size: the coordinates hardly compress).
-void configure_xml(vtkXMLWriter& writer, const WriteOptions& options) {
-  writer.SetDataModeToAppended();
-  writer.EncodeAppendedDataOff();
-  switch (options.compression) {
-    case Compression::lz4:
-      writer.SetCompressorTypeToLZ4();
-      writer.SetCompressionLevel(9);
-      break;
-    case Compression::zlib:
-      writer.SetCompressorTypeToZLib();
-      writer.SetCompressionLevel(1);
-      break;
-    case Compression::none:
-      writer.SetCompressorTypeToNone();
-      break;
-  }
 }
 
 // Passes a VTK writer's progress events on to options.progress. An exception from the callback
@@ -302,29 +254,11 @@ void check_ply_length(const fs::path& file, const MeshSnapshot& mesh) {
                              " of " + std::to_string(expected) + " bytes)");
 }
 
+// PLY and STL through VTK's writers (VTK XML files through write_vtk_xml).
 void write_with_vtk(const fs::path& file, const std::string& ext, const MeshSnapshot& mesh,
                     const WriteOptions& options) {
-  if (ext == ".vtu") {
-    vtkNew<vtkUnstructuredGrid> grid;
-    grid->SetPoints(vtk_points(mesh));
-    grid->SetCells(VTK_TRIANGLE, vtk_triangles(mesh));
-    add_arrays(*grid, mesh);
-    vtkNew<vtkXMLUnstructuredGridWriter> writer;
-    configure_xml(*writer, options);
-    writer->SetInputData(grid);
-    writer->SetFileName(file.c_str());
-    run_writer_with_progress(*writer, options);
-    return;
-  }
   const vtkSmartPointer<vtkPolyData> data = vtk_poly_data(mesh);
-  if (ext == ".vtp") {
-    add_arrays(*data, mesh);
-    vtkNew<vtkXMLPolyDataWriter> writer;
-    configure_xml(*writer, options);
-    writer->SetInputData(data);
-    writer->SetFileName(file.c_str());
-    run_writer_with_progress(*writer, options);
-  } else if (ext == ".ply") {
+  if (ext == ".ply") {
     vtkNew<vtkPLYWriter> writer;
     writer->SetFileTypeToBinary();
     writer->SetInputData(data);
@@ -373,32 +307,6 @@ void replace_reporting_progress(const fs::path& path, const WriteOptions& option
   }
 }
 
-std::string xml_attribute(const std::string& value) {
-  std::string escaped;
-  for (const char c : value) {
-    switch (c) {
-      case '&':
-        escaped += "&amp;";
-        break;
-      case '<':
-        escaped += "&lt;";
-        break;
-      case '>':
-        escaped += "&gt;";
-        break;
-      case '"':
-        escaped += "&quot;";
-        break;
-      case '\'':
-        escaped += "&apos;";
-        break;
-      default:
-        escaped += c;
-    }
-  }
-  return escaped;
-}
-
 }  // namespace
 
 MeshSnapshot snapshot_for_file(RgbMesh& mesh, const fs::path& path, bool limit_points) {
@@ -438,6 +346,19 @@ MeshSnapshot snapshot_for_file(RgbMesh& mesh, const fs::path& path, bool limit_p
   snapshot.point_data.push_back(std::move(control));
   snapshot.point_data.push_back(std::move(limit));
   return snapshot;
+}
+
+void write_rgb_mesh(const fs::path& path, RgbMesh& mesh, const WriteOptions& options, bool limit_points) {
+  const std::string ext = lowercase_extension(path);
+  if (ext != ".vtp" && ext != ".vtu") {
+    write_mesh(path, snapshot_for_file(mesh, path, limit_points), options);
+    return;
+  }
+  mesh.compute_limits();
+  const MeshDataSet data(mesh, ext == ".vtu", limit_points);
+  replace_reporting_progress(path, options, [&](const fs::path& temp, const WriteOptions& guarded) {
+    write_vtk_xml(temp, data.data(), guarded.compression, guarded.progress);
+  });
 }
 
 std::string supported_output_extensions() {
@@ -480,6 +401,8 @@ void write_mesh(const fs::path& path, const MeshSnapshot& mesh, const WriteOptio
       write_off(temp, mesh, guarded);
     else if (ext == ".obj")
       write_obj(temp, mesh, guarded);
+    else if (ext == ".vtp" || ext == ".vtu")
+      write_vtk_xml(temp, snapshot_data_set(mesh, ext == ".vtu"), guarded.compression, guarded.progress);
     else
       write_with_vtk(temp, ext, mesh, guarded);
   });
@@ -494,24 +417,8 @@ void write_point_cloud(const fs::path& path, const std::vector<Vec3>& points,
   cloud.points = points;
   cloud.point_data = point_data;
   check_snapshot(cloud, path);
-  const auto n = static_cast<vtkIdType>(points.size());
-  vtkNew<vtkIdTypeArray> offsets, connectivity;
-  offsets->SetNumberOfValues(n + 1);
-  connectivity->SetNumberOfValues(n);
-  for (vtkIdType i = 0; i <= n; ++i) offsets->SetValue(i, i);
-  for (vtkIdType i = 0; i < n; ++i) connectivity->SetValue(i, i);
-  vtkNew<vtkCellArray> vertices;
-  vertices->SetData(offsets, connectivity);
-  vtkNew<vtkPolyData> data;
-  data->SetPoints(vtk_points(cloud));
-  data->SetVerts(vertices);
-  add_arrays(*data, cloud);
   replace_reporting_progress(path, options, [&](const fs::path& temp, const WriteOptions& guarded) {
-    vtkNew<vtkXMLPolyDataWriter> writer;
-    configure_xml(*writer, guarded);
-    writer->SetInputData(data);
-    writer->SetFileName(temp.c_str());
-    run_writer_with_progress(*writer, guarded);
+    write_vtk_xml(temp, point_cloud_data_set(points, point_data), guarded.compression, guarded.progress);
   });
 }
 

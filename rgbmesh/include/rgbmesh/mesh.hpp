@@ -432,6 +432,9 @@ class RgbMesh {
   }
   /// The level at which v is shown: the lowest level of its green edges (VI-D).
   int shown_level(VertexHandle v) const;
+  /// shown_level of every vertex slot at once (index: the handle's idx; kMaxLevel + 1 for free
+  /// slots), in one pass over the edges: what output of the whole mesh needs.
+  std::vector<std::uint8_t> shown_levels() const;
   /// p^k(v) for k >= level(v). Needs the limit position when k > level(v).
   Vec3 control_point(VertexHandle v, int k) const;
   /// The control point at the shown level: where v is in the current mesh. In a uniform mesh
@@ -636,6 +639,11 @@ class RgbMesh {
   /// (false otherwise, or when v's ring is incomplete); stores nothing, so that several
   /// threads may call it while the mesh does not change.
   bool ring_limit(VertexHandle v, Vec3& limit) const;
+  /// The limit position of v from its parents and its Loop ring at its level (VI-A),
+  /// once its parents' limits are known; known(w) makes sure (try_limit) or checks
+  /// (ring_limit) that a coarser ring vertex w has its limit. False for an incomplete ring.
+  template <class Known>
+  bool limit_from_ring(VertexHandle v, Vec3& limit, Known known) const;
   /// Stores every limit position the current rings allow, level by level, on several
   /// threads for large meshes (compute_limits' first pass).
   void store_ring_limits();

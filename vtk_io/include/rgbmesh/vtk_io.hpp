@@ -108,12 +108,13 @@ bool compression_from_name(const std::string& name, Compression& compression);
 struct WriteOptions {
   /// VTK XML files only; the other formats are not compressed.
   Compression compression = Compression::lz4;
-  /// When set, called while the file is written with the fraction done: 0 first, then not
-  /// decreasing, and 1 once the file is complete (before it replaces the target). VTK XML files
-  /// report after every compressed block of 32 KiB, OBJ and OFF every 100,000 lines, PLY and STL
-  /// only at their start and end. It runs while VTK is locked: it must not read or write files
-  /// through rgbmesh. An exception it throws fails the write (the temporary file is removed)
-  /// and is rethrown unchanged.
+  /// When set, called on the calling thread while the file is written, with the fraction
+  /// done: 0 first, then not decreasing, and 1 once the file is complete (before it replaces
+  /// the target). VTK XML files report after every batch of 64 compressed blocks (2 MiB of
+  /// data), OBJ and OFF every 100,000 lines, PLY and STL only at their start and end. For PLY
+  /// and STL it runs inside VTK's writer: it must not read or write files through rgbmesh. An
+  /// exception it throws fails the write (the temporary file is removed) and is rethrown
+  /// unchanged.
   std::function<void(double fraction)> progress;
 };
 
@@ -126,9 +127,10 @@ void write_point_cloud(const std::filesystem::path& path, const std::vector<Vec3
 /// Writes by extension: .obj, .ply (binary), .stl (binary), .off, .vtp, .vtu. The XML formats are
 /// appended raw binary, compressed as options.compression says (lz4 by default), with point
 /// data "level" (UInt8), cell data "level" and "color" (UInt8: 0 green, 1 red, 2 blue) and every
-/// NamedArray as a Float64 array. The snapshot's points, triangles and arrays
-/// are handed to VTK without copies (connectivity and offsets are Int32 in the file), so that
-/// writing needs little memory besides the snapshot. OBJ, PLY and STL carry geometry only, and
+/// NamedArray as a Float64 array: the files VTK's XML writers make (file version 1.0, 64-bit
+/// headers, VTK's compressors), written block by block from the snapshot's memory by our own
+/// writer, the blocks compressed on every core, so that writing needs little memory besides
+/// the snapshot (connectivity and offsets are Int32 in the file). OBJ, PLY and STL carry geometry only, and
 /// PLY/STL store single-precision coordinates. An unknown extension is an InputError; an
 /// inconsistent snapshot (sizes, indices) is std::invalid_argument.
 void write_mesh(const std::filesystem::path& path, const MeshSnapshot& mesh, const WriteOptions& options);
@@ -142,6 +144,14 @@ void write_mesh(const std::filesystem::path& path, const MeshSnapshot& mesh);
 /// "control_point" and "limit" that the points already are is NamedArray::same_as_points
 /// (written from the points' memory) instead of a copy.
 MeshSnapshot snapshot_for_file(RgbMesh& mesh, const std::filesystem::path& path, bool limit_points = false);
+
+/// Writes `mesh` as write_mesh(path, snapshot_for_file(mesh, path, limit_points), options)
+/// does, the same file byte for byte, but VTK XML files (.vtp, .vtu) are computed from the mesh
+/// block by block as they are written, without a snapshot: besides the mesh, writing needs
+/// about 1 byte per vertex (13 where the mesh has free slots) and a few MB, and the blocks are
+/// compressed on every core. What the command-line tool uses for its mesh outputs.
+void write_rgb_mesh(const std::filesystem::path& path, RgbMesh& mesh, const WriteOptions& options = {},
+                    bool limit_points = false);
 
 /// Makes SIGINT, SIGTERM and SIGHUP remove the temporary files of writes in progress before the
 /// process dies of the signal (where the host has not set its own handler or ignored the
