@@ -122,16 +122,14 @@ Vec3 RgbMesh::limit_position(VertexHandle v) const {
   return limits_[v_limit_index_[v.idx]];
 }
 
-bool RgbMesh::try_limit(VertexHandle v) const {
-  if (limit_known(v)) return true;
+template <class Known>
+bool RgbMesh::limit_from_ring(VertexHandle v, Vec3& limit, Known known) const {
   const int l = level(v);
   const auto [pa, pb] = v_parents_[v.idx];
-  // Both rules use the parents at level l, which are coarser: their limits come first.
-  if (!try_limit(pa) || !try_limit(pb)) return false;
   if (v_flags_[v.idx] & kBoundaryFlag) {
     // The boundary neighbours of a boundary vertex at its own level are its parents (Eq. 8).
-    store_limit(v, loop::kBoundaryLimitSelf * v_control_[v.idx] +
-                       loop::kBoundaryLimitNeighbor * (control_point(pa, l) + control_point(pb, l)));
+    limit = loop::kBoundaryLimitSelf * v_control_[v.idx] +
+            loop::kBoundaryLimitNeighbor * (known_control_point(pa, l) + known_control_point(pb, l));
     return true;
   }
   // Interior: the six Loop neighbours at level l. Each green edge at v is a Loop edge of
@@ -151,45 +149,7 @@ bool RgbMesh::try_limit(VertexHandle v) const {
       const auto& p = v_parents_[w.idx];
       w = (p[0] == v) ? p[1] : p[0];
     }
-    if (level(w) < l && !try_limit(w)) {
-      complete = false;
-      return false;
-    }
-    sum += (level(w) == l) ? v_control_[w.idx] : control_point(w, l);
-    ++count;
-    return true;
-  });
-  if (!complete || count != 6) return false;
-  store_limit(v, 0.5 * v_control_[v.idx] + (1.0 / 12.0) * sum);
-  return true;
-}
-
-bool RgbMesh::ring_limit(VertexHandle v, Vec3& limit) const {
-  // try_limit without its recursion and without storing: the same sums in the same order, so
-  // that the values are bit for bit those try_limit stores (known_control_point is
-  // control_point's expression, inline, for vertices whose limit is stored).
-  const int l = level(v);
-  const auto [pa, pb] = v_parents_[v.idx];
-  if (!pa.valid() || !pb.valid() || !limit_known(pa) || !limit_known(pb)) return false;
-  if (v_flags_[v.idx] & kBoundaryFlag) {
-    limit = loop::kBoundaryLimitSelf * v_control_[v.idx] +
-            loop::kBoundaryLimitNeighbor * (known_control_point(pa, l) + known_control_point(pb, l));
-    return true;
-  }
-  Vec3 sum;
-  int count = 0;
-  bool complete = true;
-  visit_edges(v, [&](EdgeHandle e) {
-    if (is_red(e)) {
-      if (level(e) < l) complete = false;
-      return complete;
-    }
-    VertexHandle w = other_vertex(e, v);
-    while (level(w) > l) {
-      const auto& p = v_parents_[w.idx];
-      w = (p[0] == v) ? p[1] : p[0];
-    }
-    if (level(w) < l && !limit_known(w)) {
+    if (level(w) < l && !known(w)) {
       complete = false;
       return false;
     }
@@ -200,6 +160,25 @@ bool RgbMesh::ring_limit(VertexHandle v, Vec3& limit) const {
   if (!complete || count != 6) return false;
   limit = 0.5 * v_control_[v.idx] + (1.0 / 12.0) * sum;
   return true;
+}
+
+bool RgbMesh::try_limit(VertexHandle v) const {
+  if (limit_known(v)) return true;
+  const auto [pa, pb] = v_parents_[v.idx];
+  // Both rules use the parents at level l, which are coarser: their limits come first, and
+  // those of the coarser ring vertices too (recursively).
+  if (!try_limit(pa) || !try_limit(pb)) return false;
+  Vec3 limit;
+  if (!limit_from_ring(v, limit, [this](VertexHandle w) { return try_limit(w); })) return false;
+  store_limit(v, limit);
+  return true;
+}
+
+bool RgbMesh::ring_limit(VertexHandle v, Vec3& limit) const {
+  // try_limit without its recursion and without storing, so that threads may share the mesh.
+  const auto [pa, pb] = v_parents_[v.idx];
+  if (!pa.valid() || !pb.valid() || !limit_known(pa) || !limit_known(pb)) return false;
+  return limit_from_ring(v, limit, [this](VertexHandle w) { return limit_known(w); });
 }
 
 void RgbMesh::store_ring_limits() {
