@@ -5,7 +5,7 @@
 set -euo pipefail
 
 main_packages=(cmake ninja-build g++ pkg-config libvtk9-dev libeigen3-dev libsuitesparse-dev libopenblas0-pthread libceres-dev libcli11-dev libcgal-dev)
-test_packages=(libgtest-dev libgmock-dev libbenchmark-dev libosd-dev doxygen)
+test_packages=(libgtest-dev libgmock-dev libbenchmark-dev libosd-dev doxygen python3-vtk9)
 
 packages=("${main_packages[@]}")
 if [ "${1:-main}" = "test" ]; then packages+=("${test_packages[@]}"); fi
