@@ -7,7 +7,8 @@
       the triangles of a VTP file written by rgbmesh, seen from direction V (orthographic),
       colored by the cell array `level` (or shaded by the light, if all levels are equal)
 
-The VTP reader handles what rgbmesh writes: appended raw data, zlib-compressed, UInt32 headers.
+The VTP reader handles what rgbmesh writes with --compression zlib: appended raw data,
+zlib-compressed, UInt32 or UInt64 headers (the standard library has no LZ4).
 """
 
 import json
@@ -25,8 +26,10 @@ def read_vtp(path):
     start = raw.index(b'<AppendedData encoding="raw">')
     data = raw[raw.index(b"_", start) + 1:]
     header = raw[:start].decode("utf-8", "replace")
-    if 'header_type="UInt32"' not in header or "vtkZLibDataCompressor" not in header:
-        raise SystemExit(f"{path}: expected zlib-compressed appended data with UInt32 headers")
+    if "vtkZLibDataCompressor" not in header:
+        raise SystemExit(f"{path}: expected zlib-compressed appended data (rgbmesh --compression zlib)")
+    word = "Q" if 'header_type="UInt64"' in header else "I"
+    size = struct.calcsize(word)
     arrays, section = {}, "Other"
     for line in header.splitlines():
         for tag in ("PointData", "CellData", "Points", "Polys"):
@@ -36,9 +39,9 @@ def read_vtp(path):
         if not m:
             continue
         kind, name, offset = m.group(1), m.group(2), int(m.group(3))
-        nblocks, _, _ = struct.unpack_from("<III", data, offset)
-        sizes = struct.unpack_from(f"<{nblocks}I", data, offset + 12)
-        pos, out = offset + 12 + 4 * nblocks, b""
+        nblocks, _, _ = struct.unpack_from(f"<3{word}", data, offset)
+        sizes = struct.unpack_from(f"<{nblocks}{word}", data, offset + 3 * size)
+        pos, out = offset + 3 * size + size * nblocks, b""
         for s in sizes:
             out += zlib.decompress(data[pos:pos + s])
             pos += s

@@ -3,14 +3,15 @@
 #   docs/convergence.svg   H1 and L2 errors against unknowns, adaptive and uniform (sphere-peak)
 #   docs/adapted-mesh.svg  the last adaptive mesh, colored by level
 #   docs/fit-before.svg, docs/fit-after.svg  the bunny fit: limit surfaces of the base before and after
-# Needs python3 (standard library only) and a built tool (scripts/run-main.sh).
+# Needs python3 (standard library only) and a built tool (scripts/run-main.sh); the files are
+# written with zlib, which the standard library reads.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-build/bin/rgbmesh adapt --problem sphere-peak --strategy uniform --cycles 8 --max-dofs 200000 \
+build/bin/rgbmesh --compression zlib adapt --problem sphere-peak --strategy uniform --cycles 8 --max-dofs 200000 \
   --out "$tmp/uniform" --report "$tmp/uniform.json" >/dev/null
-build/bin/rgbmesh adapt --problem sphere-peak --strategy adaptive --cycles 40 --max-dofs 100000 \
+build/bin/rgbmesh --compression zlib adapt --problem sphere-peak --strategy adaptive --cycles 40 --max-dofs 100000 \
   --out "$tmp/adaptive" --report "$tmp/adaptive.json" >/dev/null
 mkdir -p docs
 python3 scripts/figures.py convergence "$tmp/uniform.json" "$tmp/adaptive.json" docs/convergence.svg
@@ -21,7 +22,7 @@ print(min(c, key=lambda r: abs(r['dofs'] - 3000))['cycle'])")
 python3 scripts/figures.py mesh "$tmp/adaptive/cycle_$(printf %03d "$cycle").vtp" docs/adapted-mesh.svg 0.48 0.6 0.64
 echo "wrote docs/convergence.svg and docs/adapted-mesh.svg"
 # Fitting: the bunny from a 500-face base, limit surfaces before and after (level 2).
-build/bin/rgbmesh fit --target data/bunny.obj --base-faces 500 --levels 2 --out "$tmp/fit" >/dev/null
+build/bin/rgbmesh --compression zlib fit --target data/bunny.obj --base-faces 500 --levels 2 --out "$tmp/fit" >/dev/null
 python3 scripts/figures.py mesh "$tmp/fit/initial_limit_surface.vtp" docs/fit-before.svg 0 0 -1
 python3 scripts/figures.py mesh "$tmp/fit/limit_surface.vtp" docs/fit-after.svg 0 0 -1
 echo "wrote docs/fit-before.svg and docs/fit-after.svg"

@@ -160,11 +160,11 @@ TEST(Fem, DirichletProblemOnAnOpenSurfaceIsExactForLinearFunctions) {
   const SurfaceMesh mesh = build_surface_mesh(m, Projection([](const Vec3& p) { return Vec3(p.x, p.y, 0); }));
   Problem p;
   p.dirichlet = [](const Vec3& x) { return 1 + 2 * x.x - x.y; };
-  p.exact = ExactSolution{p.dirichlet, [](const Vec3&) { return Vec3(2, -1, 0); }};
+  p.exact = ExactSolution{p.dirichlet, [](const Vec3&) { return Vec3(2, -1, 0); }};  // in the plane z = 0
   const Solution s = solve(mesh, p);
   const ErrorNorms e = error_norms(mesh, s.u, *p.exact);
   EXPECT_LT(e.l2, 1e-12);
-  EXPECT_LT(e.h1, 1e-11);
+  EXPECT_LT(e.h1, 1e-9);  // the lift's derivative by central differences: rounding of ~1e-10
   EXPECT_LT(residual_estimator(mesh, p, s.u).total, 1e-10);
   // With a Neumann part carrying the exact flux (on y < 0), the same solution.
   p.is_neumann = [](const Vec3& x) { return x.y < 0; };
@@ -174,6 +174,79 @@ TEST(Fem, DirichletProblemOnAnOpenSurfaceIsExactForLinearFunctions) {
   };
   const Solution s2 = solve(mesh, p);
   EXPECT_LT(error_norms(mesh, s2.u, *p.exact).h1, 0.05);  // the polygon's normals are not x/r
+}
+
+// The error norms measure the error on the surface: the exact solution enters only through
+// its values and surface gradient on the exact surface, lifted to the flat triangles. Checked
+// against an independent computation: on the unit sphere the lift P(x) = x/|x| has the exact
+// derivative (I - ννᵀ)/|x|, so ∇_Γh(u∘P)(x) = Π_h ∇_Γu(P(x)) / |x| (Π_h the projection onto
+// the triangle's plane), integrated on 64 pieces of each triangle. Exact solutions whose
+// functions vary along the normal off the sphere must give the same norms; the former way
+// (the gradient of a 3-D extension, projected onto the flat triangle) does not.
+TEST(Fem, ErrorNormsLiftTheSurfaceGradientAndIgnoreTheExtension) {
+  RgbMesh m = testing::icosahedron().build();
+  selective_refinement(m, UniformLevel(3));
+  selective_refinement(m, BallLevel(m.control_point(VertexHandle(0)), 0.4 * norm(m.control_point(VertexHandle(0))), 5));
+  const SurfaceMesh mesh = build_surface_mesh(m, Projection(project_to_unit_sphere));
+  const Vec3 d(0.9, -1.3, 0.4);
+  // u(y) = exp(y·d) on the sphere; ∇_Γu(y) = u (d - (y·d) y).
+  const auto u = [d](const Vec3& y) { return std::exp(dot(y, d)); };
+  const auto surface_gradient = [u, d](const Vec3& y) { return u(y) * (d - dot(y, d) * y); };
+  // The same solution, with functions that are wrong off the sphere (|x|^3 and |x|^7 factors).
+  const ExactSolution on_sphere{u, surface_gradient};
+  const ExactSolution extended{[u](const Vec3& x) { return u(x) * std::pow(norm(x), 3); },
+                               [surface_gradient](const Vec3& x) { return surface_gradient(x) * std::pow(norm(x), 7); }};
+  // u_h: the interpolant, plus a wave so that the error is not the interpolation error alone.
+  Eigen::VectorXd uh(static_cast<Eigen::Index>(mesh.num_dofs()));
+  for (std::size_t i = 0; i < mesh.num_dofs(); ++i)
+    uh[static_cast<Eigen::Index>(i)] = u(mesh.points[i]) + 0.01 * std::sin(7 * mesh.points[i].x);
+
+  // The reference.
+  const auto& rule = triangle_quadrature();
+  constexpr int kPieces = 8;  // per side: 64 pieces
+  double l2 = 0, h1 = 0, h1_ambient = 0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
+    const TriangleGeometry g = triangle_geometry(p0, p1, p2);
+    const Vec3 grad_h = uh[t[0]] * g.grad[0] + uh[t[1]] * g.grad[1] + uh[t[2]] * g.grad[2];
+    const auto flat = [&](const Vec3& v) { return v - dot(v, g.normal) * g.normal; };
+    for (int i = 0; i < kPieces; ++i)
+      for (int j = 0; i + j < kPieces; ++j)
+        for (int upper = 0; upper < (i + j + 1 < kPieces ? 2 : 1); ++upper) {
+          // The piece's corners in barycentric (b1, b2) coordinates, in units of 1/kPieces.
+          const std::array<std::array<double, 2>, 3> c =
+              upper ? std::array<std::array<double, 2>, 3>{{{double(i + 1), double(j)}, {double(i + 1), double(j + 1)}, {double(i), double(j + 1)}}}
+                    : std::array<std::array<double, 2>, 3>{{{double(i), double(j)}, {double(i + 1), double(j)}, {double(i), double(j + 1)}}};
+          for (const auto& q : rule) {
+            const double b1 = (q.barycentric[0] * c[0][0] + q.barycentric[1] * c[1][0] + q.barycentric[2] * c[2][0]) / kPieces;
+            const double b2 = (q.barycentric[0] * c[0][1] + q.barycentric[1] * c[1][1] + q.barycentric[2] * c[2][1]) / kPieces;
+            const double b0 = 1 - b1 - b2;
+            const Vec3 x = b0 * p0 + b1 * p1 + b2 * p2;
+            const Vec3 y = x * (1.0 / norm(x));
+            const double w = q.weight * g.area / (kPieces * kPieces);
+            const double e = u(y) - (b0 * uh[t[0]] + b1 * uh[t[1]] + b2 * uh[t[2]]);
+            const Vec3 de = flat(surface_gradient(y)) * (1.0 / norm(x)) - grad_h;
+            // The former way: the 3-D gradient of the extension u(x/|x|) |x|^3, at the lift.
+            const Vec3 ambient = surface_gradient(y) + 3.0 * u(y) * y;
+            const Vec3 da = flat(ambient) - grad_h;
+            l2 += w * e * e;
+            h1 += w * dot(de, de);
+            h1_ambient += w * dot(da, da);
+          }
+        }
+  }
+  l2 = std::sqrt(l2);
+  h1 = std::sqrt(h1);
+  h1_ambient = std::sqrt(h1_ambient);
+
+  for (const ExactSolution* exact : {&on_sphere, &extended}) {
+    const ErrorNorms e = error_norms(mesh, uh, *exact);
+    // What is left is the degree-5 rule's error on whole triangles (measured: 2e-5 and 5e-7).
+    EXPECT_NEAR(e.l2, l2, 1e-4 * l2);
+    EXPECT_NEAR(e.h1, h1, 1e-5 * h1);
+  }
+  EXPECT_GT(h1_ambient, 1.1 * h1) << "the extension's normal derivative would have leaked into the error: "
+                                  << h1_ambient << " against " << h1;
 }
 
 TEST(Fem, LoopSurfaceConservesTheSource) {
@@ -203,9 +276,10 @@ TEST(Fem, ZeroMeanCheckIntegratesOverTheSurfaceNotTheFlatTriangles) {
   ASSERT_GT(std::abs(load.sum()), 1e-3 * load.cwiseAbs().sum()) << "the mesh must make the flat load incompatible";
   const Solution s = solve(mesh, harmonic);
   EXPECT_TRUE(s.zero_mean);
-  // A coarse mesh (level 1 away from the ball): the error is that of the uniform level-1 mesh,
-  // 0.48, against an exact solution of H1 seminorm sqrt(12 · 4π/105) = 1.2.
-  EXPECT_LT(error_norms(mesh, s.u, *harmonic.exact, true).h1, 0.5);
+  // A coarse mesh (level 1 away from the ball): the error is about that of the uniform level-1
+  // mesh, 0.55 (on the flat triangles, against the lifted solution), against an exact solution
+  // of H1 seminorm sqrt(12 · 4π/105) = 1.2.
+  EXPECT_LT(error_norms(mesh, s.u, *harmonic.exact, true).h1, 0.6);
   // A source with a small but clear mean (0.04 against |12xyz|, of mean 0.955: a relative mean of 4%) is still refused.
   Problem shifted = harmonic;
   shifted.source = [](const Vec3& x) { return 12.0 * x.x * x.y * x.z + 0.04; };

@@ -79,11 +79,18 @@ ErrorNorms error_norms(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const 
     const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
     const TriangleGeometry g = triangle_geometry(p0, p1, p2);
     const Vec3 grad_h = gradient(g, t, u);
+    const double size = longest_edge(p0, p1, p2);
     for (const auto& q : rule) {
-      const Vec3 x = mesh.lift(at(q.barycentric, p0, p1, p2));
+      const Vec3 x = at(q.barycentric, p0, p1, p2);
+      const Vec3 y = mesh.lift(x);
       const double uh = q.barycentric[0] * u[t[0]] + q.barycentric[1] * u[t[1]] + q.barycentric[2] * u[t[2]];
-      const double d = exact.value(x) - mean - uh;
-      const Vec3 dg = tangential(exact.gradient(x), g.normal) - grad_h;
+      const double d = exact.value(y) - mean - uh;
+      // The gradient on the flat triangle of the lifted solution u∘P: along each direction e of
+      // the plane, the derivative is ∇_Γu(P(x)) · dP e (the chain rule; ∇_Γu is tangential, so
+      // only the tangential part of dP e counts).
+      const SurfaceMesh::LiftTangents lt = mesh.lift_tangents(x, g.normal, size);
+      const Vec3 grad_exact = exact.surface_gradient(y);
+      const Vec3 dg = dot(grad_exact, lt.de1) * lt.e1 + dot(grad_exact, lt.de2) * lt.e2 - grad_h;
       l2 += q.weight * g.area * d * d;
       h1 += q.weight * g.area * dot(dg, dg);
     }

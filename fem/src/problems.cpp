@@ -5,13 +5,24 @@
 
 namespace rgbmesh::fem {
 
+namespace {
+
+// The surface gradient on the unit sphere of a function whose gradient in space is `ambient`
+// at x: the part tangential to the sphere (normal x / |x|).
+Vec3 on_unit_sphere(const Vec3& x, const Vec3& ambient) {
+  const Vec3 normal = x * (1.0 / norm(x));
+  return ambient - dot(ambient, normal) * normal;
+}
+
+}  // namespace
+
 Problem sphere_harmonic() {
   Problem p;
   p.name = "sphere-harmonic";
   p.c = 0;
   p.source = [](const Vec3& x) { return 12.0 * x.x * x.y * x.z; };
   p.exact = ExactSolution{[](const Vec3& x) { return x.x * x.y * x.z; },
-                          [](const Vec3& x) { return Vec3(x.y * x.z, x.x * x.z, x.x * x.y); }};
+                          [](const Vec3& x) { return on_unit_sphere(x, Vec3(x.y * x.z, x.x * x.z, x.x * x.y)); }};
   p.dirichlet = p.exact->value;  // on a patch of the sphere, the boundary takes the exact values
   return p;
 }
@@ -28,7 +39,9 @@ Problem sphere_peak(const Vec3& d_in, double kappa, double c) {
     return -laplacian + c * g;
   };
   p.exact = ExactSolution{[d, kappa](const Vec3& x) { return std::exp(kappa * (dot(x, d) - 1.0)); },
-                          [d, kappa](const Vec3& x) { return d * (kappa * std::exp(kappa * (dot(x, d) - 1.0))); }};
+                          [d, kappa](const Vec3& x) {
+                            return on_unit_sphere(x, d * (kappa * std::exp(kappa * (dot(x, d) - 1.0))));
+                          }};
   p.dirichlet = p.exact->value;
   return p;
 }

@@ -15,18 +15,29 @@ double SurfaceMesh::total_area() const {
   return a;
 }
 
-double SurfaceMesh::lift_area_factor(const Vec3& x, const Vec3& n, double size) const {
-  if (!projection) return 1.0;
+SurfaceMesh::LiftTangents SurfaceMesh::lift_tangents(const Vec3& x, const Vec3& n, double size) const {
   // An orthonormal basis of the plane: e1 across the largest-magnitude axis of n.
   const Vec3 a = std::abs(n.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
-  Vec3 e1 = cross(n, a);
-  e1 = e1 * (1.0 / norm(e1));
-  const Vec3 e2 = cross(n, e1);
+  LiftTangents t;
+  t.e1 = cross(n, a);
+  t.e1 = t.e1 * (1.0 / norm(t.e1));
+  t.e2 = cross(n, t.e1);
+  if (!projection) {
+    t.de1 = t.e1;
+    t.de2 = t.e2;
+    return t;
+  }
   // A step well inside the triangle's scale, far above rounding: the O(δ²) error is ~1e-10.
   const double d = 1e-5 * size;
-  const Vec3 d1 = ((*projection)(x + d * e1) - (*projection)(x - d * e1)) * (0.5 / d);
-  const Vec3 d2 = ((*projection)(x + d * e2) - (*projection)(x - d * e2)) * (0.5 / d);
-  return norm(cross(d1, d2));
+  t.de1 = ((*projection)(x + d * t.e1) - (*projection)(x - d * t.e1)) * (0.5 / d);
+  t.de2 = ((*projection)(x + d * t.e2) - (*projection)(x - d * t.e2)) * (0.5 / d);
+  return t;
+}
+
+double SurfaceMesh::lift_area_factor(const Vec3& x, const Vec3& n, double size) const {
+  if (!projection) return 1.0;
+  const LiftTangents t = lift_tangents(x, n, size);
+  return norm(cross(t.de1, t.de2));
 }
 
 TriangleGeometry triangle_geometry(const Vec3& p0, const Vec3& p1, const Vec3& p2) {

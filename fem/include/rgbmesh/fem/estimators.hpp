@@ -15,10 +15,14 @@ struct ErrorNorms {
   double h1 = 0;  ///< ‖∇(u - u_h)‖ (the energy seminorm)
 };
 
-/// The errors by the degree-5 rule on each flat triangle: the exact solution at the lifted
-/// quadrature points, its gradient projected onto the triangle's plane (surface finite
-/// elements after Dziuk). With subtract_mean, the exact solution is compared with its mean
-/// removed (for solutions defined up to a constant).
+/// The errors on the discrete surface Γ_h (the flat triangles), against the exact solution
+/// lifted to it, u∘P with P the projection onto the exact surface (the standard lift of
+/// surface finite elements, after Dziuk): ‖u∘P - u_h‖ and ‖∇_Γh(u∘P) - ∇_Γh u_h‖ over Γ_h, by
+/// the degree-5 rule on each triangle. ∇_Γh(u∘P) at x is the surface gradient ∇_Γu at P(x)
+/// pulled back through the derivative of P along the triangle's plane (central differences of
+/// P); without a projection, P is the identity and ∇_Γu is projected onto the plane. With
+/// subtract_mean, the exact solution is compared with its mean removed (for solutions defined
+/// up to a constant).
 ErrorNorms error_norms(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const ExactSolution& exact,
                        bool subtract_mean = false);
 

@@ -20,11 +20,14 @@ namespace rgbmesh::fem {
 using ScalarField = std::function<double(const Vec3&)>;
 using VectorField = std::function<Vec3(const Vec3&)>;
 
-/// An exact solution: its values, and the gradient of an extension to space (its tangential
-/// part is the surface gradient).
+/// An exact solution, as a function on the exact surface: error_norms evaluates both fields
+/// only at points of the surface (the lifts of quadrature points), so an extension off the
+/// surface never enters the errors.
 struct ExactSolution {
   ScalarField value;
-  VectorField gradient;
+  /// The surface gradient ∇_Γ u at a point of the surface: tangential to the exact surface (not
+  /// the gradient of an extension to space, whose normal part would leak into the error).
+  VectorField surface_gradient;
 };
 
 struct Problem {

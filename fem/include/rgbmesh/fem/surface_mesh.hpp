@@ -42,9 +42,17 @@ struct SurfaceMesh {
   std::size_t num_dofs() const { return points.size(); }
   /// The point of the surface that x on the flat triangles stands for.
   Vec3 lift(const Vec3& x) const { return projection ? (*projection)(x) : x; }
-  /// The ratio of the surface's area element to the flat triangle's at x (in the triangle with
-  /// unit normal n): 1 without a projection, else |dP e1 × dP e2| for an orthonormal basis
-  /// (e1, e2) of the triangle's plane, by central differences of the projection P.
+  /// The derivative of the lift at x along the plane of a flat triangle (unit normal n, size a
+  /// length of the triangle's scale): an orthonormal basis (e1, e2) of the plane and the images
+  /// dP e1, dP e2 of the basis under the derivative of the projection P, by central
+  /// differences (e1, e2 themselves without a projection).
+  struct LiftTangents {
+    Vec3 e1, e2;    ///< orthonormal, in the triangle's plane
+    Vec3 de1, de2;  ///< dP e1, dP e2: tangent to the surface at lift(x)
+  };
+  LiftTangents lift_tangents(const Vec3& x, const Vec3& n, double size) const;
+  /// The ratio of the surface's area element to the flat triangle's at x: |dP e1 × dP e2|
+  /// (lift_tangents), 1 without a projection.
   double lift_area_factor(const Vec3& x, const Vec3& n, double size) const;
   double total_area() const;
 };
