@@ -147,6 +147,31 @@ void BM_CoarsenAll(benchmark::State& state) {
 }
 BENCHMARK(BM_CoarsenAll)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
 
+// The limit positions of every vertex of a uniform level-L mesh (what the first VTK XML write
+// of a mesh computes), against refining to that level in the same iteration: `ratio` =
+// compute_limits time / refinement time.
+void BM_ComputeLimits(benchmark::State& state) {
+  const int level = static_cast<int>(state.range(0));
+  double limits = 0, refine = 0;
+  std::size_t vertices = 0;
+  for (auto _ : state) {
+    auto t0 = std::chrono::steady_clock::now();
+    RgbMesh m = base_mesh();
+    selective_refinement(m, UniformLevel(level));
+    auto t1 = std::chrono::steady_clock::now();
+    m.compute_limits();
+    auto t2 = std::chrono::steady_clock::now();
+    refine += std::chrono::duration<double>(t1 - t0).count();
+    limits += std::chrono::duration<double>(t2 - t1).count();
+    vertices = m.num_vertices();
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["limits_ms"] = 1e3 * limits / n;
+  state.counters["ns_per_vertex"] = 1e9 * limits / n / static_cast<double>(vertices);
+  state.counters["ratio"] = limits / refine;
+}
+BENCHMARK(BM_ComputeLimits)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
+
 // Selective refinement: a ball to level 7 on one side of the torus.
 void BM_BallRefinement(benchmark::State& state) {
   std::uint64_t splits = 0;
