@@ -60,7 +60,8 @@ std::string cycles_json(const std::vector<adapt::CycleReport>& reports, bool dyn
         .add("marked", static_cast<std::uint64_t>(r.marked))
         .add("splits", static_cast<std::uint64_t>(r.splits))
         .add("removals", static_cast<std::uint64_t>(r.removals))
-        .add("solver", r.solver);
+        .add("solver", r.solver)
+        .add("solver_iterations", r.solver_iterations);
     out += (i ? ", " : "") + o.str();
   }
   return out + "]";
@@ -257,6 +258,8 @@ std::vector<adapt::CycleReport> cycles_from(const JsonValue& list, const fs::pat
     r.splits = static_cast<std::size_t>(count(c, "splits", file));
     r.removals = static_cast<std::size_t>(count(c, "removals", file));
     r.solver = text(c, "solver", file);
+    // Reports written before the field existed have none.
+    if (c.find("solver_iterations")) r.solver_iterations = static_cast<int>(count(c, "solver_iterations", file));
     out.push_back(std::move(r));
   }
   return out;

@@ -360,7 +360,7 @@ int main(int argc, char** argv) {
       ->expected(3);
   adapt_cmd->add_option("--width", adapt_args.width, "gaussian: the source's width sigma [default: diagonal / 20]")
       ->check(number_in("a finite number > 0", [](double x) { return x > 0 && std::isfinite(x); }));
-  adapt_cmd->add_option("--solver", adapt_args.solver, "auto, ldlt, cg or cholmod")->capture_default_str();
+  adapt_cmd->add_option("--solver", adapt_args.solver, "auto, ldlt, cg, cholmod or amg (CG with algebraic multigrid: hypre BoomerAMG through PETSc)")->capture_default_str();
   auto* adapt_out = adapt_cmd->add_option("--out", adapt_args.out, "Output directory")->capture_default_str();
   add_compression(adapt_cmd);
   adapt_cmd->add_option("--report", adapt_args.report,

@@ -65,6 +65,9 @@ endforeach()
 if(NOT RGBMESH_FEM_USES_CHOLMOD)
   set(RGBMESH_FEM_USES_CHOLMOD OFF)
 endif()
+if(NOT RGBMESH_FEM_USES_PETSC)
+  set(RGBMESH_FEM_USES_PETSC OFF)
+endif()
 configure_package_config_file("${CMAKE_CURRENT_LIST_DIR}/rgbmeshConfig.cmake.in"
   "${PROJECT_BINARY_DIR}/rgbmeshConfig.cmake" INSTALL_DESTINATION ${RGBMESH_INSTALL_CMAKEDIR})
 # 0.x: a minor version may change the interface, so only the same minor version is compatible.

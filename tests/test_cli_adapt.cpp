@@ -195,6 +195,28 @@ TEST_F(Cli, ReportRecordsTheSettingsAndSurvivesAnInterruptedRun) {
   EXPECT_EQ(partial.back(), '\n') << "the report is whole: written atomically";
 }
 
+// The report gives each cycle's solver and its iterations: the multigrid solver's (where the
+// build has PETSc) a handful, in every cycle; the direct solver's 0.
+TEST_F(Cli, ReportGivesTheSolverIterationsOfEveryCycle) {
+  const RunResult r = run("adapt --cycles 6 --solver amg --max-dofs 40000 --out " + path("a") + " --report " + path("r.json"));
+  if (r.code == 2 && r.err.find("not available") != std::string::npos) GTEST_SKIP() << r.err;
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string json = read_text(path("r.json"));
+  ASSERT_EQ(json_array_size(json, "cycles"), 6) << json;
+  std::size_t at = 0, cycles = 0;
+  while ((at = json.find("\"solver\": \"amg\", \"solver_iterations\": ", at)) != std::string::npos) {
+    const int iterations = std::atoi(json.c_str() + at + 38);
+    EXPECT_GE(iterations, 1) << json;
+    EXPECT_LE(iterations, 30) << json;
+    ++cycles;
+    ++at;
+  }
+  EXPECT_EQ(cycles, 6u) << json;
+  const RunResult direct = run("adapt --cycles 2 --solver ldlt --out " + path("b") + " --report " + path("d.json"));
+  ASSERT_EQ(direct.code, 0) << direct.err;
+  EXPECT_NE(read_text(path("d.json")).find("\"solver\": \"ldlt\", \"solver_iterations\": 0"), std::string::npos);
+}
+
 TEST_F(Cli, ARunNeverMixesItsFilesWithAPreviousRuns) {
   const std::string dir = path("o");
   ASSERT_EQ(run("adapt --cycles 6 --out " + dir).code, 0);

@@ -164,6 +164,7 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   c.report.estimate = c.estimate.total;
   c.report.solve_seconds = c.solution.assembly_seconds + c.solution.solve_seconds;
   c.report.solver = fem::to_string(c.solution.solver);
+  c.report.solver_iterations = c.solution.iterations;
   if (problem.exact) {
     const fem::ErrorNorms e = fem::error_norms(c.fe, c.solution.u, *problem.exact, c.solution.zero_mean);
     c.report.error_l2 = e.l2;

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "amg.hpp"
 #include "rgbmesh/soup.hpp"
 
 #if defined(RGBMESH_HAVE_CHOLMOD)
@@ -98,6 +99,7 @@ const char* to_string(SolverKind k) {
     case SolverKind::ldlt: return "ldlt";
     case SolverKind::cg_ichol: return "cg";
     case SolverKind::cholmod: return "cholmod";
+    case SolverKind::amg: return "amg";
   }
   return "?";
 }
@@ -107,7 +109,8 @@ SolverKind parse_solver(const std::string& name) {
   if (name == "ldlt") return SolverKind::ldlt;
   if (name == "cg") return SolverKind::cg_ichol;
   if (name == "cholmod") return SolverKind::cholmod;
-  throw InputError("unknown solver '" + name + "' (auto, ldlt, cg, cholmod)");
+  if (name == "amg") return SolverKind::amg;
+  throw InputError("unknown solver '" + name + "' (auto, ldlt, cg, cholmod, amg)");
 }
 
 bool cholmod_available() {
@@ -117,6 +120,8 @@ bool cholmod_available() {
   return false;
 #endif
 }
+
+bool amg_available() { return detail::amg_available(); }
 
 Eigen::VectorXd load_vector(const SurfaceMesh& mesh, const Problem& problem) {
   Eigen::VectorXd load = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.num_dofs()));
@@ -249,18 +254,38 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   trip = {};
   sol.assembly_seconds = seconds_since(t0);
 
+  // Automatic: sparse LDLT for small systems; from 20,000 unknowns CG with algebraic multigrid
+  // (faster than CHOLMOD from about 10,000 unknowns on, 0.57 x its time at 164,000, and
+  // linear in the size), else CHOLMOD; a direct solver takes over if the multigrid solve
+  // fails (PETSc cannot start, no convergence).
+  const auto direct = [&] {
+    if (cholmod_available()) return SolverKind::cholmod;
+    return nf <= 200000 ? SolverKind::ldlt : SolverKind::cg_ichol;
+  };
   SolverKind kind = options.solver;
-  if (kind == SolverKind::automatic) {
-    if (nf < 20000)
-      kind = SolverKind::ldlt;
-    else if (cholmod_available())
-      kind = SolverKind::cholmod;
-    else
-      kind = nf <= 200000 ? SolverKind::ldlt : SolverKind::cg_ichol;
-  }
-  sol.solver = kind;
+  const bool automatic = kind == SolverKind::automatic;
+  if (automatic) kind = nf < 20000 ? SolverKind::ldlt : amg_available() ? SolverKind::amg : direct();
   t0 = std::chrono::steady_clock::now();
   Eigen::VectorXd x;
+  if (kind == SolverKind::amg) {
+    Eigen::VectorXd guess;
+    if (options.initial_guess != nullptr && options.initial_guess->size() == n) {
+      guess.resize(nf);
+      for (Eigen::Index i = 0; i < n; ++i) {
+        if (index[i] >= 0) guess[index[i]] = (*options.initial_guess)[i];
+      }
+    }
+    a.makeCompressed();
+    try {
+      detail::AmgSolution amg = detail::solve_amg(a, rhs, guess.size() > 0 ? &guess : nullptr, options.cg_tolerance);
+      x = std::move(amg.x);
+      sol.iterations = amg.iterations;
+    } catch (const std::runtime_error&) {
+      if (!automatic) throw;
+      kind = direct();
+    }
+  }
+  sol.solver = kind;
   switch (kind) {
     case SolverKind::ldlt: {
       Eigen::SimplicialLDLT<SparseMatrix> ldlt;
@@ -308,6 +333,7 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
                                  "); the system may be singular");
       break;
     }
+    case SolverKind::amg:  // solved above
     case SolverKind::automatic:
       break;
   }

@@ -95,6 +95,7 @@ struct CycleReport {
   std::size_t marked = 0, splits = 0, removals = 0;
   bool memory_limit_reached = false;  ///< the adaptation stopped at the memory ceiling
   std::string solver;
+  int solver_iterations = 0;  ///< CG and AMG: the iterations of the cycle's solve (0 for direct solvers)
 };
 
 /// What the mesh of a cycle's solution was, per FE point and triangle, taken before the mesh

@@ -24,26 +24,28 @@ System assemble(const SurfaceMesh& mesh, const Problem& problem);
 Eigen::VectorXd load_vector(const SurfaceMesh& mesh, const Problem& problem);
 
 enum class SolverKind {
-  automatic,        ///< by size: sparse LDLT, CHOLMOD above 20,000 DOFs, CG beyond 200,000 without it
+  automatic,        ///< by size: sparse LDLT; from 20,000 DOFs amg, else CHOLMOD (LDLT, then CG without it)
   ldlt,             ///< Eigen::SimplicialLDLT
   cg_ichol,         ///< Eigen::ConjugateGradient with IncompleteCholesky (relative residual 1e-10)
   cholmod,          ///< Eigen::CholmodSupernodalLLT (if built with SuiteSparse)
+  amg,              ///< CG with hypre's BoomerAMG through PETSc (if built with PETSc), same tolerance as cg
 };
 const char* to_string(SolverKind k);
-/// "auto", "ldlt", "cg", "cholmod"; InputError otherwise.
+/// "auto", "ldlt", "cg", "cholmod", "amg"; InputError otherwise.
 SolverKind parse_solver(const std::string& name);
 bool cholmod_available();
+bool amg_available();
 
 struct SolveOptions {
   SolverKind solver = SolverKind::automatic;
   double cg_tolerance = 1e-10;
-  const Eigen::VectorXd* initial_guess = nullptr;  ///< for CG (e.g. the previous cycle's solution)
+  const Eigen::VectorXd* initial_guess = nullptr;  ///< for CG and AMG (e.g. the previous cycle's solution)
 };
 
 struct Solution {
   Eigen::VectorXd u;  ///< one value per DOF
   SolverKind solver = SolverKind::automatic;  ///< the one used
-  int iterations = 0;                         ///< CG only
+  int iterations = 0;                         ///< CG and AMG only
   double assembly_seconds = 0, solve_seconds = 0;
   bool zero_mean = false;  ///< solved in the zero-mean space (closed or pure Neumann, c = 0)
 };
