@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 namespace rgbmesh::fem {
@@ -45,6 +47,13 @@ TriangleFields triangle_fields(const SurfaceMesh& mesh, const Eigen::VectorXd& u
   return f;
 }
 
+// The estimators are those of linear elements (issue 12: the quadratic ones are to come).
+void require_linear(const SurfaceMesh& mesh, const char* what) {
+  if (mesh.order != 1)
+    throw std::invalid_argument(std::string(what) + ": only for linear elements (order 1) so far, not order " +
+                                std::to_string(mesh.order));
+}
+
 Estimate finish(std::vector<double> eta_squared, std::vector<double> geometric) {
   Estimate e;
   double sum = 0;
@@ -63,42 +72,49 @@ Estimate finish(std::vector<double> eta_squared, std::vector<double> geometric) 
 ErrorNorms error_norms(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const ExactSolution& exact,
                        bool subtract_mean) {
   const auto& rule = triangle_quadrature();
+  const std::size_t nt = mesh.triangles.size();
   double mean = 0;
   if (subtract_mean) {
     double integral = 0, area = 0;
-    for (const auto& t : mesh.triangles) {
-      const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
-      const double a = triangle_geometry(p0, p1, p2).area;
-      for (const auto& q : rule) integral += q.weight * a * exact.value(mesh.lift(at(q.barycentric, p0, p1, p2)));
-      area += a;
+    for (std::size_t t = 0; t < nt; ++t) {
+      for (const auto& q : rule) {
+        const ElementPoint p = element_point(mesh, t, q.barycentric);
+        integral += q.weight * p.density * exact.value(mesh.lift(p.x));
+        area += q.weight * p.density;
+      }
     }
     mean = integral / area;
   }
   double l2 = 0, h1 = 0;
-  for (const auto& t : mesh.triangles) {
-    const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
-    const TriangleGeometry g = triangle_geometry(p0, p1, p2);
-    const Vec3 grad_h = gradient(g, t, u);
-    const double size = longest_edge(p0, p1, p2);
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& c = mesh.triangles[t];
+    const double size = longest_edge(mesh.points[c[0]], mesh.points[c[1]], mesh.points[c[2]]);
     for (const auto& q : rule) {
-      const Vec3 x = at(q.barycentric, p0, p1, p2);
-      const Vec3 y = mesh.lift(x);
-      const double uh = q.barycentric[0] * u[t[0]] + q.barycentric[1] * u[t[1]] + q.barycentric[2] * u[t[2]];
+      const ElementPoint p = element_point(mesh, t, q.barycentric);
+      double uh = 0;
+      Vec3 grad_h;
+      for (int i = 0; i < p.nodes; ++i) {
+        uh += p.value[i] * u[p.dof[i]];
+        grad_h += u[p.dof[i]] * p.gradient[i];
+      }
+      const Vec3 y = mesh.lift(p.x);
       const double d = exact.value(y) - mean - uh;
-      // The gradient on the flat triangle of the lifted solution u∘P: along each direction e of
-      // the plane, the derivative is ∇_Γu(P(x)) · dP e (the chain rule; ∇_Γu is tangential, so
-      // only the tangential part of dP e counts).
-      const SurfaceMesh::LiftTangents lt = mesh.lift_tangents(x, g.normal, size);
+      // The gradient on the element of the lifted solution u∘P: along each direction e of its
+      // tangent plane, the derivative is ∇_Γu(P(x)) · dP e (the chain rule; ∇_Γu is
+      // tangential, so only the tangential part of dP e counts).
+      const SurfaceMesh::LiftTangents lt = mesh.lift_tangents(p.x, p.normal, size);
       const Vec3 grad_exact = exact.surface_gradient(y);
       const Vec3 dg = dot(grad_exact, lt.de1) * lt.e1 + dot(grad_exact, lt.de2) * lt.e2 - grad_h;
-      l2 += q.weight * g.area * d * d;
-      h1 += q.weight * g.area * dot(dg, dg);
+      const double w = q.weight * p.density;
+      l2 += w * d * d;
+      h1 += w * dot(dg, dg);
     }
   }
   return {std::sqrt(l2), std::sqrt(h1)};
 }
 
 Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, const Eigen::VectorXd& u) {
+  require_linear(mesh, "residual_estimator");
   const std::size_t nt = mesh.triangles.size();
   const auto& rule = triangle_quadrature();
   const auto [geo, grad] = triangle_fields(mesh, u);
@@ -171,6 +187,7 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
 }
 
 Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u) {
+  require_linear(mesh, "zz_estimator");
   const std::size_t nt = mesh.triangles.size();
   std::vector<Vec3> recovered(mesh.num_dofs());
   std::vector<double> weight(mesh.num_dofs(), 0.0);

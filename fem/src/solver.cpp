@@ -2,6 +2,7 @@
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -36,6 +37,7 @@ std::vector<char> dirichlet_dofs(const SurfaceMesh& mesh, const Problem& problem
     const Vec3 mid = mesh.lift(0.5 * (mesh.points[e.a] + mesh.points[e.b]));
     if (problem.is_neumann && problem.is_neumann(mid)) continue;
     dir[e.a] = dir[e.b] = 1;
+    if (e.middle >= 0) dir[e.middle] = 1;
   }
   return dir;
 }
@@ -51,17 +53,69 @@ Eigen::VectorXd factor_and_solve(Solver& solver, const SparseMatrix& a, const Ei
   return x;
 }
 
-// Calls fn(edge, weight, s, h) at the quadrature points of every Neumann edge: two-point Gauss
-// (exact for cubics along the edge), at the parameter s from e.a to e.b, with the flux h there.
+// Calls fn(edge, weight, values, h) at the quadrature points of every Neumann edge, with the
+// basis functions of the edge's nodes (e.a, e.b, e.middle) there and the flux h. P1: the
+// straight edge, two-point Gauss (exact for cubics along it); P2: the quadratic curve through
+// the three nodes, three-point Gauss, the weight carrying the curve's length element.
 template <class Fn>
 void for_each_neumann_point(const SurfaceMesh& mesh, const Problem& problem, Fn&& fn) {
   if (!problem.neumann_flux || !problem.is_neumann) return;
-  const double r = 0.5 / std::sqrt(3.0);
+  const double r = 0.5 / std::sqrt(3.0), r3 = 0.5 * std::sqrt(0.6);
   for (const auto& e : mesh.boundary_edges) {
     const Vec3 &pa = mesh.points[e.a], &pb = mesh.points[e.b];
     if (!problem.is_neumann(mesh.lift(0.5 * (pa + pb)))) continue;
-    const double len = distance(pa, pb);
-    for (double s : {0.5 - r, 0.5 + r}) fn(e, 0.5 * len, s, problem.neumann_flux(mesh.lift((1 - s) * pa + s * pb)));
+    if (e.middle < 0) {
+      const double len = distance(pa, pb);
+      for (double s : {0.5 - r, 0.5 + r})
+        fn(e, 0.5 * len, std::array<double, 3>{1 - s, s, 0.0}, problem.neumann_flux(mesh.lift((1 - s) * pa + s * pb)));
+      continue;
+    }
+    const Vec3& pm = mesh.points[e.middle];
+    for (const auto& [s, w] : {std::pair{0.5 - r3, 5.0 / 18}, std::pair{0.5, 8.0 / 18}, std::pair{0.5 + r3, 5.0 / 18}}) {
+      const std::array<double, 3> v = {(1 - s) * (1 - 2 * s), s * (2 * s - 1), 4 * s * (1 - s)};
+      const Vec3 x = v[0] * pa + v[1] * pb + v[2] * pm;
+      const Vec3 dx = (4 * s - 3) * pa + (4 * s - 1) * pb + (4 - 8 * s) * pm;
+      fn(e, w * norm(dx), v, problem.neumann_flux(mesh.lift(x)));
+    }
+  }
+}
+
+// The stiffness and mass matrices of triangle t, and the integrals of its basis functions.
+// P1: the exact formulas of a flat triangle; P2: the degree-5 rule on the curved element.
+struct LocalSystem {
+  int nodes = 3;
+  std::array<std::int32_t, 6> dof{};
+  double stiffness[6][6] = {}, mass[6][6] = {};
+  std::array<double, 6> integral{};
+};
+void local_system(const SurfaceMesh& mesh, std::size_t t, LocalSystem& out) {
+  const auto& c = mesh.triangles[t];
+  if (mesh.order == 1) {
+    const TriangleGeometry g = triangle_geometry(mesh.points[c[0]], mesh.points[c[1]], mesh.points[c[2]]);
+    out.nodes = 3;
+    for (int i = 0; i < 3; ++i) {
+      out.dof[i] = c[i];
+      out.integral[i] = g.area / 3.0;
+      for (int j = 0; j < 3; ++j) {
+        out.stiffness[i][j] = g.area * dot(g.grad[i], g.grad[j]);
+        out.mass[i][j] = g.area / 12.0 * (i == j ? 2.0 : 1.0);
+      }
+    }
+    return;
+  }
+  out = LocalSystem{};
+  for (const auto& q : triangle_quadrature()) {
+    const ElementPoint p = element_point(mesh, t, q.barycentric);
+    const double w = q.weight * p.density;
+    out.nodes = p.nodes;
+    out.dof = p.dof;
+    for (int i = 0; i < p.nodes; ++i) {
+      out.integral[i] += w * p.value[i];
+      for (int j = 0; j < p.nodes; ++j) {
+        out.stiffness[i][j] += w * dot(p.gradient[i], p.gradient[j]);
+        out.mass[i][j] += w * p.value[i] * p.value[j];
+      }
+    }
   }
 }
 
@@ -84,7 +138,7 @@ std::pair<double, double> surface_integral_of_data(const SurfaceMesh& mesh, cons
       }
     }
   }
-  for_each_neumann_point(mesh, problem, [&](const SurfaceMesh::BoundaryEdge&, double weight, double, double h) {
+  for_each_neumann_point(mesh, problem, [&](const SurfaceMesh::BoundaryEdge&, double weight, const std::array<double, 3>&, double h) {
     total += weight * h;
     scale += weight * std::abs(h);
   });
@@ -126,7 +180,7 @@ bool amg_available() { return detail::amg_available(); }
 Eigen::VectorXd load_vector(const SurfaceMesh& mesh, const Problem& problem) {
   Eigen::VectorXd load = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.num_dofs()));
   const auto& rule = triangle_quadrature();
-  if (problem.source) {
+  if (problem.source && mesh.order == 1) {
     for (const auto& t : mesh.triangles) {
       const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
       const double area = triangle_geometry(p0, p1, p2).area;
@@ -135,10 +189,19 @@ Eigen::VectorXd load_vector(const SurfaceMesh& mesh, const Problem& problem) {
         for (int i = 0; i < 3; ++i) load[t[i]] += q.weight * area * f * q.barycentric[i];
       }
     }
+  } else if (problem.source) {
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      for (const auto& q : rule) {
+        const ElementPoint p = element_point(mesh, t, q.barycentric);
+        const double wf = q.weight * p.density * problem.source(mesh.lift(p.x));
+        for (int i = 0; i < p.nodes; ++i) load[p.dof[i]] += wf * p.value[i];
+      }
+    }
   }
-  for_each_neumann_point(mesh, problem, [&](const SurfaceMesh::BoundaryEdge& e, double weight, double s, double h) {
-    load[e.a] += weight * h * (1 - s);
-    load[e.b] += weight * h * s;
+  for_each_neumann_point(mesh, problem, [&](const SurfaceMesh::BoundaryEdge& e, double weight, const std::array<double, 3>& v, double h) {
+    load[e.a] += weight * h * v[0];
+    load[e.b] += weight * h * v[1];
+    if (e.middle >= 0) load[e.middle] += weight * h * v[2];
   });
   return load;
 }
@@ -148,12 +211,13 @@ System assemble(const SurfaceMesh& mesh, const Problem& problem) {
   std::vector<Triplet> k, m;
   k.reserve(mesh.triangles.size() * 9);
   m.reserve(mesh.triangles.size() * 9);
-  for (const auto& t : mesh.triangles) {
-    const TriangleGeometry g = triangle_geometry(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) {
-        k.emplace_back(t[i], t[j], g.area * dot(g.grad[i], g.grad[j]));
-        m.emplace_back(t[i], t[j], g.area / 12.0 * (i == j ? 2.0 : 1.0));
+  LocalSystem local;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    local_system(mesh, t, local);
+    for (int i = 0; i < local.nodes; ++i) {
+      for (int j = 0; j < local.nodes; ++j) {
+        k.emplace_back(local.dof[i], local.dof[j], local.stiffness[i][j]);
+        m.emplace_back(local.dof[i], local.dof[j], local.mass[i][j]);
       }
     }
   }
@@ -223,22 +287,23 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   for (Eigen::Index i = 0; i < n; ++i) {
     if (index[i] >= 0) rhs[index[i]] = b[i];
   }
-  Eigen::VectorXd area = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(n);  // ∫φ_i
   std::vector<Triplet> trip;
-  trip.reserve(mesh.triangles.size() * 9);
-  for (const auto& t : mesh.triangles) {
-    const TriangleGeometry g = triangle_geometry(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
-    for (std::int32_t v : t) area[v] += g.area / 3.0;
-    for (int i = 0; i < 3; ++i) {
-      const Eigen::Index ri = index[t[i]];
+  trip.reserve(mesh.triangles.size() * (mesh.order == 2 ? 36 : 9));
+  LocalSystem local;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    local_system(mesh, t, local);
+    for (int i = 0; i < local.nodes; ++i) area[local.dof[i]] += local.integral[i];
+    for (int i = 0; i < local.nodes; ++i) {
+      const Eigen::Index ri = index[local.dof[i]];
       if (ri < 0) continue;
-      for (int j = 0; j < 3; ++j) {
-        const double value = g.area * dot(g.grad[i], g.grad[j]) + problem.c * g.area / 12.0 * (i == j ? 2.0 : 1.0);
-        const Eigen::Index cj = index[t[j]];
+      for (int j = 0; j < local.nodes; ++j) {
+        const double value = local.stiffness[i][j] + problem.c * local.mass[i][j];
+        const Eigen::Index cj = index[local.dof[j]];
         if (cj >= 0)
           trip.emplace_back(ri, cj, value);
         else
-          rhs[ri] -= value * u[t[j]];
+          rhs[ri] -= value * u[local.dof[j]];
       }
     }
   }

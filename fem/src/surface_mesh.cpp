@@ -1,6 +1,8 @@
 #include "rgbmesh/fem/surface_mesh.hpp"
 
 #include <cmath>
+#include <stdexcept>
+#include <unordered_map>
 #include <string>
 
 #include "rgbmesh/soup.hpp"
@@ -73,9 +75,89 @@ const std::array<QuadraturePoint, 7>& triangle_quadrature() {
   return rule;
 }
 
-SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projection) {
+namespace {
+
+// P2: one node per edge, numbered after the vertices in the order the triangles meet the
+// edges, at the projection of the edge's midpoint.
+void add_edge_nodes(SurfaceMesh& s) {
+  std::unordered_map<std::uint64_t, std::int32_t> node_of_edge;
+  node_of_edge.reserve(2 * s.triangles.size());
+  s.edge_nodes.resize(s.triangles.size());
+  for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      std::int32_t a = s.triangles[t][k], b = s.triangles[t][(k + 1) % 3];
+      if (a > b) std::swap(a, b);
+      const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+      const auto [it, inserted] = node_of_edge.try_emplace(key, static_cast<std::int32_t>(s.points.size()));
+      if (inserted) s.points.push_back(s.lift(0.5 * (s.points[a] + s.points[b])));
+      s.edge_nodes[t][k] = it->second;
+    }
+  }
+  // A boundary edge is edge k of its triangle where its ends are corners k and k+1.
+  for (SurfaceMesh::BoundaryEdge& e : s.boundary_edges)
+    for (int k = 0; k < 3; ++k)
+      if (s.triangles[e.triangle][k] == e.a) e.middle = s.edge_nodes[e.triangle][k];
+}
+
+}  // namespace
+
+ElementPoint element_point(const SurfaceMesh& mesh, std::size_t triangle, const std::array<double, 3>& l) {
+  const auto& c = mesh.triangles[triangle];
+  ElementPoint p;
+  if (mesh.order == 1) {
+    const Vec3 &p0 = mesh.points[c[0]], &p1 = mesh.points[c[1]], &p2 = mesh.points[c[2]];
+    const TriangleGeometry g = triangle_geometry(p0, p1, p2);
+    p.x = l[0] * p0 + l[1] * p1 + l[2] * p2;
+    p.normal = g.normal;
+    p.density = g.area;
+    p.nodes = 3;
+    for (int i = 0; i < 3; ++i) {
+      p.dof[i] = c[i];
+      p.value[i] = l[i];
+      p.gradient[i] = g.grad[i];
+    }
+    return p;
+  }
+  // P2: corners λ_k (2 λ_k - 1), edge nodes 4 λ_k λ_k+1, as functions of (ξ, η) = (λ1, λ2)
+  // with λ0 = 1 - ξ - η; the element x(ξ, η) = Σ N_i X_i and its tangents x_ξ, x_η.
+  const auto& e = mesh.edge_nodes[triangle];
+  p.nodes = 6;
+  p.dof = {c[0], c[1], c[2], e[0], e[1], e[2]};
+  p.value = {l[0] * (2 * l[0] - 1), l[1] * (2 * l[1] - 1), l[2] * (2 * l[2] - 1),
+             4 * l[0] * l[1],       4 * l[1] * l[2],       4 * l[2] * l[0]};
+  // d/dξ and d/dη of each basis function (dλ0 = -dξ - dη).
+  const std::array<double, 6> d_xi = {-(4 * l[0] - 1), 4 * l[1] - 1, 0.0, 4 * (l[0] - l[1]), 4 * l[2], -4 * l[2]};
+  const std::array<double, 6> d_eta = {-(4 * l[0] - 1), 0.0, 4 * l[2] - 1, -4 * l[1], 4 * l[1], 4 * (l[0] - l[2])};
+  Vec3 x_xi, x_eta;
+  for (int i = 0; i < 6; ++i) {
+    const Vec3& node = mesh.points[p.dof[i]];
+    p.x += p.value[i] * node;
+    x_xi += d_xi[i] * node;
+    x_eta += d_eta[i] * node;
+  }
+  // The metric G = JᵀJ of J = [x_ξ x_η]; the surface gradient of N_i is J G⁻¹ ∇_ξ N_i, and the
+  // area of the reference triangle (1/2) carries sqrt(det G) to the density.
+  const double g11 = dot(x_xi, x_xi), g12 = dot(x_xi, x_eta), g22 = dot(x_eta, x_eta);
+  const double det = g11 * g22 - g12 * g12;
+  if (!(det > 0)) throw std::runtime_error("a curved triangle is degenerate at a quadrature point");
+  const Vec3 n = cross(x_xi, x_eta);
+  p.normal = n * (1.0 / norm(n));
+  p.density = 0.5 * std::sqrt(det);
+  for (int i = 0; i < 6; ++i) {
+    const double a = (g22 * d_xi[i] - g12 * d_eta[i]) / det, b = (g11 * d_eta[i] - g12 * d_xi[i]) / det;
+    p.gradient[i] = a * x_xi + b * x_eta;
+  }
+  return p;
+}
+
+SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projection, int order) {
+  if (order != 1 && order != 2) throw InputError("finite elements of order " + std::to_string(order) + ": only 1 and 2");
+  if (order == 2 && !projection)
+    throw InputError("quadratic elements on the Loop limit surface are not available yet: use a projection "
+                     "(exact geometry), or order 1");
   mesh.compute_limits();
   SurfaceMesh s;
+  s.order = order;
   s.projection = std::move(projection);
   s.dof_of_vertex.assign(static_cast<std::size_t>(mesh.vertex_slots()), -1);
   for (VertexHandle v : mesh.vertices()) {
@@ -101,6 +183,7 @@ SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projecti
       if (mesh.is_boundary(e)) s.boundary_edges.push_back({tri[k], tri[(k + 1) % 3], ti});
     }
   }
+  if (order == 2) add_edge_nodes(s);
   return s;
 }
 

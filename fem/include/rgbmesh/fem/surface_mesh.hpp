@@ -27,14 +27,20 @@ using Projection = std::function<Vec3(const Vec3&)>;
 Vec3 project_to_unit_sphere(const Vec3& p);
 
 struct SurfaceMesh {
-  std::vector<Vec3> points;                            ///< one per DOF
-  std::vector<std::array<std::int32_t, 3>> triangles;  ///< counter-clockwise
+  /// 1: linear elements on flat triangles (P1); 2: isoparametric quadratic elements (P2), six
+  /// nodes per triangle on the surface, the triangles curved through them.
+  int order = 1;
+  std::vector<Vec3> points;                            ///< one per DOF: the vertices, then (P2) the edge nodes
+  std::vector<std::array<std::int32_t, 3>> triangles;  ///< counter-clockwise corners
+  /// P2: per triangle, the DOF of the node on edge k (from corner k to corner k+1).
+  std::vector<std::array<std::int32_t, 3>> edge_nodes;
   std::vector<VertexHandle> vertex;                    ///< DOF -> RGB vertex
   std::vector<TriangleHandle> triangle;                ///< FE triangle -> RGB triangle
   std::vector<std::int32_t> dof_of_vertex;             ///< RGB vertex slot -> DOF (-1 if none)
   /// Boundary edges as DOF pairs, oriented as in their triangle, with that triangle.
   struct BoundaryEdge {
     std::int32_t a, b, triangle;
+    std::int32_t middle = -1;  ///< P2: the edge's node
   };
   std::vector<BoundaryEdge> boundary_edges;
   std::optional<Projection> projection;  ///< set in exact-geometry mode
@@ -60,7 +66,10 @@ struct SurfaceMesh {
 /// The FE mesh of the RGB mesh's current triangles. Vertices are placed at their limit
 /// positions (RgbMesh::compute_limits, which leaves the mesh as it was), then projected if a
 /// projection is given. Throws InputError naming the triangle if one is degenerate (zero area).
-SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projection = std::nullopt);
+/// Order 2 adds a node on every edge: with a projection, the projection of the edge's midpoint
+/// (the nodes of isoparametric elements on the exact surface); without one, InputError for now
+/// (the nodes would be the limit positions of the vertices that splitting the edges inserts).
+SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projection = std::nullopt, int order = 1);
 
 /// Geometry of one flat triangle: area, unit normal and the (constant) gradients of its three
 /// barycentric coordinates.
@@ -70,6 +79,21 @@ struct TriangleGeometry {
   std::array<Vec3, 3> grad;
 };
 TriangleGeometry triangle_geometry(const Vec3& p0, const Vec3& p1, const Vec3& p2);
+
+/// An element at a point of its reference triangle (barycentric coordinates λ of the corners):
+/// the position on the discrete surface, the unit normal there, the area density (integrals
+/// over the element are Σ weight · density · f over a rule whose weights sum to 1: for a flat
+/// triangle the density is its area) and the nodal basis functions with their surface
+/// gradients (3 for P1; 6 for P2: the corners, then the nodes of edges 0-1, 1-2, 2-0).
+struct ElementPoint {
+  Vec3 x, normal;
+  double density = 0;
+  int nodes = 3;
+  std::array<std::int32_t, 6> dof{};
+  std::array<double, 6> value{};
+  std::array<Vec3, 6> gradient{};
+};
+ElementPoint element_point(const SurfaceMesh& mesh, std::size_t triangle, const std::array<double, 3>& lambda);
 
 /// A degree-5 rule on triangles (7 points; exact for polynomials of degree 5): barycentric
 /// coordinates and weights that sum to 1 (multiply by the area).
