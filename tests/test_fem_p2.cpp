@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 
@@ -132,13 +133,36 @@ TEST(FemP2, AlgebraicMultigridIterationsStaySteady) {
   EXPECT_LE(*most, 1.3 * mean) << ::testing::PrintToString(iterations);
 }
 
-TEST(FemP2, EstimatorsAndTheLoopSurfaceSaySoClearly) {
+// On the Loop limit surface (no exact geometry, no exact solution): the edge nodes are the
+// limit positions of the vertices splitting would insert, so the curved elements follow the
+// limit surface and the energy ∫ f u_h of a Gaussian source on a torus converges as h⁴: its
+// successive differences fall by 15.7 per level (P1: 4.0). Nodes at the chords' midpoints (off
+// the surface) hold P2 back to 4.1 (measured), which this test refuses.
+TEST(FemP2, OnTheLoopLimitSurfaceTheEnergyConvergesFasterThanP1) {
+  std::array<std::vector<double>, 2> energy;
+  for (int order = 1; order <= 2; ++order) {
+    for (int level = 1; level <= 4; ++level) {
+      RgbMesh m = testing::torus(8, 5).build();
+      selective_refinement(m, UniformLevel(level));
+      const SurfaceMesh mesh = build_surface_mesh(m, std::nullopt, order);
+      const Problem p = gaussian_source(mesh.points[0], 0.6);
+      const Solution s = solve(mesh, p);
+      energy[order - 1].push_back(load_vector(mesh, p).dot(s.u));
+    }
+  }
+  const auto last_ratio = [](const std::vector<double>& e) {
+    return std::abs(e[1] - e[2]) / std::abs(e[2] - e[3]);
+  };
+  EXPECT_NEAR(last_ratio(energy[0]), 4.0, 1.0) << ::testing::PrintToString(energy[0]);
+  EXPECT_GT(last_ratio(energy[1]), 10.0) << ::testing::PrintToString(energy[1]);
+}
+
+TEST(FemP2, EstimatorsSaySoClearly) {
   const SurfaceMesh mesh = sphere_mesh(testing::icosahedron(), 1, 2);
   const Solution s = solve(mesh, sphere_peak());
   EXPECT_THROW(residual_estimator(mesh, sphere_peak(), s.u), std::invalid_argument);
   EXPECT_THROW(zz_estimator(mesh, s.u), std::invalid_argument);
   RgbMesh m = testing::icosahedron().build();
-  EXPECT_THROW(build_surface_mesh(m, std::nullopt, 2), InputError);
   EXPECT_THROW(build_surface_mesh(m, std::nullopt, 3), InputError);
 }
 

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/refinement.hpp"
@@ -198,6 +201,59 @@ TEST(Field, RefinesMarkedTrianglesOnceAndCoarsensMarkedVertices) {
     if (m.insertion_point(v).x < -1.2) {
       EXPECT_LE(m.level(v), 1);
     }
+  }
+}
+
+}  // namespace
+}  // namespace rgbmesh
+
+namespace rgbmesh {
+namespace {
+
+// split_limits: the limit position of the vertex each edge's split would insert, exactly what
+// splitting the edge of a copy and computing its limits gives, while the mesh itself is left
+// as it was (same triangles, colours, levels; validate()). Red edges get no value.
+TEST(SplitLimits, AreWhatSplittingInsertsAndLeaveTheMeshAsItWas) {
+  for (const auto& base : {testing::icosahedron(), testing::grid_with_holes(4, 1), testing::double_torus()}) {
+    RgbMesh m = base.build();
+    selective_refinement(m, UniformLevel(1));
+    random_walk(m, 400, 17);
+    m.compute_limits();
+    std::vector<EdgeHandle> edges;
+    for (std::int32_t i = 0; i < m.edge_slots(); ++i)
+      if (m.alive(EdgeHandle(i))) edges.push_back(EdgeHandle(i));
+    // The triangles by their corners, with their levels and colours.
+    const auto described = [](const RgbMesh& mesh) {
+      std::vector<std::array<std::int32_t, 5>> out;
+      for (TriangleHandle t : mesh.triangles()) {
+        auto c = mesh.triangle_vertices(t);
+        std::array<std::int32_t, 3> ids{c[0].idx, c[1].idx, c[2].idx};
+        std::rotate(ids.begin(), std::min_element(ids.begin(), ids.end()), ids.end());
+        out.push_back({ids[0], ids[1], ids[2], mesh.level(t), static_cast<std::int32_t>(mesh.color(t))});
+      }
+      std::sort(out.begin(), out.end());
+      return out;
+    };
+    const auto before = described(m);
+    const std::vector<Vec3> limits = m.split_limits(edges);
+    ASSERT_EQ(m.validate(true), "") << base.name;
+    EXPECT_EQ(described(m), before) << base.name;
+    int red = 0, checked = 0;
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+      if (m.is_red(edges[i])) {
+        EXPECT_TRUE(std::isnan(limits[i].x)) << base.name;
+        ++red;
+        continue;
+      }
+      if (i % 7 != 0) continue;  // a sample: each check copies the mesh
+      RgbMesh copy = m;
+      const VertexHandle v = copy.split_edge(edges[i]);
+      copy.compute_limits();
+      EXPECT_LE(norm(copy.limit_position(v) - limits[i]), 1e-12 * norm(limits[i])) << base.name << " edge " << i;
+      ++checked;
+    }
+    EXPECT_GT(red, 0) << base.name << ": the walk leaves red edges";
+    EXPECT_GT(checked, 20) << base.name;
   }
 }
 

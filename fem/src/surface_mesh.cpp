@@ -78,20 +78,37 @@ const std::array<QuadraturePoint, 7>& triangle_quadrature() {
 namespace {
 
 // P2: one node per edge, numbered after the vertices in the order the triangles meet the
-// edges, at the projection of the edge's midpoint.
-void add_edge_nodes(SurfaceMesh& s) {
+// edges. With a projection, at the projection of the edge's midpoint; on the Loop limit surface,
+// at the limit position of the vertex that splitting the edge would insert (RgbMesh::
+// split_limits), or, for a red edge (a trapezoid's diagonal, which no subdivision vertex
+// splits), at the midpoint of its ends.
+void add_edge_nodes(SurfaceMesh& s, RgbMesh& mesh) {
   std::unordered_map<std::uint64_t, std::int32_t> node_of_edge;
   node_of_edge.reserve(2 * s.triangles.size());
   s.edge_nodes.resize(s.triangles.size());
+  std::vector<EdgeHandle> edges;
+  std::vector<std::array<std::int32_t, 2>> ends;
   for (std::size_t t = 0; t < s.triangles.size(); ++t) {
     for (int k = 0; k < 3; ++k) {
       std::int32_t a = s.triangles[t][k], b = s.triangles[t][(k + 1) % 3];
       if (a > b) std::swap(a, b);
       const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-      const auto [it, inserted] = node_of_edge.try_emplace(key, static_cast<std::int32_t>(s.points.size()));
-      if (inserted) s.points.push_back(s.lift(0.5 * (s.points[a] + s.points[b])));
+      const auto [it, inserted] = node_of_edge.try_emplace(key, static_cast<std::int32_t>(s.points.size() + edges.size()));
+      if (inserted) {
+        edges.push_back(mesh.triangle_edges(s.triangle[t])[k]);
+        ends.push_back({a, b});
+      }
       s.edge_nodes[t][k] = it->second;
     }
+  }
+  std::vector<Vec3> limits;
+  if (!s.projection) limits = mesh.split_limits(edges);
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const Vec3 middle = 0.5 * (s.points[ends[i][0]] + s.points[ends[i][1]]);
+    if (s.projection)
+      s.points.push_back((*s.projection)(middle));
+    else
+      s.points.push_back(std::isfinite(limits[i].x) ? limits[i] : middle);
   }
   // A boundary edge is edge k of its triangle where its ends are corners k and k+1.
   for (SurfaceMesh::BoundaryEdge& e : s.boundary_edges)
@@ -152,9 +169,6 @@ ElementPoint element_point(const SurfaceMesh& mesh, std::size_t triangle, const 
 
 SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projection, int order) {
   if (order != 1 && order != 2) throw InputError("finite elements of order " + std::to_string(order) + ": only 1 and 2");
-  if (order == 2 && !projection)
-    throw InputError("quadratic elements on the Loop limit surface are not available yet: use a projection "
-                     "(exact geometry), or order 1");
   mesh.compute_limits();
   SurfaceMesh s;
   s.order = order;
@@ -183,7 +197,7 @@ SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projecti
       if (mesh.is_boundary(e)) s.boundary_edges.push_back({tri[k], tri[(k + 1) % 3], ti});
     }
   }
-  if (order == 2) add_edge_nodes(s);
+  if (order == 2) add_edge_nodes(s, mesh);
   return s;
 }
 

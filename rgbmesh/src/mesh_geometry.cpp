@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <exception>
+#include <limits>
 #include <thread>
 #include <vector>
 
@@ -312,6 +313,61 @@ Vec3 RgbMesh::stencil_point(const std::array<VertexHandle, 4>& st, int l) const 
   const Vec3 ends = known_control_point(st[0], l) + known_control_point(st[1], l);
   if (!st[3].valid()) return 0.5 * ends;  // boundary edge (Eq. 2)
   return 0.375 * ends + 0.125 * (known_control_point(st[2], l) + known_control_point(st[3], l));  // Eq. 1
+}
+
+std::vector<Vec3> RgbMesh::split_limits(const std::vector<EdgeHandle>& edges) {
+  compute_limits();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<Vec3> out(edges.size(), Vec3(nan, nan, nan));
+  // The edges by their ends: splits and swaps change edge handles, never vertex handles.
+  std::vector<std::array<VertexHandle, 2>> ends(edges.size());
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const EdgeHandle e = checked(edges[i], "split_limits");
+    if (!is_red(e) && level(e) < kMaxLevel) ends[i] = e_vert_[e.idx];
+  }
+  // The vertex that splits the edge a-b, if there is one: a neighbour of a with parents a, b.
+  const auto midpoint = [this](VertexHandle a, VertexHandle b) {
+    VertexHandle found;
+    visit_edges(a, [&](EdgeHandle f) {
+      const VertexHandle w = other_vertex(f, a);
+      const auto& p = v_parents_[w.idx];
+      if ((p[0] == a && p[1] == b) || (p[0] == b && p[1] == a)) found = w;
+      return !found.valid();
+    });
+    return found;
+  };
+  const OperationCounters counters = counters_;
+  std::vector<JournalEntry> journal;
+  journal_ = &journal;
+  std::exception_ptr error;
+  try {
+    std::vector<VertexHandle> inserted(edges.size());
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+      const auto [a, b] = ends[i];
+      if (!a.valid()) continue;
+      VertexHandle m = midpoint(a, b);
+      if (!m.valid()) {
+        // Not split by an earlier split: the edge is still there, green (only its own split
+        // removes a green edge).
+        const EdgeHandle e = find_edge(a, b);
+        if (e.valid() && !is_red(e)) m = split_edge(e);
+      }
+      inserted[i] = m;
+    }
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+      if (!inserted[i].valid()) continue;
+      complete_limit(inserted[i]);
+      out[i] = limit_position(inserted[i]);
+    }
+  } catch (...) {
+    error = std::current_exception();
+  }
+  journal_ = nullptr;
+  const std::exception_ptr observer_error = rollback(journal);
+  counters_ = counters;
+  rethrow_if(error);
+  rethrow_if(observer_error);
+  return out;
 }
 
 std::size_t RgbMesh::compute_limits() {

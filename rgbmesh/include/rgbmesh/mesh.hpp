@@ -459,6 +459,13 @@ class RgbMesh {
   /// neighbours are inserted, the limit positions recorded, and the inserted vertices removed
   /// again (observers see both). Returns how many vertices were inserted and removed.
   std::size_t compute_limits();
+  /// The limit positions of the vertices that splitting each edge would insert, without
+  /// changing the mesh: the edges are split (with the splits they force), the new vertices'
+  /// limits completed and read, and every operation undone in reverse order, as
+  /// compute_limits does (observers see both). What quadratic finite elements on the limit
+  /// surface place on their edges. An edge that cannot be split (red, or at the maximum level)
+  /// gets no value: its entry is NaN. Also makes every vertex's limit position available.
+  std::vector<Vec3> split_limits(const std::vector<EdgeHandle>& edges);
   /// The Loop stencil of refinable edge e at its level l: its endpoints, then the vertices
   /// opposite e in the two level-l triangles of the Loop mesh (for a red triangle, the apex
   /// of its parent triangle, VI-C); the last two are invalid on the boundary.

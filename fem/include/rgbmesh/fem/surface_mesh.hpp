@@ -67,8 +67,10 @@ struct SurfaceMesh {
 /// positions (RgbMesh::compute_limits, which leaves the mesh as it was), then projected if a
 /// projection is given. Throws InputError naming the triangle if one is degenerate (zero area).
 /// Order 2 adds a node on every edge: with a projection, the projection of the edge's midpoint
-/// (the nodes of isoparametric elements on the exact surface); without one, InputError for now
-/// (the nodes would be the limit positions of the vertices that splitting the edges inserts).
+/// (isoparametric elements on the exact surface); without one, the limit position of the
+/// vertex that splitting the edge would insert (RgbMesh::split_limits; the mesh is left as it
+/// was), so that all six nodes lie on the Loop limit surface; a red edge (no subdivision vertex
+/// splits it) gets the midpoint of its ends.
 SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projection = std::nullopt, int order = 1);
 
 /// Geometry of one flat triangle: area, unit normal and the (constant) gradients of its three
