@@ -105,7 +105,7 @@ void refuse(const AdaptArgs& a, std::initializer_list<const char*> options, cons
 
 struct Settings {
   MemoryCeiling ceiling;
-  std::string problem, marking, geometry, mesh_name;
+  std::string problem, marking, estimator, geometry, mesh_name;
   bool moving = false, on_sphere = false;
   adapt::AdaptOptions options;
   adapt::DynamicOptions dynamic;
@@ -134,8 +134,15 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
                                      {{"dorfler", adapt::Marking::dorfler},
                                       {"fraction", adapt::Marking::fixed_fraction},
                                       {"equidistribution", adapt::Marking::equidistribution}});
+  if (a.order != 1 && a.order != 2) throw InputError("--order " + std::to_string(a.order) + ": 1 or 2");
+  o.order = a.order;
+  // P2 has the ZZ estimator only: its default there; the residual one asked for is refused.
+  const bool estimator_given = a.given.count("--estimator") > 0;
+  if (a.order == 2 && estimator_given && a.estimator == "residual")
+    throw InputError("--estimator residual: the residual estimator is for --order 1 only (use --estimator zz)");
+  s.estimator = a.order == 2 && !estimator_given ? "zz" : a.estimator;
   o.estimator = choose<adapt::EstimatorKind>(
-      "--estimator", a.estimator, {{"residual", adapt::EstimatorKind::residual}, {"zz", adapt::EstimatorKind::zz}});
+      "--estimator", s.estimator, {{"residual", adapt::EstimatorKind::residual}, {"zz", adapt::EstimatorKind::zz}});
   o.solve.solver = fem::parse_solver(a.solver);
 
   // Geometry: the sphere problems' exact solutions hold on the unit sphere only.
@@ -289,6 +296,7 @@ PriorRun read_prior_run(const std::string& folder) {
   a.strategy = text(root, "strategy", file);
   a.marking = text(root, "marking", file);
   a.estimator = text(root, "estimator", file);
+  a.order = root.find("order") ? static_cast<int>(count(root, "order", file)) : 1;  // reports before --order: P1
   a.solver = text(root, "solver", file);
   a.geometry = text(root, "geometry", file);
   a.theta = real(root, "theta", file);
@@ -330,8 +338,11 @@ PriorRun read_prior_run(const std::string& folder) {
   RgbMeshFile saved = read_rgb_mesh(last_file);
   if (!saved.restored)
     throw InputError(last_file.string() + ": carries no RGB state (written before adapt saved it?): cannot resume from it");
-  if (saved.mesh.num_vertices() != last.dofs || saved.mesh.num_triangles() != last.triangles)
-    damaged(last_file, "it has " + std::to_string(saved.mesh.num_vertices()) + " vertices and " +
+  // The report counts unknowns: the vertices, and the edges too for P2.
+  const std::size_t unknowns =
+      saved.mesh.num_vertices() + (p.args.order == 2 ? saved.mesh.num_edges() : std::size_t{0});
+  if (unknowns != last.dofs || saved.mesh.num_triangles() != last.triangles)
+    damaged(last_file, "it has " + std::to_string(unknowns) + (p.args.order == 2 ? " P2 unknowns" : " vertices") + " and " +
                            std::to_string(saved.mesh.num_triangles()) + " triangles, the report says " +
                            std::to_string(last.dofs) + " and " + std::to_string(last.triangles));
   p.mesh = std::move(saved.mesh);
@@ -372,6 +383,7 @@ AdaptArgs resumed_args(const AdaptArgs& given, const PriorRun& p) {
                                              {"--strategy", given.strategy, r.strategy},
                                              {"--marking", given.marking, r.marking},
                                              {"--estimator", given.estimator, r.estimator},
+                                             {"--order", std::to_string(given.order), std::to_string(r.order)},
                                              {"--solver", given.solver, r.solver},
                                              {"--geometry", given.geometry, r.geometry}})
     if (has(option) && value != saved) conflict(option, value, saved);
@@ -514,7 +526,7 @@ int run_adapt(const AdaptArgs& args) {
     j.raw("stopped", stopped.empty() ? "null" : JsonObject::quote(stopped));
     j.add("stop_message", message);
     j.add("mesh", s.mesh_name).add("problem", s.problem).add("strategy", a.strategy).add("marking", s.marking);
-    j.raw("theta", exact(s.options.theta)).add("estimator", a.estimator).add("solver", a.solver).add("geometry", s.geometry);
+    j.raw("theta", exact(s.options.theta)).add("estimator", s.estimator).add("order", a.order).add("solver", a.solver).add("geometry", s.geometry);
     j.raw("coarsen", exact(s.options.coarsen_below)).add("max_cycles", s.options.max_cycles);
     j.raw("target_error", exact(a.target_error)).add("max_dofs", static_cast<std::int64_t>(a.max_dofs));
     if (s.moving) j.add("steps", s.dynamic.steps).add("cycles_per_step", s.dynamic.cycles_per_step);
@@ -542,7 +554,7 @@ int run_adapt(const AdaptArgs& args) {
               << prior->done.cycles.back().cycle << "\n";
   std::cout << "rgbmesh adapt: problem " << s.problem << ", " << a.strategy
             << (s.options.strategy == adapt::Strategy::adaptive ? " (" + s.marking + ")" : std::string())
-            << ", geometry " << s.geometry << ", mesh " << s.mesh_name << "\n"
+            << ", geometry " << s.geometry << (a.order == 2 ? ", P2 elements" : "") << ", mesh " << s.mesh_name << "\n"
             << (s.moving ? " step   time" : "cycle")
             << "  triangles      dofs    estimate    error_L2    error_H1  seconds\n";
   auto on_cycle = [&](const adapt::CycleState& c) {

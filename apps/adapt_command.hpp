@@ -20,7 +20,8 @@ struct AdaptArgs {
   std::string strategy = "adaptive";  // adaptive, uniform
   std::string marking;                // dorfler, fraction, equidistribution; empty: dorfler,
                                       // or equidistribution for moving-peak
-  std::string estimator = "residual";  // residual, zz
+  std::string estimator = "residual";  // residual, zz (with --order 2: zz, the default there)
+  int order = 1;                       // finite elements: 1 (P1) or 2 (P2)
   std::string geometry;                // loop, sphere; empty: sphere for the sphere problems
   std::string solver = "auto";
   double theta = 0.5;

@@ -30,12 +30,13 @@ class SolutionTransfer {
 
   void store(const fem::SurfaceMesh& fe, const Eigen::VectorXd& u) {
     grow();
-    for (std::size_t i = 0; i < fe.num_dofs(); ++i) values_[fe.vertex[i].idx] = u[static_cast<Eigen::Index>(i)];
+    for (std::size_t i = 0; i < fe.vertex.size(); ++i) values_[fe.vertex[i].idx] = u[static_cast<Eigen::Index>(i)];
     has_values_ = true;
   }
-  // The carried values in the DOF order of a new FE mesh; empty before the first store().
+  // The carried values in the DOF order of a new FE mesh; empty before the first store(), and
+  // for P2 (whose edge nodes the vertex values do not give).
   Eigen::VectorXd on(const fem::SurfaceMesh& fe) const {
-    if (!has_values_) return {};
+    if (!has_values_ || fe.order != 1) return {};
     Eigen::VectorXd u(static_cast<Eigen::Index>(fe.num_dofs()));
     for (std::size_t i = 0; i < fe.num_dofs(); ++i) u[static_cast<Eigen::Index>(i)] = values_[fe.vertex[i].idx];
     return u;
@@ -150,7 +151,7 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
                                SolutionTransfer& transfer) {
   if (options.resumable) transfer.rebuilt(rebuild_canonically(mesh));
   SolvedCycle c;
-  c.fe = fem::build_surface_mesh(mesh, options.projection);
+  c.fe = fem::build_surface_mesh(mesh, options.projection, options.order);
   fem::SolveOptions so = options.solve;
   const Eigen::VectorXd guess = transfer.on(c.fe);
   if (guess.size() > 0) so.initial_guess = &guess;
@@ -193,10 +194,19 @@ SolvedMesh describe(const RgbMesh& mesh, const fem::SurfaceMesh& fe, bool with_s
   return m;
 }
 
-// The number of vertices after one more uniform level: every green edge of the finest level
-// gains a vertex. Exact for a uniform mesh (V + E); for a selectively refined one, a lower
-// bound of what UniformLevel(max_level + 1) inserts.
-std::size_t vertices_after_uniform_level(const RgbMesh& mesh) { return mesh.num_vertices() + mesh.num_edges(); }
+// The unknowns of elements of the given order on the mesh: its vertices (P1), and its edges
+// too (P2).
+std::size_t unknowns(const RgbMesh& mesh, int order) {
+  return order == 2 ? mesh.num_vertices() + mesh.num_edges() : mesh.num_vertices();
+}
+
+// The unknowns after one more uniform level: every green edge of the finest level gains a
+// vertex (V' = V + E) and splits in two while every triangle gains three edges (E' = 2E + 3T).
+// Exact for a uniform mesh; for a selectively refined one, a lower bound.
+std::size_t unknowns_after_uniform_level(const RgbMesh& mesh, int order) {
+  const std::size_t v = mesh.num_vertices() + mesh.num_edges();
+  return order == 2 ? v + 2 * mesh.num_edges() + 3 * mesh.num_triangles() : v;
+}
 
 // Marks, then refines and coarsens the mesh through the queues; returns the marks per FE
 // triangle and counts the operations in the report.
@@ -220,7 +230,7 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
     double threshold = 0;
     if (options.coarsen_below > 0) {
       // Each vertex's largest indicator over its star, against the refinement threshold.
-      std::vector<double> star(c.fe.num_dofs(), 0.0);
+      std::vector<double> star(c.fe.vertex.size(), 0.0);
       for (std::size_t i = 0; i < c.fe.triangles.size(); ++i) {
         for (std::int32_t v : c.fe.triangles[i]) star[v] = std::max(star[v], c.estimate.eta[i]);
       }
@@ -244,7 +254,7 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
 // since the last solve each need kSolveBytesPerDof more.
 bool next_cycle_fits(const RgbMesh& mesh, const AdaptOptions& options, std::size_t solved_dofs) {
   if (!options.memory_headroom) return true;
-  const double added = static_cast<double>(mesh.num_vertices()) - static_cast<double>(solved_dofs);
+  const double added = static_cast<double>(unknowns(mesh, options.order)) - static_cast<double>(solved_dofs);
   return added * kSolveBytesPerDof <= static_cast<double>(options.memory_headroom());
 }
 
@@ -323,7 +333,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
       run.stopped = StopReason::cycles;
     else if (c.estimate.total <= options.target_estimate)
       run.stopped = StopReason::target_error;
-    else if (options.strategy == Strategy::uniform && vertices_after_uniform_level(mesh) > options.max_dofs)
+    else if (options.strategy == Strategy::uniform && unknowns_after_uniform_level(mesh, options.order) > options.max_dofs)
       run.stopped = StopReason::max_dofs;  // predicted: the next mesh is never built
     else
       last = false;
@@ -342,7 +352,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
       run.stopped = StopReason::memory;
       break;
     }
-    if (mesh.num_vertices() > options.max_dofs) {
+    if (unknowns(mesh, options.order) > options.max_dofs) {
       run.stopped = StopReason::max_dofs;
       break;
     }
@@ -365,20 +375,20 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     if (start.marking == Marking::equidistribution && !(start.target_estimate > 0)) start.marking = Marking::dorfler;
     AdaptRun started = run_cycles(mesh, problem_at(0.0), start);
     run.start = std::move(started.cycles);
-    if ((started.stopped == StopReason::max_dofs && mesh.num_vertices() > options.max_dofs) ||
+    if ((started.stopped == StopReason::max_dofs && unknowns(mesh, options.order) > options.max_dofs) ||
         started.stopped == StopReason::memory) {
       run.stopped = started.stopped;  // even the start needs more than max_dofs, or the memory
       return run;
     }
   }
   // After an adaptation: whether the mesh is still within bounds for the next solve.
-  std::size_t solved_dofs = run.start.empty() ? mesh.num_vertices() : run.start.back().dofs;
+  std::size_t solved_dofs = run.start.empty() ? unknowns(mesh, options.order) : run.start.back().dofs;
   const auto out_of_bounds = [&](const CycleReport& adapted) {
     if (adapted.memory_limit_reached || !next_cycle_fits(mesh, options, solved_dofs)) {
       run.stopped = StopReason::memory;
       return true;
     }
-    if (mesh.num_vertices() > options.max_dofs) {
+    if (unknowns(mesh, options.order) > options.max_dofs) {
       run.stopped = StopReason::max_dofs;
       return true;
     }
@@ -450,8 +460,9 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
 
 MeshSnapshot snapshot(const CycleState& s) {
   MeshSnapshot out;
-  const std::size_t n = s.fe.num_dofs();
-  out.points = s.fe.points;
+  // The vertices (P2: the corner nodes; the edge nodes are not written).
+  const std::size_t n = s.fe.vertex.size();
+  out.points.assign(s.fe.points.begin(), s.fe.points.begin() + static_cast<std::ptrdiff_t>(n));
   out.triangles = s.fe.triangles;
   out.vertex_handle = s.fe.vertex;
   out.triangle_handle = s.fe.triangle;

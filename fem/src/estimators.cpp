@@ -186,7 +186,49 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
   return finish(std::move(eta2), std::move(geometric));
 }
 
+namespace {
+
+// ZZ for P2: the gradient recovered at every node (corners and edge nodes) as the
+// density-weighted mean of the elements' gradients there, interpolated quadratically, against
+// ∇u_h on each curved element.
+Estimate zz_estimator_quadratic(const SurfaceMesh& mesh, const Eigen::VectorXd& u) {
+  const std::size_t nt = mesh.triangles.size();
+  static constexpr std::array<std::array<double, 3>, 6> kNodes = {
+      {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}}};
+  const auto gradient_at = [&](const ElementPoint& p) {
+    Vec3 g;
+    for (int i = 0; i < p.nodes; ++i) g += u[p.dof[i]] * p.gradient[i];
+    return g;
+  };
+  std::vector<Vec3> recovered(mesh.num_dofs());
+  std::vector<double> weight(mesh.num_dofs(), 0.0);
+  for (std::size_t t = 0; t < nt; ++t) {
+    for (int k = 0; k < 6; ++k) {
+      const ElementPoint p = element_point(mesh, t, kNodes[k]);
+      recovered[p.dof[k]] += p.density * gradient_at(p);
+      weight[p.dof[k]] += p.density;
+    }
+  }
+  for (std::size_t v = 0; v < recovered.size(); ++v) {
+    if (weight[v] > 0) recovered[v] *= 1.0 / weight[v];
+  }
+  std::vector<double> eta2(nt, 0.0);
+  for (std::size_t t = 0; t < nt; ++t) {
+    for (const auto& q : triangle_quadrature()) {
+      const ElementPoint p = element_point(mesh, t, q.barycentric);
+      Vec3 g;
+      for (int i = 0; i < p.nodes; ++i) g += p.value[i] * recovered[p.dof[i]];
+      const Vec3 d = tangential(g, p.normal) - gradient_at(p);
+      eta2[t] += q.weight * p.density * dot(d, d);
+    }
+  }
+  return finish(std::move(eta2), std::vector<double>(nt, 0.0));
+}
+
+}  // namespace
+
 Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u) {
+  if (mesh.order == 2) return zz_estimator_quadratic(mesh, u);
   require_linear(mesh, "zz_estimator");
   const std::size_t nt = mesh.triangles.size();
   std::vector<Vec3> recovered(mesh.num_dofs());
