@@ -213,6 +213,13 @@ std::string cycle_file(bool moving, int cycle) {
   return (moving ? "step_" : "cycle_") + number(cycle, "%03.0f") + ".vtp";
 }
 
+// The file of a cycle that the .pvd lists: the cycle's .vtp, or for P2 its quadratic
+// triangles (cycle_NNN_p2.vtu), which ParaView draws curved.
+std::string series_file(bool moving, int cycle, int order) {
+  if (order != 2) return cycle_file(moving, cycle);
+  return (moving ? "step_" : "cycle_") + number(cycle, "%03.0f") + "_p2.vtu";
+}
+
 // A run folder read back for --resume: the settings and cycles of its report, the last
 // cycle's mesh restored from its file.
 struct PriorRun {
@@ -511,7 +518,7 @@ int run_adapt(const AdaptArgs& args) {
   std::vector<std::string> resumed;
   if (prior) {
     progress = prior->done;
-    for (const auto& r : progress.cycles) series.emplace_back(s.moving ? r.time : r.cycle, cycle_file(s.moving, r.cycle));
+    for (const auto& r : progress.cycles) series.emplace_back(s.moving ? r.time : r.cycle, series_file(s.moving, r.cycle, a.order));
     resumed = prior->resumed;
     resumed.push_back(a.command_line);
   }
@@ -561,7 +568,13 @@ int run_adapt(const AdaptArgs& args) {
     const auto& r = c.report;
     const std::string file = cycle_file(s.moving, r.cycle);
     write_mesh(dir / file, adapt::snapshot(c), output_options((dir / file).string(), a.compression));
-    series.emplace_back(s.moving ? r.time : r.cycle, file);
+    if (a.order == 2) {
+      const std::string p2 = series_file(s.moving, r.cycle, 2);
+      const adapt::QuadraticSnapshot q = adapt::quadratic_snapshot(c);
+      write_quadratic_triangles(dir / p2, q.points, q.cells, q.point_data, q.cell_data,
+                                output_options((dir / p2).string(), a.compression));
+    }
+    series.emplace_back(s.moving ? r.time : r.cycle, series_file(s.moving, r.cycle, a.order));
     write_pvd(dir / "solution.pvd", series);  // after every cycle: usable while running
     progress.cycles.push_back(r);
     write_report(report_json("running", "", ""));

@@ -18,9 +18,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// "prefix" + at least one digit + ".vtp".
-bool is_numbered(const std::string& name, const std::string& prefix) {
-  const std::string suffix = ".vtp";
+// "prefix" + at least one digit + suffix.
+bool is_numbered(const std::string& name, const std::string& prefix, const std::string& suffix = ".vtp") {
   if (name.size() <= prefix.size() + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
       name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
     return false;
@@ -49,7 +48,8 @@ bool is_run_output(const std::string& name) {
   for (const char* f : fixed) {
     if (name == f) return true;
   }
-  return is_numbered(name, "cycle_") || is_numbered(name, "step_");
+  return is_numbered(name, "cycle_") || is_numbered(name, "step_") || is_numbered(name, "cycle_", "_p2.vtu") ||
+         is_numbered(name, "step_", "_p2.vtu");
 }
 
 void prepare_output_directory(const fs::path& dir) {

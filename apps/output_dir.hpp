@@ -3,6 +3,7 @@
 //
 // The rule: a run owns the rgbmesh files in its folder. Before writing anything, it removes
 // every file that a run of `adapt` or `fit` writes there (cycle_NNN.vtp, step_NNN.vtp,
+// cycle_NNN_p2.vtu, step_NNN_p2.vtu,
 // solution.pvd, fitted_base.obj, limit_surface.vtp, initial_limit_surface.vtp, targets.vtp,
 // base.obj, report.json), whichever subcommand wrote them, and the temporaries of atomic writes
 // whose process is gone (a SIGKILL leaves them), and leaves every other file alone.

@@ -157,11 +157,26 @@ TEST(FemP2, OnTheLoopLimitSurfaceTheEnergyConvergesFasterThanP1) {
   EXPECT_GT(last_ratio(energy[1]), 10.0) << ::testing::PrintToString(energy[1]);
 }
 
-TEST(FemP2, EstimatorsSaySoClearly) {
+// The ZZ estimator of P2 (nodal averages of the gradient, interpolated quadratically) follows
+// the H1 error on uniform meshes: it underestimates it (measured effectivity 0.56, 0.45, 0.41
+// at 642, 2,562 and 10,242 unknowns: averaging is not superconvergent for P2), steadily enough
+// to drive adaptivity at the optimal rate (test_adapt). The residual estimator is for P1 only,
+// and says so.
+TEST(FemP2, ZzEstimatorFollowsTheErrorAndTheResidualOneSaysItIsForP1) {
+  std::vector<double> effectivity;
+  for (int level = 2; level <= 4; ++level) {
+    const SurfaceMesh mesh = sphere_mesh(testing::icosahedron(), level, 2);
+    const Solution s = solve(mesh, sphere_harmonic());
+    effectivity.push_back(zz_estimator(mesh, s.u).total / error_norms(mesh, s.u, *sphere_harmonic().exact, true).h1);
+  }
+  for (const double e : effectivity) {
+    EXPECT_GT(e, 0.3) << ::testing::PrintToString(effectivity);
+    EXPECT_LT(e, 1.2) << ::testing::PrintToString(effectivity);
+  }
+  EXPECT_NEAR(effectivity.back(), effectivity[1], 0.15 * effectivity[1]) << ::testing::PrintToString(effectivity);
   const SurfaceMesh mesh = sphere_mesh(testing::icosahedron(), 1, 2);
   const Solution s = solve(mesh, sphere_peak());
   EXPECT_THROW(residual_estimator(mesh, sphere_peak(), s.u), std::invalid_argument);
-  EXPECT_THROW(zz_estimator(mesh, s.u), std::invalid_argument);
   RgbMesh m = testing::icosahedron().build();
   EXPECT_THROW(build_surface_mesh(m, std::nullopt, 3), InputError);
 }

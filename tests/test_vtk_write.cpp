@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 #include <vtkCellArray.h>
+#include <vtkCellType.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkIdList.h>
@@ -26,6 +27,7 @@
 #include <vector>
 
 #include "cli_fixture.hpp"
+#include "rgbmesh/errors.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/vtk_io.hpp"
@@ -253,6 +255,41 @@ TEST_F(WriteFiles, AProgressCallbackThatThrowsFailsTheWriteAndLeavesNothing) {
     EXPECT_EQ(files, 1u) << ext << ": a temporary file was left";
     fs::remove(file);
   }
+}
+
+// Quadratic triangles: VTK reads six-node VTK_QUADRATIC_TRIANGLE cells with the nodes and the
+// point and cell data bit for bit, in every compression; other extensions and bad indices are
+// refused.
+TEST_F(WriteFiles, QuadraticTrianglesReadBackAsVtkQuadraticTriangles) {
+  // Two curved triangles sharing the edge 1-2, its middle node 6.
+  const std::vector<Vec3> points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0.1},  {0.5, -0.05, 0.02},
+                                    {0.01, 0.5, 0}, {0.5, 0.5, 0.03}, {1.02, 0.5, 0}, {0.5, 1.03, 0.01}};
+  const std::vector<std::array<std::int32_t, 6>> cells = {{0, 1, 2, 4, 6, 5}, {1, 3, 2, 7, 8, 6}};
+  std::vector<double> values;
+  for (std::size_t i = 0; i < points.size(); ++i) values.push_back(1.0 / 3.0 + static_cast<double>(i) * 1e-9);
+  for (const Compression c : {Compression::lz4, Compression::zlib, Compression::none}) {
+    const fs::path file = dir_ / (std::string("p2-") + compression_name(c) + ".vtu");
+    WriteOptions options;
+    options.compression = c;
+    write_quadratic_triangles(file, points, cells, {{"solution", 1, values}}, {{"eta", 1, {0.25, 1e-300}}}, options);
+    const vtkSmartPointer<vtkPointSet> data = read_with_vtk(file);
+    ASSERT_EQ(data->GetNumberOfCells(), 2);
+    for (vtkIdType k = 0; k < 2; ++k) {
+      EXPECT_EQ(data->GetCellType(k), VTK_QUADRATIC_TRIANGLE);
+      vtkNew<vtkIdList> ids;
+      data->GetCellPoints(k, ids);
+      ASSERT_EQ(ids->GetNumberOfIds(), 6);
+      for (int j = 0; j < 6; ++j) EXPECT_EQ(ids->GetId(j), cells[static_cast<std::size_t>(k)][j]);
+    }
+    std::vector<double> coordinates;
+    for (const Vec3& p : points) coordinates.insert(coordinates.end(), {p.x, p.y, p.z});
+    expect_same_array(data->GetPoints()->GetData(), coordinates, 3, "points");
+    expect_same_array(data->GetPointData()->GetArray("solution"), values, 1, "solution");
+    expect_same_array(data->GetCellData()->GetArray("eta"), {0.25, 1e-300}, 1, "eta");
+  }
+  EXPECT_THROW(write_quadratic_triangles(dir_ / "p2.vtp", points, cells, {}, {}), InputError);
+  EXPECT_THROW(write_quadratic_triangles(dir_ / "bad.vtu", points, {{0, 1, 2, 4, 6, 9}}, {}, {}), std::invalid_argument);
+  EXPECT_THROW(write_quadratic_triangles(dir_ / "bad.vtu", points, cells, {{"short", 1, {1.0}}}, {}), std::invalid_argument);
 }
 
 TEST_F(WriteFiles, PointCloudsTakeTheCompressionToo) {

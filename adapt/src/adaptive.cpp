@@ -510,4 +510,38 @@ fem::Problem moving_peak(double t, double kappa) {
   return p;
 }
 
+QuadraticSnapshot quadratic_snapshot(const CycleState& s) {
+  QuadraticSnapshot out;
+  if (s.fe.order != 2) return out;
+  out.points = s.fe.points;
+  out.cells.reserve(s.fe.triangles.size());
+  for (std::size_t t = 0; t < s.fe.triangles.size(); ++t) {
+    const auto& c = s.fe.triangles[t];
+    const auto& e = s.fe.edge_nodes[t];
+    out.cells.push_back({c[0], c[1], c[2], e[0], e[1], e[2]});
+  }
+  NamedArray u{"solution", 1, {s.u.data(), s.u.data() + s.u.size()}, false};
+  out.point_data.push_back(std::move(u));
+  if (s.problem.exact) {
+    NamedArray exact{"exact_solution", 1, {}, false}, error{"error", 1, {}, false};
+    for (std::size_t i = 0; i < s.fe.num_dofs(); ++i) {
+      const double ue = s.problem.exact->value(s.fe.lift(s.fe.points[i]));
+      exact.values.push_back(ue);
+      error.values.push_back(ue - s.u[static_cast<Eigen::Index>(i)]);
+    }
+    out.point_data.push_back(std::move(exact));
+    out.point_data.push_back(std::move(error));
+  }
+  NamedArray eta{"error_indicator", 1, {}, false}, marked{"marked", 1, {}, false}, level{"level", 1, {}, false};
+  for (std::size_t t = 0; t < s.fe.triangles.size(); ++t) {
+    eta.values.push_back(s.estimate.eta[t]);
+    marked.values.push_back(s.marked[t] ? 1.0 : 0.0);
+    level.values.push_back(s.solved ? s.solved->triangle_level[t] : s.mesh.level(s.fe.triangle[t]));
+  }
+  out.cell_data.push_back(std::move(eta));
+  out.cell_data.push_back(std::move(marked));
+  out.cell_data.push_back(std::move(level));
+  return out;
+}
+
 }  // namespace rgbmesh::adapt

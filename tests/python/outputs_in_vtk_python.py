@@ -119,7 +119,26 @@ def main():
         check(np.all(np.isfinite(values["point solution"])), entry.get("file") + ": finite solution")
         check(data.GetNumberOfCells() > previous, entry.get("file") + ": the mesh grows cycle by cycle")
         previous = data.GetNumberOfCells()
-    print("ok: %d files read through VTK's Python" % (len(files) + len(series)))
+    # Quadratic elements: the .pvd lists the P2 files, six-node quadratic triangles with the
+    # solution at every node (vertices and edges: the report's unknowns).
+    out = os.path.join(work, "adapt-p2")
+    run(tool, "adapt", "--order", "2", "--cycles", "3", "--out", out)
+    report = json.load(open(os.path.join(out, "report.json")))
+    series = ElementTree.parse(os.path.join(out, "solution.pvd")).getroot().findall("./Collection/DataSet")
+    check([e.get("file") for e in series] == ["cycle_%03d_p2.vtu" % c for c in range(3)], "the .pvd lists the P2 files")
+    errors = []
+    for entry, cycle in zip(series, report["cycles"]):
+        data = read(os.path.join(out, entry.get("file")))
+        check(data.GetNumberOfPoints() == cycle["dofs"], entry.get("file") + ": one point per unknown")
+        check(data.GetNumberOfCells() == cycle["triangles"], entry.get("file") + ": one cell per triangle")
+        check(all(data.GetCellType(k) == 22 for k in range(data.GetNumberOfCells())), "VTK_QUADRATIC_TRIANGLE cells")
+        values = arrays(data)
+        check(np.all(np.isfinite(values["point solution"])), entry.get("file") + ": finite solution")
+        check(np.allclose(values["point exact_solution"] - values["point solution"], values["point error"]),
+              entry.get("file") + ": error = exact - solution at every node")
+        errors.append(np.abs(values["point error"]).max())
+    check(errors[-1] < errors[0], "the nodal error falls cycle by cycle: %s" % errors)
+    print("ok: %d files read through VTK's Python" % (len(files) + 2 * len(series)))
 
 
 if __name__ == "__main__":

@@ -422,6 +422,43 @@ void write_point_cloud(const fs::path& path, const std::vector<Vec3>& points,
   });
 }
 
+static_assert(sizeof(std::array<std::int32_t, 6>) == 6 * sizeof(std::int32_t),
+              "a quadratic triangle must be six packed int32 to be written as connectivity");
+
+void write_quadratic_triangles(const fs::path& path, const std::vector<Vec3>& points,
+                               const std::vector<std::array<std::int32_t, 6>>& cells,
+                               const std::vector<NamedArray>& point_data, const std::vector<NamedArray>& cell_data,
+                               const WriteOptions& options) {
+  if (lowercase_extension(path) != ".vtu")
+    throw InputError(path.string() + ": quadratic triangles are written as .vtu, not '" + lowercase_extension(path) + "'");
+  for (std::size_t c = 0; c < cells.size(); ++c)
+    for (const std::int32_t v : cells[c])
+      if (v < 0 || static_cast<std::size_t>(v) >= points.size())
+        throw std::invalid_argument(path.string() + ": quadratic triangle " + std::to_string(c) + " references point " +
+                                    std::to_string(v) + " of " + std::to_string(points.size()));
+  const auto check = [&](const std::vector<NamedArray>& arrays, std::size_t n) {
+    for (const NamedArray& a : arrays)
+      if (a.name.empty() || a.components < 1 || a.same_as_points || a.values.size() != n * static_cast<std::size_t>(a.components))
+        throw std::invalid_argument(path.string() + ": array '" + a.name + "' needs a name and " +
+                                    std::to_string(a.components) + " x " + std::to_string(n) + " values");
+  };
+  check(point_data, points.size());
+  check(cell_data, cells.size());
+  XmlDataSet d;
+  d.kind = XmlDataSet::Kind::grid_quadratic_triangles;
+  d.points = points.size();
+  d.cells = cells.size();
+  d.coordinates = borrowed_array("Points", XmlType::float64, 3, d.points, points.data());
+  d.connectivity = borrowed_array("connectivity", XmlType::int32, 1, 6 * d.cells, cells.empty() ? nullptr : cells.front().data());
+  for (const NamedArray& a : point_data)
+    d.point_data.push_back(borrowed_array(a.name, XmlType::float64, a.components, d.points, a.values.data()));
+  for (const NamedArray& a : cell_data)
+    d.cell_data.push_back(borrowed_array(a.name, XmlType::float64, a.components, d.cells, a.values.data()));
+  replace_reporting_progress(path, options, [&](const fs::path& temp, const WriteOptions& guarded) {
+    write_vtk_xml(temp, d, guarded.compression, guarded.progress);
+  });
+}
+
 void write_text_atomically(const fs::path& path, const std::string& contents) {
   replace_atomically(path, [&](const fs::path& temp) { write_bytes(temp, contents); });
 }

@@ -231,7 +231,8 @@ class Writer {
       throw std::invalid_argument("the points must be Float64 with 3 components");
     arrays_.push_back(&data_.coordinates);
 
-    const std::size_t per_cell = data_.kind == XmlDataSet::Kind::poly_vertices ? 1 : 3;
+    const bool quadratic = data_.kind == XmlDataSet::Kind::grid_quadratic_triangles;
+    const std::size_t per_cell = data_.kind == XmlDataSet::Kind::poly_vertices ? 1 : quadratic ? 6 : 3;
     if (data_.connectivity.type != XmlType::int32 || data_.connectivity.components != 1)
       throw std::invalid_argument("the connectivity must be Int32 with 1 component");
     check(data_.connectivity, per_cell * data_.cells, "the cells'");
@@ -248,11 +249,12 @@ class Writer {
                               static_cast<std::int32_t*>(out)[i] = static_cast<std::int32_t>(end);
                           }
                         }};
-    types_ = XmlArray{"types", XmlType::uint8, 1, data_.cells, [](std::size_t, std::size_t count, void* out) {
-                        std::memset(out, 5, count);  // VTK_TRIANGLE
+    const int type = quadratic ? 22 : 5;  // VTK_QUADRATIC_TRIANGLE, VTK_TRIANGLE
+    types_ = XmlArray{"types", XmlType::uint8, 1, data_.cells, [type](std::size_t, std::size_t count, void* out) {
+                        std::memset(out, type, count);
                       }};
     empty_ = XmlArray{"", XmlType::int64, 1, 0, [](std::size_t, std::size_t, void*) {}};
-    if (data_.kind == XmlDataSet::Kind::grid_triangles) {
+    if (grid()) {
       arrays_.insert(arrays_.end(), {&data_.connectivity, &offsets_, &types_});
     } else {
       // Verts, Lines, Strips, Polys: the cells in Verts or Polys, the others empty.
@@ -267,6 +269,9 @@ class Writer {
   }
 
   static std::string attribute(const std::string& value) { return xml_attribute(value); }
+  bool grid() const {
+    return data_.kind == XmlDataSet::Kind::grid_triangles || data_.kind == XmlDataSet::Kind::grid_quadratic_triangles;
+  }
 
   std::string header(const std::vector<std::uint64_t>& offsets) const {
     std::size_t next = 0;
@@ -279,8 +284,7 @@ class Writer {
       if (tuples) line += " NumberOfTuples=\"" + std::to_string(a.tuples) + "\"";
       return line + " format=\"appended\" offset=\"" + offset + "/>\n";
     };
-    const bool grid = data_.kind == XmlDataSet::Kind::grid_triangles;
-    const std::string type = grid ? "UnstructuredGrid" : "PolyData";
+    const std::string type = grid() ? "UnstructuredGrid" : "PolyData";
     std::string xml = "<VTKFile type=\"" + type + "\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"";
     if (compression_ == Compression::lz4) xml += " compressor=\"vtkLZ4DataCompressor\"";
     if (compression_ == Compression::zlib) xml += " compressor=\"vtkZLibDataCompressor\"";
@@ -291,7 +295,7 @@ class Writer {
       xml += "    </FieldData>\n";
     }
     const std::string points = std::to_string(data_.points), cells = std::to_string(data_.cells);
-    if (grid) {
+    if (grid()) {
       xml += "    <Piece NumberOfPoints=\"" + points + "\" NumberOfCells=\"" + cells + "\">\n";
     } else {
       const bool vertices = data_.kind == XmlDataSet::Kind::poly_vertices;
@@ -312,7 +316,7 @@ class Writer {
       if (with_types) xml += data_array(*arrays_[next], "types", false, "        ");
       xml += "      </" + section + ">\n";
     };
-    if (grid) {
+    if (grid()) {
       cell_section("Cells", true);
     } else {
       for (const char* section : {"Verts", "Lines", "Strips", "Polys"}) cell_section(section, false);

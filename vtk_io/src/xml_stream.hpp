@@ -35,15 +35,17 @@ struct XmlArray {
 };
 
 // A PolyData (.vtp) of triangles or of vertex cells (a point cloud), or an UnstructuredGrid
-// (.vtu) of triangles. The offsets and cell types are made by the writer.
+// (.vtu) of triangles or of quadratic triangles (VTK_QUADRATIC_TRIANGLE: six nodes, the
+// corners then the middles of edges 0-1, 1-2, 2-0). The offsets and cell types are made by
+// the writer.
 struct XmlDataSet {
-  enum class Kind { poly_triangles, poly_vertices, grid_triangles };
+  enum class Kind { poly_triangles, poly_vertices, grid_triangles, grid_quadratic_triangles };
   Kind kind = Kind::poly_triangles;
   std::size_t points = 0;
   std::size_t cells = 0;
   std::vector<XmlArray> field_data, point_data, cell_data;
   XmlArray coordinates;   // Float64, 3 components, one tuple per point
-  XmlArray connectivity;  // Int32, 3 (triangles) or 1 (vertices) values per cell
+  XmlArray connectivity;  // Int32, 3 (triangles), 6 (quadratic triangles) or 1 (vertices) values per cell
 };
 
 // Writes `data` to `file` (a new file: replace_atomically's temporary). std::invalid_argument

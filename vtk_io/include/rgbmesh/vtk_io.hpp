@@ -124,6 +124,17 @@ struct WriteOptions {
 void write_point_cloud(const std::filesystem::path& path, const std::vector<Vec3>& points,
                        const std::vector<NamedArray>& point_data, const WriteOptions& options = {});
 
+/// Writes quadratic triangles as VTK XML UnstructuredGrid (.vtu only) of VTK_QUADRATIC_TRIANGLE
+/// cells, which ParaView draws curved (raise the representation's "Nonlinear Subdivision Level"
+/// to see the curvature and the quadratic variation of the data): six nodes per cell, the
+/// corners, then the middles of edges 0-1, 1-2 and 2-0, with every NamedArray as Float64 point
+/// or cell data. Atomic and compressed as write_mesh. InputError for another extension;
+/// std::invalid_argument for indices or arrays of the wrong size.
+void write_quadratic_triangles(const std::filesystem::path& path, const std::vector<Vec3>& points,
+                               const std::vector<std::array<std::int32_t, 6>>& cells,
+                               const std::vector<NamedArray>& point_data, const std::vector<NamedArray>& cell_data,
+                               const WriteOptions& options = {});
+
 /// Writes by extension: .obj, .ply (binary), .stl (binary), .off, .vtp, .vtu. The XML formats are
 /// appended raw binary, compressed as options.compression says (lz4 by default), with point
 /// data "level" (UInt8), cell data "level" and "color" (UInt8: 0 green, 1 red, 2 blue) and every

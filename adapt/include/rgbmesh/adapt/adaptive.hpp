@@ -176,6 +176,17 @@ fem::Problem moving_peak(double t, double kappa = 100.0);
 /// and the RGB state when the cycle carries one (AdaptOptions::resumable).
 MeshSnapshot snapshot(const CycleState& state);
 
+/// A P2 cycle's elements for output as quadratic triangles (vtk_io's
+/// write_quadratic_triangles): every node (corners, then edge nodes), six per triangle, with
+/// point data "solution", "exact_solution" and "error" (where the exact solution is known) at
+/// every node, and cell data "error_indicator", "marked" and "level". Empty for P1.
+struct QuadraticSnapshot {
+  std::vector<Vec3> points;
+  std::vector<std::array<std::int32_t, 6>> cells;
+  std::vector<NamedArray> point_data, cell_data;
+};
+QuadraticSnapshot quadratic_snapshot(const CycleState& state);
+
 /// Marks triangles (per FE triangle) by the chosen strategy (target: for equidistribution).
 std::vector<char> mark(const std::vector<double>& eta, Marking marking, double theta, double target = 0);
 
