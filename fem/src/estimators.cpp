@@ -6,6 +6,8 @@
 #include <string>
 #include <unordered_map>
 
+#include "parallel.hpp"
+
 namespace rgbmesh::fem {
 
 namespace {
@@ -85,8 +87,11 @@ ErrorNorms error_norms(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const 
     }
     mean = integral / area;
   }
-  double l2 = 0, h1 = 0;
-  for (std::size_t t = 0; t < nt; ++t) {
+  // Each triangle's share on every core, summed in triangle order (the numbers of one thread).
+  std::vector<std::array<double, 2>> share(nt, {0.0, 0.0});
+  detail::for_each_index(nt, [&](std::size_t t) {
+    double& l2 = share[t][0];
+    double& h1 = share[t][1];
     const auto& c = mesh.triangles[t];
     const double size = longest_edge(mesh.points[c[0]], mesh.points[c[1]], mesh.points[c[2]]);
     for (const auto& q : rule) {
@@ -109,6 +114,11 @@ ErrorNorms error_norms(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const 
       l2 += w * d * d;
       h1 += w * dot(dg, dg);
     }
+  });
+  double l2 = 0, h1 = 0;
+  for (const auto& [a, b] : share) {
+    l2 += a;
+    h1 += b;
   }
   return {std::sqrt(l2), std::sqrt(h1)};
 }
@@ -123,8 +133,8 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
     const auto& t = mesh.triangles[i];
     h[i] = longest_edge(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
   }
-  // Element residuals (and, with a projection, the distance to the surface).
-  for (std::size_t i = 0; i < nt; ++i) {
+  // Element residuals (and, with a projection, the distance to the surface), on every core.
+  detail::for_each_index(nt, [&](std::size_t i) {
     const auto& t = mesh.triangles[i];
     const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
     double r2 = 0;
@@ -137,7 +147,7 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
       if (mesh.projection) delta[i] = std::max(delta[i], distance(x, lifted));
     }
     eta2[i] += h[i] * h[i] * r2;
-  }
+  });
   // Jumps of the conormal derivative across interior edges.
   std::unordered_map<std::uint64_t, std::pair<std::int32_t, int>> first;  // edge -> (triangle, local edge)
   first.reserve(nt * 2);

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "amg.hpp"
+#include "parallel.hpp"
 #include "rgbmesh/soup.hpp"
 
 #if defined(RGBMESH_HAVE_CHOLMOD)
@@ -180,22 +181,34 @@ bool amg_available() { return detail::amg_available(); }
 Eigen::VectorXd load_vector(const SurfaceMesh& mesh, const Problem& problem) {
   Eigen::VectorXd load = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.num_dofs()));
   const auto& rule = triangle_quadrature();
-  if (problem.source && mesh.order == 1) {
-    for (const auto& t : mesh.triangles) {
-      const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
-      const double area = triangle_geometry(p0, p1, p2).area;
-      for (const auto& q : rule) {
-        const double f = problem.source(mesh.lift(at(q.barycentric, p0, p1, p2)));
-        for (int i = 0; i < 3; ++i) load[t[i]] += q.weight * area * f * q.barycentric[i];
+  if (problem.source) {
+    // Each triangle's ∫ f φ_i on every core, then added up in triangle order (as one thread
+    // would: the same numbers whatever the number of threads).
+    const std::size_t nt = mesh.triangles.size();
+    const int nodes = mesh.order == 2 ? 6 : 3;
+    std::vector<std::array<double, 6>> local(nt);
+    detail::for_each_index(nt, [&](std::size_t t) {
+      std::array<double, 6>& l = local[t];
+      l.fill(0.0);
+      if (mesh.order == 1) {
+        const auto& c = mesh.triangles[t];
+        const Vec3 &p0 = mesh.points[c[0]], &p1 = mesh.points[c[1]], &p2 = mesh.points[c[2]];
+        const double area = triangle_geometry(p0, p1, p2).area;
+        for (const auto& q : rule) {
+          const double f = problem.source(mesh.lift(at(q.barycentric, p0, p1, p2)));
+          for (int i = 0; i < 3; ++i) l[i] += q.weight * area * f * q.barycentric[i];
+        }
+      } else {
+        for (const auto& q : rule) {
+          const ElementPoint p = element_point(mesh, t, q.barycentric);
+          const double wf = q.weight * p.density * problem.source(mesh.lift(p.x));
+          for (int i = 0; i < p.nodes; ++i) l[i] += wf * p.value[i];
+        }
       }
-    }
-  } else if (problem.source) {
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      for (const auto& q : rule) {
-        const ElementPoint p = element_point(mesh, t, q.barycentric);
-        const double wf = q.weight * p.density * problem.source(mesh.lift(p.x));
-        for (int i = 0; i < p.nodes; ++i) load[p.dof[i]] += wf * p.value[i];
-      }
+    });
+    for (std::size_t t = 0; t < nt; ++t) {
+      const auto& c = mesh.triangles[t];
+      for (int i = 0; i < nodes; ++i) load[i < 3 ? c[i] : mesh.edge_nodes[t][i - 3]] += local[t][i];
     }
   }
   for_each_neumann_point(mesh, problem, [&](const SurfaceMesh::BoundaryEdge& e, double weight, const std::array<double, 3>& v, double h) {
@@ -287,26 +300,47 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   for (Eigen::Index i = 0; i < n; ++i) {
     if (index[i] >= 0) rhs[index[i]] = b[i];
   }
+  // The element matrices on every core, each into its own slots of the triplet list (an entry
+  // of a fixed DOF becomes 0 added to entry (0, 0), which changes nothing); then, in triangle
+  // order, the vertex areas and the fixed values moved to the right-hand side: the same
+  // numbers as one thread computes.
+  const std::size_t nt = mesh.triangles.size();
+  const int nodes = mesh.order == 2 ? 6 : 3;
+  const auto slots = static_cast<std::size_t>(nodes * nodes);
   Eigen::VectorXd area = Eigen::VectorXd::Zero(n);  // ∫φ_i
-  std::vector<Triplet> trip;
-  trip.reserve(mesh.triangles.size() * (mesh.order == 2 ? 36 : 9));
-  LocalSystem local;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+  std::vector<Triplet> trip(nt * slots);
+  std::vector<std::array<double, 6>> integral(nt);
+  std::vector<char> touches_fixed(nt, 0);
+  detail::for_each_index(nt, [&](std::size_t t) {
+    LocalSystem local;
     local_system(mesh, t, local);
-    for (int i = 0; i < local.nodes; ++i) area[local.dof[i]] += local.integral[i];
+    for (int i = 0; i < local.nodes; ++i) {
+      integral[t][i] = local.integral[i];
+      const Eigen::Index ri = index[local.dof[i]];
+      if (ri < 0) touches_fixed[t] = 1;
+      for (int j = 0; j < local.nodes; ++j) {
+        const Eigen::Index cj = index[local.dof[j]];
+        trip[t * slots + static_cast<std::size_t>(i * local.nodes + j)] =
+            ri >= 0 && cj >= 0 ? Triplet(ri, cj, local.stiffness[i][j] + problem.c * local.mass[i][j]) : Triplet(0, 0, 0.0);
+      }
+    }
+  });
+  LocalSystem local;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& c = mesh.triangles[t];
+    for (int i = 0; i < nodes; ++i) area[i < 3 ? c[i] : mesh.edge_nodes[t][i - 3]] += integral[t][i];
+    if (!touches_fixed[t]) continue;
+    local_system(mesh, t, local);
     for (int i = 0; i < local.nodes; ++i) {
       const Eigen::Index ri = index[local.dof[i]];
       if (ri < 0) continue;
       for (int j = 0; j < local.nodes; ++j) {
-        const double value = local.stiffness[i][j] + problem.c * local.mass[i][j];
-        const Eigen::Index cj = index[local.dof[j]];
-        if (cj >= 0)
-          trip.emplace_back(ri, cj, value);
-        else
-          rhs[ri] -= value * u[local.dof[j]];
+        if (index[local.dof[j]] < 0) rhs[ri] -= (local.stiffness[i][j] + problem.c * local.mass[i][j]) * u[local.dof[j]];
       }
     }
   }
+  integral = {};
+  touches_fixed = {};
   if (sol.zero_mean) {
     // The compatible load b - (∫f / |Γ|) ∫φi (its free rows; the fixed row is dropped).
     const double shift = mean_load / area.sum();

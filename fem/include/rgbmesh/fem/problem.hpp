@@ -30,6 +30,9 @@ struct ExactSolution {
   VectorField surface_gradient;
 };
 
+/// The functions of a problem (and a Projection) are called from several threads at once
+/// (assembly and estimation use every core): they must be safe to call concurrently, as pure
+/// functions are.
 struct Problem {
   std::string name;
   double c = 0;  ///< reaction coefficient, >= 0
