@@ -33,12 +33,16 @@ class SolutionTransfer {
     for (std::size_t i = 0; i < fe.vertex.size(); ++i) values_[fe.vertex[i].idx] = u[static_cast<Eigen::Index>(i)];
     has_values_ = true;
   }
-  // The carried values in the DOF order of a new FE mesh; empty before the first store(), and
-  // for P2 (whose edge nodes the vertex values do not give).
+  // The carried values in the DOF order of a new FE mesh; empty before the first store(). P2:
+  // the vertices' values, and at each edge node the mean of its edge's ends (the carried values
+  // are those at the vertices).
   Eigen::VectorXd on(const fem::SurfaceMesh& fe) const {
-    if (!has_values_ || fe.order != 1) return {};
+    if (!has_values_) return {};
     Eigen::VectorXd u(static_cast<Eigen::Index>(fe.num_dofs()));
-    for (std::size_t i = 0; i < fe.num_dofs(); ++i) u[static_cast<Eigen::Index>(i)] = values_[fe.vertex[i].idx];
+    for (std::size_t i = 0; i < fe.vertex.size(); ++i) u[static_cast<Eigen::Index>(i)] = values_[fe.vertex[i].idx];
+    for (std::size_t t = 0; t < fe.edge_nodes.size(); ++t)
+      for (int k = 0; k < 3; ++k)
+        u[fe.edge_nodes[t][k]] = 0.5 * (u[fe.triangles[t][k]] + u[fe.triangles[t][(k + 1) % 3]]);
     return u;
   }
   // The mesh object now holds a rebuilt mesh (its observers gone): vertex slot `old` of the

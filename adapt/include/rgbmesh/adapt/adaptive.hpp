@@ -52,8 +52,8 @@ struct AdaptOptions {
   std::optional<fem::Projection> projection;  ///< exact-geometry mode (e.g. the unit sphere)
   /// Finite elements: 1 (P1) or 2 (isoparametric P2, fem::build_surface_mesh). Order 2 takes the
   /// ZZ estimator (the residual estimator is for P1 only), counts unknowns as vertices + edges,
-  /// starts each solve from zero (the carried values are P1's), and writes each cycle's
-  /// solution at the vertices.
+  /// starts each iterative solve from the carried vertex values (edge nodes: the mean of their
+  /// ends), and writes each cycle's solution at the vertices (quadratic_snapshot: every node).
   int order = 1;
   /// Resumable runs: every solve happens on the mesh rebuilt from its RGB state with the
   /// points in a canonical order (base vertices, then by level and parents), so that its
