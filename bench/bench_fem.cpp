@@ -71,6 +71,18 @@ void Sizes(benchmark::internal::Benchmark* b) {
 }
 BENCHMARK(BM_AssembleAndSolve)->Apply(Sizes)->Unit(benchmark::kSecond)->Iterations(1);
 
+// Adaptive sphere-peak from the icosahedron on the unit sphere, until about `target` unknowns.
+adapt::AdaptRun sphere_peak_run(std::size_t target, bool resumable) {
+  const TriangleMeshData ico = icosahedron();
+  RgbMesh mesh = RgbMesh::from_triangles(ico.points, ico.triangles);
+  adapt::AdaptOptions o;
+  o.projection = Projection(project_to_unit_sphere);
+  o.max_cycles = 60;
+  o.max_dofs = target;
+  o.resumable = resumable;
+  return adapt::run_cycles(mesh, sphere_peak(), o);
+}
+
 // The whole adaptive cycle (mesh update + solve + estimate) for sphere-peak, run until the
 // mesh reaches about N unknowns: the last cycle's cost per unknown, and the share of it spent
 // adapting the mesh (marking, refining and coarsening through the queues, transfer).
@@ -78,13 +90,7 @@ void BM_AdaptiveCycle(benchmark::State& state) {
   const auto target = static_cast<std::size_t>(state.range(0));
   adapt::CycleReport last;
   for (auto _ : state) {
-    const TriangleMeshData ico = icosahedron();
-    RgbMesh mesh = RgbMesh::from_triangles(ico.points, ico.triangles);
-    adapt::AdaptOptions o;
-    o.projection = Projection(project_to_unit_sphere);
-    o.max_cycles = 60;
-    o.max_dofs = target;
-    const auto run = adapt::run_cycles(mesh, sphere_peak(), o);
+    const auto run = sphere_peak_run(target, false);
     last = run.cycles.back();  // it solved, estimated and adapted (to the mesh past the target)
   }
   state.counters["dofs"] = static_cast<double>(last.dofs);
@@ -103,14 +109,7 @@ void BM_AdaptiveRun(benchmark::State& state) {
   const bool resumable = state.range(1) != 0;
   std::size_t cycles = 0, dofs = 0;
   for (auto _ : state) {
-    const TriangleMeshData ico = icosahedron();
-    RgbMesh mesh = RgbMesh::from_triangles(ico.points, ico.triangles);
-    adapt::AdaptOptions o;
-    o.projection = Projection(project_to_unit_sphere);
-    o.max_cycles = 60;
-    o.max_dofs = target;
-    o.resumable = resumable;
-    const auto run = adapt::run_cycles(mesh, sphere_peak(), o);
+    const auto run = sphere_peak_run(target, resumable);
     cycles = run.cycles.size();
     dofs = run.cycles.back().dofs;
   }

@@ -14,11 +14,11 @@
 #include <algorithm>
 #include <exception>
 #include <limits>
-#include <thread>
 #include <vector>
 
 #include "rgbmesh/loop_rules.hpp"
 #include "rgbmesh/mesh.hpp"
+#include "rgbmesh/parallel.hpp"
 
 namespace rgbmesh {
 
@@ -195,7 +195,7 @@ void RgbMesh::store_ring_limits() {
     by_level[l].push_back(v);
   }
   constexpr std::size_t kBlock = std::size_t{1} << 16;
-  const std::size_t cores = std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t cores = detail::hardware_threads();
   std::vector<Vec3> value;
   std::vector<char> known;
   for (const std::vector<VertexHandle>& level_vertices : by_level) {
@@ -203,27 +203,10 @@ void RgbMesh::store_ring_limits() {
       const std::size_t n = std::min(kBlock, level_vertices.size() - begin);
       value.resize(n);
       known.assign(n, 0);
-      const auto run = [&](std::size_t from, std::size_t to) {
-        for (std::size_t i = from; i < to; ++i) known[i] = ring_limit(level_vertices[begin + i], value[i]) ? 1 : 0;
-      };
-      const std::size_t threads = std::min(cores, std::max<std::size_t>(1, n / 4096));
-      if (threads <= 1) {
-        run(0, n);
-      } else {
-        // ring_limit reads the mesh only and throws nothing for live vertices. Where a thread
-        // cannot be started, this one does its share.
-        std::vector<std::thread> pool;
-        std::size_t started = 1;
-        try {
-          pool.reserve(threads - 1);
-          for (; started < threads; ++started)
-            pool.emplace_back(run, n * started / threads, n * (started + 1) / threads);
-        } catch (const std::exception&) {
-        }
-        run(0, n / threads);
-        run(n * started / threads, n);
-        for (std::thread& thread : pool) thread.join();
-      }
+      // ring_limit reads the mesh only and throws nothing for live vertices.
+      detail::parallel_for(n, 4096, cores, [&](std::size_t, std::size_t i) {
+        known[i] = ring_limit(level_vertices[begin + i], value[i]) ? 1 : 0;
+      });
       for (std::size_t i = 0; i < n; ++i)
         if (known[i]) store_limit(level_vertices[begin + i], value[i]);
     }

@@ -27,14 +27,13 @@
 #include <vtkZLibDataCompressor.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
 #include <exception>
-#include <mutex>
 #include <stdexcept>
-#include <thread>
+
+#include "rgbmesh/parallel.hpp"
 
 namespace rgbmesh::detail {
 namespace {
@@ -147,41 +146,12 @@ vtkSmartPointer<vtkDataCompressor> make_compressor(Compression compression) {
   return nullptr;
 }
 
-// Runs work(i) for i in [0, n) on up to `threads` threads (this one included); the first
-// exception is rethrown here once all have stopped. Where a thread cannot be started, the
-// others do its share.
-void parallel_for(std::size_t n, std::size_t threads, const std::function<void(std::size_t thread, std::size_t i)>& work) {
-  std::exception_ptr failure;
-  std::atomic<bool> failed{false};
-  std::atomic<std::size_t> next{0};
-  std::mutex failure_mutex;
-  const auto run = [&](std::size_t thread) {
-    for (std::size_t i; !failed.load() && (i = next.fetch_add(1)) < n;) {
-      try {
-        work(thread, i);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
-        failed.store(true);
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  try {
-    for (std::size_t t = 1; t < std::min(threads, n); ++t) pool.emplace_back(run, t);
-  } catch (const std::exception&) {
-  }
-  run(0);
-  for (std::thread& thread : pool) thread.join();
-  if (failure) std::rethrow_exception(failure);
-}
-
 class Writer {
  public:
   Writer(const fs::path& file, const XmlDataSet& data, Compression compression,
          const std::function<void(double)>& progress)
       : file_(file), data_(data), compression_(compression), progress_(progress) {
-    threads_ = std::max(1u, std::thread::hardware_concurrency());
+    threads_ = rgbmesh::detail::hardware_threads();
     for (std::size_t t = 0; t < threads_; ++t) {
       compressors_.push_back(make_compressor(compression));
       raw_.emplace_back(kBlockBytes);
@@ -355,7 +325,7 @@ class Writer {
     std::vector<std::size_t> out_size(kBatchBlocks);
     for (std::size_t first = 0; first < blocks; first += kBatchBlocks) {
       const std::size_t batch = std::min(kBatchBlocks, blocks - first);
-      parallel_for(batch, threads_, [&](std::size_t thread, std::size_t i) {
+      rgbmesh::detail::parallel_for(batch, 1, threads_, [&](std::size_t thread, std::size_t i) {
         const std::size_t block = first + i;
         const std::size_t tuple = block * block_tuples;
         const std::size_t count = std::min(block_tuples, a.tuples - tuple);
