@@ -136,11 +136,7 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
                                       {"equidistribution", adapt::Marking::equidistribution}});
   if (a.order != 1 && a.order != 2) throw InputError("--order " + std::to_string(a.order) + ": 1 or 2");
   o.order = a.order;
-  // P2 has the ZZ estimator only: its default there; the residual one asked for is refused.
-  const bool estimator_given = a.given.count("--estimator") > 0;
-  if (a.order == 2 && estimator_given && a.estimator == "residual")
-    throw InputError("--estimator residual: the residual estimator is for --order 1 only (use --estimator zz)");
-  s.estimator = a.order == 2 && !estimator_given ? "zz" : a.estimator;
+  s.estimator = a.estimator;
   o.estimator = choose<adapt::EstimatorKind>(
       "--estimator", s.estimator, {{"residual", adapt::EstimatorKind::residual}, {"zz", adapt::EstimatorKind::zz}});
   o.solve.solver = fem::parse_solver(a.solver);

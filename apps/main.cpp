@@ -330,7 +330,7 @@ int main(int argc, char** argv) {
   adapt_cmd->add_option("--theta", adapt_args.theta, "Marking parameter of dorfler and fraction, in (0, 1]")
       ->capture_default_str()
       ->check(number_in("a number in (0, 1]", [](double x) { return x > 0 && x <= 1; }));
-  adapt_cmd->add_option("--estimator", adapt_args.estimator, "residual or zz (with --order 2: zz)")->capture_default_str();
+  adapt_cmd->add_option("--estimator", adapt_args.estimator, "residual or zz")->capture_default_str();
   adapt_cmd->add_option("--order", adapt_args.order, "finite elements: 1 (linear) or 2 (quadratic, isoparametric on the surface)")
       ->capture_default_str();
   adapt_cmd

@@ -63,14 +63,14 @@ TEST(Adapt, AdaptivityBeatsUniformRefinementOnThePeak) {
   EXPECT_NEAR(testing::log_log_slope(dofs, h1), -0.5, 0.15);
 }
 
-// Adaptive P2 (ZZ estimator, isoparametric elements on the sphere) on the peak: the optimal
+// Adaptive P2 (residual estimator, isoparametric elements on the sphere) on the peak: the optimal
 // rate N^-1 in H1, every mesh valid, and at 5·10^4 unknowns an H1 error at least 5 times
 // below adaptive P1's at the same size (issue 12).
 TEST(Adapt, QuadraticElementsReachTheirRateAndBeatLinearOnesAtEqualUnknowns) {
   const fem::Problem peak = fem::sphere_peak();
   AdaptOptions o = sphere_options(Strategy::adaptive);
   o.max_dofs = 60000;
-  o.estimator = EstimatorKind::zz;
+  o.estimator = EstimatorKind::residual;
   o.order = 2;
   RgbMesh quadratic_mesh = icosphere();
   int invalid = 0;

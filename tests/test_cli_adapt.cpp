@@ -217,16 +217,18 @@ TEST_F(Cli, ReportGivesTheSolverIterationsOfEveryCycle) {
   EXPECT_NE(read_text(path("d.json")).find("\"solver\": \"ldlt\", \"solver_iterations\": 0"), std::string::npos);
 }
 
-// --order 2: quadratic elements with the ZZ estimator (its default there), in the report; the
-// residual estimator and other orders are refused in one line; a resumed P2 run repeats the
-// uninterrupted one.
+// --order 2: quadratic elements with the residual estimator (as P1) or ZZ, in the report; other
+// orders are refused in one line; a resumed P2 run repeats the uninterrupted one.
 TEST_F(Cli, QuadraticElementsRunReportAndResume) {
   const RunResult r = run("adapt --order 2 --cycles 8 --out " + path("p2") + " --report " + path("p2.json"));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("P2 elements"), std::string::npos) << r.out;
   const std::string json = read_text(path("p2.json"));
-  EXPECT_NE(json.find("\"estimator\": \"zz\", \"order\": 2"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"estimator\": \"residual\", \"order\": 2"), std::string::npos) << json;
   EXPECT_EQ(json_array_size(json, "cycles"), 8);
+  const RunResult zz = run("adapt --order 2 --estimator zz --cycles 3 --out " + path("zz") + " --report " + path("zz.json"));
+  ASSERT_EQ(zz.code, 0) << zz.err;
+  EXPECT_NE(read_text(path("zz.json")).find("\"estimator\": \"zz\", \"order\": 2"), std::string::npos);
   const RunResult first = run("adapt --order 2 --cycles 5 --out " + path("resumed"));
   ASSERT_EQ(first.code, 0) << first.err;
   const RunResult resumed = run("adapt --resume " + path("resumed") + " --cycles 8");
@@ -245,8 +247,7 @@ TEST_F(Cli, QuadraticElementsRunReportAndResume) {
   EXPECT_EQ(values(parts), values(whole));
   EXPECT_GT(values(whole).size(), 8u * 4u * 10u);
   for (const auto& [args, message] :
-       {std::pair{"adapt --order 2 --estimator residual", "the residual estimator is for --order 1 only"},
-        std::pair{"adapt --order 3", "--order 3: 1 or 2"}}) {
+       {std::pair{"adapt --order 3", "--order 3: 1 or 2"}}) {
     const RunResult bad = run(std::string(args) + " --out " + path("bad"));
     EXPECT_EQ(bad.code, 2) << args;
     EXPECT_NE(bad.err.find(message), std::string::npos) << bad.err;

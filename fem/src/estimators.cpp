@@ -49,10 +49,26 @@ TriangleFields triangle_fields(const SurfaceMesh& mesh, const Eigen::VectorXd& u
   return f;
 }
 
-// The estimators are those of linear elements (issue 12: the quadratic ones are to come).
-void require_linear(const SurfaceMesh& mesh, const char* what) {
-  if (mesh.order != 1)
-    throw std::invalid_argument(std::string(what) + ": only for linear elements (order 1) so far, not order " +
+// The reference derivatives of the six P2 basis functions (corners, then the nodes of edges
+// 0-1, 1-2, 2-0; as in element_point) in ξ = (λ1, λ2), λ0 = 1 - ξ1 - ξ2: the first ones at λ
+// and the second ones, constant for quadratics.
+struct QuadraticShapeDerivatives {
+  std::array<double, 6> d1, d2;          // ∂/∂ξ1, ∂/∂ξ2
+  std::array<double, 6> d11, d12, d22;  // ∂²/∂ξ1², ∂²/∂ξ1∂ξ2, ∂²/∂ξ2²
+};
+QuadraticShapeDerivatives quadratic_shape_derivatives(const std::array<double, 3>& l) {
+  return {{-(4 * l[0] - 1), 4 * l[1] - 1, 0.0, 4 * (l[0] - l[1]), 4 * l[2], -4 * l[2]},
+          {-(4 * l[0] - 1), 0.0, 4 * l[2] - 1, -4 * l[1], 4 * l[1], 4 * (l[0] - l[2])},
+          {4, 4, 0, -8, 0, 0},
+          {4, 0, 0, -4, 4, -4},
+          {4, 0, 4, 0, 0, -8}};
+}
+
+// The estimators know linear and quadratic elements (build_surface_mesh makes no others; a
+// hand-made mesh of another order gets a clear error instead of wrong numbers).
+void require_order_1_or_2(const SurfaceMesh& mesh, const char* what) {
+  if (mesh.order != 1 && mesh.order != 2)
+    throw std::invalid_argument(std::string(what) + ": only for elements of order 1 and 2, not order " +
                                 std::to_string(mesh.order));
 }
 
@@ -123,8 +139,177 @@ ErrorNorms error_norms(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const 
   return {std::sqrt(l2), std::sqrt(h1)};
 }
 
+double laplace_beltrami(const SurfaceMesh& mesh, std::size_t triangle, const std::array<double, 3>& lambda,
+                        const Eigen::VectorXd& u) {
+  if (mesh.order == 1) return 0.0;
+  require_order_1_or_2(mesh, "laplace_beltrami");
+  const auto& c = mesh.triangles[triangle];
+  const auto& e = mesh.edge_nodes[triangle];
+  const std::array<std::int32_t, 6> dof = {c[0], c[1], c[2], e[0], e[1], e[2]};
+  const QuadraticShapeDerivatives d = quadratic_shape_derivatives(lambda);
+  Vec3 x1, x2, x11, x12, x22;
+  double u1 = 0, u2 = 0, u11 = 0, u12 = 0, u22 = 0;
+  for (int i = 0; i < 6; ++i) {
+    const Vec3& node = mesh.points[dof[i]];
+    const double v = u[dof[i]];
+    x1 += d.d1[i] * node;
+    x2 += d.d2[i] * node;
+    x11 += d.d11[i] * node;
+    x12 += d.d12[i] * node;
+    x22 += d.d22[i] * node;
+    u1 += d.d1[i] * v;
+    u2 += d.d2[i] * v;
+    u11 += d.d11[i] * v;
+    u12 += d.d12[i] * v;
+    u22 += d.d22[i] * v;
+  }
+  const double g11 = dot(x1, x1), g12 = dot(x1, x2), g22 = dot(x2, x2);
+  const double det = g11 * g22 - g12 * g12;
+  if (!(det > 0)) throw std::runtime_error("laplace_beltrami: a curved triangle is degenerate at the point");
+  const double i11 = g22 / det, i12 = -g12 / det, i22 = g11 / det;  // g^ij
+  // Γ^k_ij u_k = (g^kl u_k) (X_l · X_ij) = ∇_Γh u · X_ij: the Christoffel terms in one product.
+  const Vec3 grad = (i11 * u1 + i12 * u2) * x1 + (i12 * u1 + i22 * u2) * x2;
+  return i11 * (u11 - dot(grad, x11)) + 2 * i12 * (u12 - dot(grad, x12)) + i22 * (u22 - dot(grad, x22));
+}
+
+namespace {
+
+// A point of the curved edge k of a P2 element (from corner k to corner k + 1, the quadratic
+// curve through the corners and the edge's node) at parameter s in [0, 1]: the point, the
+// element's unit normal there, the length element |dX/ds| and u_h's derivative along the
+// outward unit conormal, the edge's tangent turned in the element's tangent plane (the tangent
+// lies in that plane: the edge is a curve of the element).
+struct CurvedEdgePoint {
+  Vec3 x, normal;
+  double speed = 0, flux = 0;
+};
+CurvedEdgePoint curved_edge_point(const SurfaceMesh& mesh, const Eigen::VectorXd& u, std::size_t t, int k,
+                                  double s) {
+  std::array<double, 3> l{};
+  l[k] = 1 - s;
+  l[(k + 1) % 3] = s;
+  const ElementPoint p = element_point(mesh, t, l);
+  const Vec3 &a = mesh.points[mesh.triangles[t][k]], &b = mesh.points[mesh.triangles[t][(k + 1) % 3]];
+  const Vec3& m = mesh.points[mesh.edge_nodes[t][k]];
+  const Vec3 tangent = (4 * s - 3) * a + (4 * s - 1) * b + (4 - 8 * s) * m;
+  const Vec3 conormal = cross(tangent, p.normal);
+  Vec3 grad;
+  for (int i = 0; i < p.nodes; ++i) grad += u[p.dof[i]] * p.gradient[i];
+  return {p.x, p.normal, norm(tangent), dot(grad, conormal) / norm(conormal)};
+}
+
+// Three-point Gauss on [0, 1]: exact for quintics along the edge's parameter.
+constexpr double kGaussOffset = 0.3872983346207416885;  // ½ sqrt(3/5)
+constexpr std::array<std::array<double, 2>, 3> kEdgeGauss = {
+    {{0.5 - kGaussOffset, 5.0 / 18}, {0.5, 8.0 / 18}, {0.5 + kGaussOffset, 5.0 / 18}}};
+
+// The residual estimator of P2 (see the header): the element terms and the edge jumps on every
+// core into per-triangle and per-edge slots, summed serially in triangle and edge order (the
+// numbers of one thread).
+Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& problem,
+                                      const Eigen::VectorXd& u) {
+  const std::size_t nt = mesh.triangles.size();
+  const auto& rule = triangle_quadrature();
+  std::vector<double> h(nt), eta2(nt, 0.0), energy(nt, 0.0), delta(nt, 0.0), geometric(nt, 0.0);
+  // Element residuals f - c u_h + Δ_Γh u_h, ‖∇u_h‖²_T and (with a projection) the distance to
+  // the surface.
+  detail::for_each_index(nt, [&](std::size_t t) {
+    const auto& c = mesh.triangles[t];
+    h[t] = longest_edge(mesh.points[c[0]], mesh.points[c[1]], mesh.points[c[2]]);
+    double r2 = 0;
+    for (const auto& q : rule) {
+      const ElementPoint p = element_point(mesh, t, q.barycentric);
+      double uh = 0;
+      Vec3 grad;
+      for (int i = 0; i < p.nodes; ++i) {
+        uh += p.value[i] * u[p.dof[i]];
+        grad += u[p.dof[i]] * p.gradient[i];
+      }
+      const Vec3 lifted = mesh.lift(p.x);
+      const double r = (problem.source ? problem.source(lifted) : 0.0) - problem.c * uh +
+                       laplace_beltrami(mesh, t, q.barycentric, u);
+      const double w = q.weight * p.density;
+      r2 += w * r * r;
+      energy[t] += w * dot(grad, grad);
+      if (mesh.projection) delta[t] = std::max(delta[t], distance(p.x, lifted));
+    }
+    eta2[t] = h[t] * h[t] * r2;
+  });
+  // The interior edges, each with its two sides (triangle, local edge), in the order in which
+  // their second side is met.
+  struct Side {
+    std::int32_t triangle;
+    int edge;
+  };
+  std::vector<std::array<Side, 2>> edges;
+  edges.reserve(nt * 3 / 2);
+  {
+    std::unordered_map<std::uint64_t, Side> first;
+    first.reserve(nt * 2);
+    for (std::size_t i = 0; i < nt; ++i) {
+      const auto& t = mesh.triangles[i];
+      for (int k = 0; k < 3; ++k) {
+        const Side side{static_cast<std::int32_t>(i), k};
+        const auto [it, inserted] = first.try_emplace(edge_key(t[k], t[(k + 1) % 3]), side);
+        if (!inserted) edges.push_back({it->second, side});
+      }
+    }
+  }
+  // Per edge: ½ h_e ∫_e [∂u_h/∂μ]² ds and the sagitta h_e θ_e / 8. The second side runs the
+  // other way along the edge, so its parameter 1 - s meets the first side's s at the same point.
+  std::vector<std::array<double, 2>> edge_terms(edges.size());
+  detail::for_each_index(edges.size(), [&](std::size_t n) {
+    const auto& [a, b] = edges[n];
+    const auto ta = static_cast<std::size_t>(a.triangle), tb = static_cast<std::size_t>(b.triangle);
+    double integral = 0, theta = 0;
+    for (const auto& [s, w] : kEdgeGauss) {
+      const CurvedEdgePoint pa = curved_edge_point(mesh, u, ta, a.edge, s);
+      const CurvedEdgePoint pb = curved_edge_point(mesh, u, tb, b.edge, 1 - s);
+      const double jump = pa.flux + pb.flux;
+      integral += w * pa.speed * jump * jump;
+      theta = std::max(theta, std::acos(std::clamp(dot(pa.normal, pb.normal), -1.0, 1.0)));
+    }
+    const auto& c = mesh.triangles[ta];
+    const double len = distance(mesh.points[c[a.edge]], mesh.points[c[(a.edge + 1) % 3]]);
+    edge_terms[n] = {0.5 * len * integral, len * theta / 8.0};
+  });
+  for (std::size_t n = 0; n < edges.size(); ++n) {
+    for (const Side& side : edges[n]) {
+      const auto t = static_cast<std::size_t>(side.triangle);
+      eta2[t] += edge_terms[n][0];
+      if (!mesh.projection) delta[t] = std::max(delta[t], edge_terms[n][1]);
+    }
+  }
+  // Neumann edges: the flux misfit along the curved edge (the edges the solver takes as
+  // Neumann: by the lift of the chord's midpoint).
+  if (problem.is_neumann) {
+    for (const auto& e : mesh.boundary_edges) {
+      const Vec3 &pa = mesh.points[e.a], &pb = mesh.points[e.b];
+      if (!problem.is_neumann(mesh.lift(0.5 * (pa + pb)))) continue;
+      const auto t = static_cast<std::size_t>(e.triangle);
+      int k = 0;
+      while (k < 2 && mesh.triangles[t][k] != e.a) ++k;
+      double integral = 0;
+      for (const auto& [s, w] : kEdgeGauss) {
+        const CurvedEdgePoint p = curved_edge_point(mesh, u, t, k, s);
+        const double misfit = (problem.neumann_flux ? problem.neumann_flux(mesh.lift(p.x)) : 0.0) - p.flux;
+        integral += w * p.speed * misfit * misfit;
+      }
+      eta2[t] += distance(pa, pb) * integral;
+    }
+  }
+  for (std::size_t t = 0; t < nt; ++t) {
+    geometric[t] = delta[t] / h[t] * std::sqrt(energy[t]);
+    eta2[t] += geometric[t] * geometric[t];
+  }
+  return finish(std::move(eta2), std::move(geometric));
+}
+
+}  // namespace
+
 Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, const Eigen::VectorXd& u) {
-  require_linear(mesh, "residual_estimator");
+  if (mesh.order == 2) return residual_estimator_quadratic(mesh, problem, u);
+  require_order_1_or_2(mesh, "residual_estimator");
   const std::size_t nt = mesh.triangles.size();
   const auto& rule = triangle_quadrature();
   const auto [geo, grad] = triangle_fields(mesh, u);
@@ -239,7 +424,7 @@ Estimate zz_estimator_quadratic(const SurfaceMesh& mesh, const Eigen::VectorXd& 
 
 Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u) {
   if (mesh.order == 2) return zz_estimator_quadratic(mesh, u);
-  require_linear(mesh, "zz_estimator");
+  require_order_1_or_2(mesh, "zz_estimator");
   const std::size_t nt = mesh.triangles.size();
   std::vector<Vec3> recovered(mesh.num_dofs());
   std::vector<double> weight(mesh.num_dofs(), 0.0);

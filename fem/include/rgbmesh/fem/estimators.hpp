@@ -3,6 +3,8 @@
 /// Errors against exact solutions, and a posteriori error estimators per triangle.
 
 #include <Eigen/Core>
+#include <array>
+#include <cstddef>
 #include <vector>
 
 #include "rgbmesh/fem/problem.hpp"
@@ -35,15 +37,40 @@ struct Estimate {
 
 /// The residual estimator:
 /// \verbatim
-///   η_T² = h_T² ‖f - c u_h‖²_T + ½ Σ_{e ⊂ ∂T interior} h_e ‖[∂u_h/∂n_e]‖²_e
+///   η_T² = h_T² ‖f - c u_h + Δ_Γh u_h‖²_T + ½ Σ_{e ⊂ ∂T interior} h_e ‖[∂u_h/∂n_e]‖²_e
 ///          + Σ_{e ⊂ ∂T Neumann} h_e ‖h - ∂u_h/∂n_e‖²_e + η_geo,T²,
 /// \endverbatim
 /// where the jump of the conormal derivative adds the two triangles' outward conormal
-/// derivatives (each in its own plane), and η_geo,T = (δ_T / h_T) ‖∇u_h‖_T measures how far the
-/// flat triangle is from the surface: δ_T is the largest distance from a quadrature point to
-/// its lift with a projection, else the sagitta |e| θ_e / 8 of the edges, θ_e the angle
-/// between the normals of the two triangles at e (the curvature that flat triangles miss).
+/// derivatives (each in its own tangent plane), h_T is the longest chord between the corners
+/// and h_e the chord of the edge, and η_geo,T = (δ_T / h_T) ‖∇u_h‖_T measures how far the
+/// element is from the surface: δ_T is the largest distance from a quadrature point to its lift
+/// with a projection, else the sagitta |e| θ_e / 8 of the edges, θ_e the angle between the
+/// normals of the two elements at e (the curvature that the elements miss at their seams).
+///
+/// P1: Δ_Γh u_h vanishes (u_h is linear on a flat triangle), the conormal derivatives are
+/// constant along the straight edges and θ_e is the angle between the two planes.
+///
+/// P2: the same terms on the curved isoparametric elements. Δ_Γh u_h (laplace_beltrami) no
+/// longer vanishes and balances f: without it the element term would stay near h_T ‖f‖_T,
+/// falling as h while the error falls as h². The integrals over T use the element's area
+/// density; the edge terms follow the quadratic curves (three-point Gauss in the edge's
+/// parameter, both sides at the same points, each side's conormal in its own tangent plane
+/// there). The discrete surface is continuous but kinked along the edges: without a projection
+/// θ_e is the largest angle between the two elements' normals at those points, which falls as
+/// h² for quadratic elements (as h for flat ones), so that δ_T ~ h³, as the distance to an
+/// exact surface does.
 Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, const Eigen::VectorXd& u);
+
+/// Δ_Γh u_h, the Laplace–Beltrami operator of the discrete function u on the element, at a
+/// point of its reference triangle (barycentric coordinates λ): 0 for P1 (linear on a flat
+/// triangle). P2: with X(ξ) the quadratic element over ξ = (λ1, λ2), X_i = ∂X/∂ξ_i, the metric
+/// g_ij = X_i · X_j and the Christoffel symbols Γ^k_ij = g^kl (X_l · X_ij),
+/// Δu = g^ij (u_ij - Γ^k_ij u_k); as Γ^k_ij u_k = ∇_Γh u · X_ij, this is
+/// g^ij (u_ij - ∇_Γh u · X_ij). Exact on flat affine elements for quadratic u; on curved ones
+/// the X_ij carry the curvature (for u the coordinate functions it gives the element's mean
+/// curvature vector).
+double laplace_beltrami(const SurfaceMesh& mesh, std::size_t triangle, const std::array<double, 3>& lambda,
+                        const Eigen::VectorXd& u);
 
 /// The Zienkiewicz-Zhu estimator: η_T = ‖G_h - ∇u_h‖_T, with G_h the piecewise linear field of
 /// area-weighted averages of ∇u_h at the vertices, projected onto each triangle's plane.
