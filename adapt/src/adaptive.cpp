@@ -6,6 +6,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "rgbmesh/adapt/solution_transfer.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/rgb_state.hpp"
@@ -17,60 +18,6 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
-
-// The finite-element solution follows the mesh: a new vertex takes the mean of the ends of
-// the edge it split (linear interpolation, exact for P1 on that edge); removed vertices drop
-// their values. The values seed the next solve (an initial guess for CG).
-class SolutionTransfer {
- public:
-  explicit SolutionTransfer(RgbMesh& mesh) : mesh_(mesh) { observe(); }
-  ~SolutionTransfer() { mesh_.remove_observer(id_); }
-  SolutionTransfer(const SolutionTransfer&) = delete;
-  SolutionTransfer& operator=(const SolutionTransfer&) = delete;
-
-  void store(const fem::SurfaceMesh& fe, const Eigen::VectorXd& u) {
-    grow();
-    for (std::size_t i = 0; i < fe.vertex.size(); ++i) values_[fe.vertex[i].idx] = u[static_cast<Eigen::Index>(i)];
-    has_values_ = true;
-  }
-  // The carried values in the DOF order of a new FE mesh; empty before the first store(). P2:
-  // the vertices' values, and at each edge node the mean of its edge's ends (the carried values
-  // are those at the vertices).
-  Eigen::VectorXd on(const fem::SurfaceMesh& fe) const {
-    if (!has_values_) return {};
-    Eigen::VectorXd u(static_cast<Eigen::Index>(fe.num_dofs()));
-    for (std::size_t i = 0; i < fe.vertex.size(); ++i) u[static_cast<Eigen::Index>(i)] = values_[fe.vertex[i].idx];
-    for (std::size_t t = 0; t < fe.edge_nodes.size(); ++t)
-      for (int k = 0; k < 3; ++k)
-        u[fe.edge_nodes[t][k]] = 0.5 * (u[fe.triangles[t][k]] + u[fe.triangles[t][(k + 1) % 3]]);
-    return u;
-  }
-  // The mesh object now holds a rebuilt mesh (its observers gone): vertex slot `old` of the
-  // previous one is moved[old] (invalid for a free slot).
-  void rebuilt(const std::vector<VertexHandle>& moved) {
-    std::vector<double> values(static_cast<std::size_t>(mesh_.vertex_slots()), 0.0);
-    for (std::size_t old = 0; old < moved.size() && old < values_.size(); ++old)
-      if (moved[old].valid()) values[static_cast<std::size_t>(moved[old].idx)] = values_[old];
-    values_ = std::move(values);
-    observe();
-  }
-
- private:
-  void observe() {
-    id_ = mesh_.add_insertion_observer([this](VertexHandle v, VertexHandle a, VertexHandle b) {
-      grow();
-      values_[v.idx] = 0.5 * (values_[a.idx] + values_[b.idx]);
-    });
-  }
-  void grow() {
-    if (values_.size() < static_cast<std::size_t>(mesh_.vertex_slots()))
-      values_.resize(static_cast<std::size_t>(mesh_.vertex_slots()), 0.0);
-  }
-  RgbMesh& mesh_;
-  int id_ = 0;
-  std::vector<double> values_;
-  bool has_values_ = false;
-};
 
 struct SolvedCycle {
   fem::SurfaceMesh fe;

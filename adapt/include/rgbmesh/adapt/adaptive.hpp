@@ -50,10 +50,10 @@ struct AdaptOptions {
   std::function<std::size_t()> memory_headroom;
   fem::SolveOptions solve;
   std::optional<fem::Projection> projection;  ///< exact-geometry mode (e.g. the unit sphere)
-  /// Finite elements: 1 (P1) or 2 (isoparametric P2, fem::build_surface_mesh). Order 2 takes the
-  /// ZZ estimator (the residual estimator is for P1 only), counts unknowns as vertices + edges,
-  /// starts each iterative solve from the carried vertex values (edge nodes: the mean of their
-  /// ends), and writes each cycle's solution at the vertices (quadratic_snapshot: every node).
+  /// Finite elements: 1 (P1) or 2 (isoparametric P2, fem::build_surface_mesh). Order 2 counts
+  /// unknowns as vertices + edges, carries the solution's vertex and edge values through the
+  /// adaptation (SolutionTransfer) as the next solve's initial guess, and writes each cycle's
+  /// solution at the vertices (quadratic_snapshot: every node).
   int order = 1;
   /// Resumable runs: every solve happens on the mesh rebuilt from its RGB state with the
   /// points in a canonical order (base vertices, then by level and parents), so that its
