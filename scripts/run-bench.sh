@@ -4,7 +4,8 @@
 # in the same process), then the command-line tool's --stats on the Stanford bunny refined to
 # uniform level 5 (1.9 million vertices: peak memory per vertex) and coarsened back, and the
 # finite-element benchmark (assembly and solve, 10^4 to 10^6 unknowns, each solver), the fit,
-# and the output formats on 1.9 million vertices (bench_write: seconds against PLY, memory).
+# and the output formats on 1.9 million vertices (bench_write: seconds against PLY, memory);
+# against deal.II where it is installed (bench_vs_dealii).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh test
@@ -21,3 +22,11 @@ echo "bunny, uniform level 5:"
 build/bin/rgbmesh refine data/bunny.obj - --uniform 5 --stats 2>/dev/null | tail -n 1
 echo "bunny, uniform level 5, then back to the base mesh:"
 build/bin/rgbmesh refine data/bunny.obj - --uniform 5 --coarsen-all --stats 2>/dev/null | tail -n 1
+# Against deal.II, where it is installed (Debian: libdeal.ii-dev; not installed by this script).
+if cmake --build build --target bench_vs_dealii 2>/dev/null; then
+  echo
+  echo "adaptive sphere-peak against deal.II (Q1/Q2, Kelly, Dörfler 0.5):"
+  build/bin/bench_vs_dealii --max-dofs 200000
+else
+  echo "no deal.II (Debian: libdeal.ii-dev): bench_vs_dealii skipped"
+fi
