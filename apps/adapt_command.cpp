@@ -55,7 +55,10 @@ std::string cycles_json(const std::vector<adapt::CycleReport>& reports, bool dyn
     if (r.error_l2) o.raw("error_l2", exact(*r.error_l2));
     if (r.error_h1) o.raw("error_h1", exact(*r.error_h1));
     o.add("seconds", r.seconds)
+        .add("mesh_seconds", r.mesh_seconds)
         .add("solve_seconds", r.solve_seconds)
+        .add("estimate_seconds", r.estimate_seconds)
+        .add("error_seconds", r.error_seconds)
         .add("adapt_seconds", r.adapt_seconds)
         .add("marked", static_cast<std::uint64_t>(r.marked))
         .add("splits", static_cast<std::uint64_t>(r.splits))
@@ -264,6 +267,10 @@ std::vector<adapt::CycleReport> cycles_from(const JsonValue& list, const fs::pat
     r.seconds = real(c, "seconds", file);
     r.solve_seconds = real(c, "solve_seconds", file);
     r.adapt_seconds = real(c, "adapt_seconds", file);
+    // Reports written before these fields existed have none.
+    for (auto [key, field] : {std::pair{"mesh_seconds", &r.mesh_seconds}, std::pair{"estimate_seconds", &r.estimate_seconds},
+                              std::pair{"error_seconds", &r.error_seconds}})
+      if (c.find(key)) *field = real(c, key, file);
     r.marked = static_cast<std::size_t>(count(c, "marked", file));
     r.splits = static_cast<std::size_t>(count(c, "splits", file));
     r.removals = static_cast<std::size_t>(count(c, "removals", file));

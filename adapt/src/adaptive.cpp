@@ -102,7 +102,9 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
                                SolutionTransfer& transfer) {
   if (options.resumable) transfer.rebuilt(rebuild_canonically(mesh));
   SolvedCycle c;
+  const auto t_mesh = std::chrono::steady_clock::now();
   c.fe = fem::build_surface_mesh(mesh, options.projection, options.order);
+  c.report.mesh_seconds = seconds_since(t_mesh);
   fem::SolveOptions so = options.solve;
   const Eigen::VectorXd guess = transfer.on(c.fe);
   if (guess.size() > 0) so.initial_guess = &guess;
@@ -118,9 +120,11 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   c.report.solver = fem::to_string(c.solution.solver);
   c.report.solver_iterations = c.solution.iterations;
   if (problem.exact) {
+    const auto t_errors = std::chrono::steady_clock::now();
     const fem::ErrorNorms e = fem::error_norms(c.fe, c.solution.u, *problem.exact, c.solution.zero_mean);
     c.report.error_l2 = e.l2;
     c.report.error_h1 = e.h1;
+    c.report.error_seconds = seconds_since(t_errors);
   }
   return c;
 }

@@ -32,6 +32,31 @@ std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
+// One side of an edge: a triangle and its local edge k (from corner k to corner k + 1).
+struct Side {
+  std::int32_t triangle;
+  int edge;
+};
+
+// The interior edges, each with its two sides, in the order in which a sweep over the
+// triangles meets their second side (the order the estimators add the edges' terms in).
+std::vector<std::array<Side, 2>> interior_edges(const SurfaceMesh& mesh) {
+  const std::size_t nt = mesh.triangles.size();
+  std::vector<std::array<Side, 2>> edges;
+  edges.reserve(nt * 3 / 2);
+  std::unordered_map<std::uint64_t, Side> first;
+  first.reserve(nt * 2);
+  for (std::size_t i = 0; i < nt; ++i) {
+    const auto& t = mesh.triangles[i];
+    for (int k = 0; k < 3; ++k) {
+      const Side side{static_cast<std::int32_t>(i), k};
+      const auto [it, inserted] = first.try_emplace(edge_key(t[k], t[(k + 1) % 3]), side);
+      if (!inserted) edges.push_back({it->second, side});
+    }
+  }
+  return edges;
+}
+
 // Each triangle's geometry and the (constant) gradient of u_h on it.
 struct TriangleFields {
   std::vector<TriangleGeometry> geo;
@@ -41,11 +66,11 @@ TriangleFields triangle_fields(const SurfaceMesh& mesh, const Eigen::VectorXd& u
   TriangleFields f;
   f.geo.resize(mesh.triangles.size());
   f.grad.resize(mesh.triangles.size());
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+  detail::for_each_index(mesh.triangles.size(), [&](std::size_t i) {
     const auto& t = mesh.triangles[i];
     f.geo[i] = triangle_geometry(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
     f.grad[i] = gradient(f.geo[i], t, u);
-  }
+  });
   return f;
 }
 
@@ -235,26 +260,7 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
     }
     eta2[t] = h[t] * h[t] * r2;
   });
-  // The interior edges, each with its two sides (triangle, local edge), in the order in which
-  // their second side is met.
-  struct Side {
-    std::int32_t triangle;
-    int edge;
-  };
-  std::vector<std::array<Side, 2>> edges;
-  edges.reserve(nt * 3 / 2);
-  {
-    std::unordered_map<std::uint64_t, Side> first;
-    first.reserve(nt * 2);
-    for (std::size_t i = 0; i < nt; ++i) {
-      const auto& t = mesh.triangles[i];
-      for (int k = 0; k < 3; ++k) {
-        const Side side{static_cast<std::int32_t>(i), k};
-        const auto [it, inserted] = first.try_emplace(edge_key(t[k], t[(k + 1) % 3]), side);
-        if (!inserted) edges.push_back({it->second, side});
-      }
-    }
-  }
+  const std::vector<std::array<Side, 2>> edges = interior_edges(mesh);
   // Per edge: ½ h_e ∫_e [∂u_h/∂μ]² ds and the sagitta h_e θ_e / 8. The second side runs the
   // other way along the edge, so its parameter 1 - s meets the first side's s at the same point.
   std::vector<std::array<double, 2>> edge_terms(edges.size());
@@ -333,32 +339,32 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
     }
     eta2[i] += h[i] * h[i] * r2;
   });
-  // Jumps of the conormal derivative across interior edges.
-  std::unordered_map<std::uint64_t, std::pair<std::int32_t, int>> first;  // edge -> (triangle, local edge)
-  first.reserve(nt * 2);
-  for (std::size_t i = 0; i < nt; ++i) {
-    const auto& t = mesh.triangles[i];
-    for (int k = 0; k < 3; ++k) {
-      const std::int32_t a = t[k], b = t[(k + 1) % 3];
-      const auto [it, inserted] = first.try_emplace(edge_key(a, b), static_cast<std::int32_t>(i), k);
-      if (inserted) continue;
-      const std::size_t j = static_cast<std::size_t>(it->second.first);
-      const Vec3 pa = mesh.points[a], pb = mesh.points[b];
-      const double len = distance(pa, pb);
-      // Outward conormals: the edge direction turned in each triangle's plane.
-      const Vec3 dir = (pb - pa) * (1.0 / len);
-      const Vec3 ni = cross(dir, geo[i].normal), nj = cross(dir * -1.0, geo[j].normal);
-      const double jump = dot(grad[i], ni) + dot(grad[j], nj);
-      const double contribution = 0.5 * len * len * jump * jump;  // ½ h_e ‖J‖²_e, J constant on e
-      eta2[i] += contribution;
-      eta2[j] += contribution;
-      if (!mesh.projection) {
-        // The sagitta of an arc through the edge whose ends turn by the normals' angle.
-        const double theta = std::acos(std::clamp(dot(geo[i].normal, geo[j].normal), -1.0, 1.0));
-        const double sagitta = len * theta / 8.0;
-        delta[i] = std::max(delta[i], sagitta);
-        delta[j] = std::max(delta[j], sagitta);
-      }
+  // Jumps of the conormal derivative across interior edges: each edge's term on every core,
+  // added to its triangles in edge order.
+  const std::vector<std::array<Side, 2>> edges = interior_edges(mesh);
+  std::vector<std::array<double, 2>> edge_terms(edges.size());  // ½ h_e ‖J‖²_e, sagitta
+  detail::for_each_index(edges.size(), [&](std::size_t n) {
+    const auto i = static_cast<std::size_t>(edges[n][1].triangle), j = static_cast<std::size_t>(edges[n][0].triangle);
+    const int k = edges[n][1].edge;
+    const std::int32_t a = mesh.triangles[i][k], b = mesh.triangles[i][(k + 1) % 3];
+    const Vec3 pa = mesh.points[a], pb = mesh.points[b];
+    const double len = distance(pa, pb);
+    // Outward conormals: the edge direction turned in each triangle's plane.
+    const Vec3 dir = (pb - pa) * (1.0 / len);
+    const Vec3 ni = cross(dir, geo[i].normal), nj = cross(dir * -1.0, geo[j].normal);
+    const double jump = dot(grad[i], ni) + dot(grad[j], nj);
+    edge_terms[n][0] = 0.5 * len * len * jump * jump;  // J constant on e
+    // The sagitta of an arc through the edge whose ends turn by the normals' angle.
+    const double theta = std::acos(std::clamp(dot(geo[i].normal, geo[j].normal), -1.0, 1.0));
+    edge_terms[n][1] = len * theta / 8.0;
+  });
+  for (std::size_t n = 0; n < edges.size(); ++n) {
+    const auto i = static_cast<std::size_t>(edges[n][1].triangle), j = static_cast<std::size_t>(edges[n][0].triangle);
+    eta2[i] += edge_terms[n][0];
+    eta2[j] += edge_terms[n][0];
+    if (!mesh.projection) {
+      delta[i] = std::max(delta[i], edge_terms[n][1]);
+      delta[j] = std::max(delta[j], edge_terms[n][1]);
     }
   }
   // Neumann edges: the flux misfit.

@@ -94,8 +94,10 @@ struct CycleReport {
   double estimate = 0;
   std::optional<double> error_l2, error_h1;
   double seconds = 0;        ///< the whole cycle
+  double mesh_seconds = 0;   ///< the finite-element mesh (limit positions, P2 edge nodes)
   double solve_seconds = 0;  ///< assembly + solve
   double estimate_seconds = 0;
+  double error_seconds = 0;  ///< the errors against the exact solution, where it is known
   double adapt_seconds = 0;  ///< marking + mesh update + solution transfer
   std::size_t marked = 0, splits = 0, removals = 0;
   bool memory_limit_reached = false;  ///< the adaptation stopped at the memory ceiling
