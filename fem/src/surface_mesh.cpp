@@ -77,6 +77,28 @@ const std::array<QuadraturePoint, 7>& triangle_quadrature() {
 
 namespace {
 
+// split_limits (like compute_limits) leaves the same triangles, but those its undo re-creates
+// may sit in other slots: each FE triangle's handle is found again by its corners (an oriented
+// edge names one triangle of a manifold mesh: the corner with the smallest slot and the next).
+void find_triangles_again(SurfaceMesh& s, const RgbMesh& mesh) {
+  const auto key = [](const std::array<VertexHandle, 3>& c) {
+    int k = 0;
+    if (c[1].idx < c[k].idx) k = 1;
+    if (c[2].idx < c[k].idx) k = 2;
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c[k].idx)) << 32) |
+           static_cast<std::uint32_t>(c[(k + 1) % 3].idx);
+  };
+  std::unordered_map<std::uint64_t, TriangleHandle> by_corners;
+  by_corners.reserve(2 * s.triangles.size());
+  for (const TriangleHandle t : mesh.triangles()) by_corners.emplace(key(mesh.triangle_vertices(t)), t);
+  for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+    const auto& c = s.triangles[t];
+    const auto it = by_corners.find(key({s.vertex[c[0]], s.vertex[c[1]], s.vertex[c[2]]}));
+    if (it == by_corners.end()) throw std::logic_error("build_surface_mesh: a triangle is gone after split_limits");
+    s.triangle[t] = it->second;
+  }
+}
+
 // P2: one node per edge, numbered after the vertices in the order the triangles meet the
 // edges. With a projection, at the projection of the edge's midpoint; on the Loop limit surface,
 // at the limit position of the vertex that splitting the edge would insert (RgbMesh::
@@ -102,7 +124,10 @@ void add_edge_nodes(SurfaceMesh& s, RgbMesh& mesh) {
     }
   }
   std::vector<Vec3> limits;
-  if (!s.projection) limits = mesh.split_limits(edges);
+  if (!s.projection) {
+    limits = mesh.split_limits(edges);
+    find_triangles_again(s, mesh);
+  }
   for (std::size_t i = 0; i < edges.size(); ++i) {
     const Vec3 middle = 0.5 * (s.points[ends[i][0]] + s.points[ends[i][1]]);
     if (s.projection)

@@ -457,7 +457,9 @@ class RgbMesh {
   void complete_limit(VertexHandle v);
   /// Makes limit_position() available for every vertex without changing the mesh: missing
   /// neighbours are inserted, the limit positions recorded, and the inserted vertices removed
-  /// again (observers see both). Returns how many vertices were inserted and removed.
+  /// again (observers see both). Returns how many vertices were inserted and removed. The
+  /// mesh is the same afterwards (vertices keep their handles), but triangles and edges that
+  /// were removed and re-created may sit in other slots: find them again by their corners.
   std::size_t compute_limits();
   /// The limit positions of the vertices that splitting each edge would insert, without
   /// changing the mesh: the edges are split (with the splits they force), the new vertices'
@@ -465,6 +467,7 @@ class RgbMesh {
   /// compute_limits does (observers see both). What quadratic finite elements on the limit
   /// surface place on their edges. An edge that cannot be split (red, or at the maximum level)
   /// gets no value: its entry is NaN. Also makes every vertex's limit position available.
+  /// As with compute_limits, triangle and edge handles may name other slots afterwards.
   std::vector<Vec3> split_limits(const std::vector<EdgeHandle>& edges);
   /// The Loop stencil of refinable edge e at its level l: its endpoints, then the vertices
   /// opposite e in the two level-l triangles of the Loop mesh (for a red triangle, the apex
