@@ -139,6 +139,7 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
                                       {"equidistribution", adapt::Marking::equidistribution}});
   if (a.order != 1 && a.order != 2) throw InputError("--order " + std::to_string(a.order) + ": 1 or 2");
   o.order = a.order;
+  o.min_level = a.min_level;
   s.estimator = a.estimator;
   o.estimator = choose<adapt::EstimatorKind>(
       "--estimator", s.estimator, {{"residual", adapt::EstimatorKind::residual}, {"zz", adapt::EstimatorKind::zz}});
@@ -311,6 +312,7 @@ PriorRun read_prior_run(const std::string& folder) {
   a.geometry = text(root, "geometry", file);
   a.theta = real(root, "theta", file);
   a.coarsen = real(root, "coarsen", file);
+  a.min_level = root.find("min_level") ? static_cast<int>(count(root, "min_level", file)) : 0;  // reports before it: 0
   a.cycles = static_cast<int>(count(root, "max_cycles", file));
   a.target_error = real(root, "target_error", file);
   a.max_dofs = count(root, "max_dofs", file);
@@ -394,6 +396,7 @@ AdaptArgs resumed_args(const AdaptArgs& given, const PriorRun& p) {
                                              {"--marking", given.marking, r.marking},
                                              {"--estimator", given.estimator, r.estimator},
                                              {"--order", std::to_string(given.order), std::to_string(r.order)},
+                                             {"--min-level", std::to_string(given.min_level), std::to_string(r.min_level)},
                                              {"--solver", given.solver, r.solver},
                                              {"--geometry", given.geometry, r.geometry}})
     if (has(option) && value != saved) conflict(option, value, saved);
@@ -537,7 +540,7 @@ int run_adapt(const AdaptArgs& args) {
     j.add("stop_message", message);
     j.add("mesh", s.mesh_name).add("problem", s.problem).add("strategy", a.strategy).add("marking", s.marking);
     j.raw("theta", exact(s.options.theta)).add("estimator", s.estimator).add("order", a.order).add("solver", a.solver).add("geometry", s.geometry);
-    j.raw("coarsen", exact(s.options.coarsen_below)).add("max_cycles", s.options.max_cycles);
+    j.raw("coarsen", exact(s.options.coarsen_below)).add("min_level", a.min_level).add("max_cycles", s.options.max_cycles);
     j.raw("target_error", exact(a.target_error)).add("max_dofs", static_cast<std::int64_t>(a.max_dofs));
     if (s.moving) j.add("steps", s.dynamic.steps).add("cycles_per_step", s.dynamic.cycles_per_step);
     if (s.problem == "gaussian") {

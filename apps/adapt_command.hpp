@@ -20,7 +20,7 @@ struct AdaptArgs {
   std::string strategy = "adaptive";  // adaptive, uniform
   std::string marking;                // dorfler, fraction, equidistribution; empty: dorfler,
                                       // or equidistribution for moving-peak
-  std::string estimator = "residual";  // residual, zz (with --order 2: zz, the default there)
+  std::string estimator = "residual";  // residual, zz
   int order = 1;                       // finite elements: 1 (P1) or 2 (P2)
   std::string geometry;                // loop, sphere; empty: sphere for the sphere problems
   std::string solver = "auto";
@@ -30,6 +30,7 @@ struct AdaptArgs {
   int steps = 24;       // moving-peak time steps
   double target_error = 0;
   std::int64_t max_dofs = 100000;
+  int min_level = 0;  // a floor: no triangle coarser than this level
   std::vector<double> center;  // gaussian: the source's centre; empty: the first vertex's limit
   double width = 0;            // gaussian: sigma; 0: 1/20 of the bounding-box diagonal
   std::string out = "out";

@@ -339,6 +339,12 @@ int main(int argc, char** argv) {
                    "threshold, in [0, 1) [default: 0.25 for moving-peak, else 0]")
       ->check(number_in("a number in [0, 1)", [](double x) { return x >= 0 && x < 1; }));
   adapt_cmd
+      ->add_option("--min-level", adapt_args.min_level,
+                   "A floor: the mesh is refined to this level first and never coarsened below it")
+      ->capture_default_str()
+      ->check(number_in("an integer in [0, " + std::to_string(kMaxLevel) + "]",
+                        [](double x) { return x >= 0 && x <= kMaxLevel; }));
+  adapt_cmd
       ->add_option("--cycles", adapt_args.cycles,
                    "Maximum number of cycles; for moving-peak, the cycles adapting to the start [default: 20; 8]")
       ->check(number_in("an integer in [1, 1000000]", [](double x) { return x >= 1 && x <= 1e6; }));
@@ -434,7 +440,7 @@ int main(int argc, char** argv) {
   }
   adapt_args.compression = compression;
   fit_args.compression = compression;
-  for (const char* name : {"--mesh", "--problem", "--strategy", "--marking", "--theta", "--estimator", "--order", "--coarsen",
+  for (const char* name : {"--mesh", "--problem", "--strategy", "--marking", "--theta", "--estimator", "--order", "--coarsen", "--min-level",
                            "--cycles", "--steps", "--target-error", "--max-dofs", "--geometry", "--center", "--width",
                            "--solver", "--out", "--triangulate"}) {
     if (adapt_cmd->count(name) > 0) adapt_args.given.insert(name);

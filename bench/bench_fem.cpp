@@ -41,6 +41,10 @@ void BM_AssembleAndSolve(benchmark::State& state) {
     state.SkipWithError("built without CHOLMOD");
     return;
   }
+  if (solver == SolverKind::amg && !amg_available()) {
+    state.SkipWithError("built without PETSc: no amg");
+    return;
+  }
   const SurfaceMesh& mesh = octahedral_sphere(level);
   const Problem problem = sphere_peak();
   SolveOptions options;
@@ -60,12 +64,12 @@ void BM_AssembleAndSolve(benchmark::State& state) {
   state.counters["assembly_s"] = assembly / n;
   state.counters["solve_s"] = solve_time / n;
   state.counters["us_per_dof"] = 1e6 * (assembly + solve_time) / n / dofs;
-  if (solver == SolverKind::cg_ichol) state.counters["cg_iterations"] = iterations;
+  if (solver == SolverKind::cg_ichol || solver == SolverKind::amg) state.counters["cg_iterations"] = iterations;
 }
 
 void Sizes(benchmark::internal::Benchmark* b) {
   for (int level = 6; level <= 9; ++level) {
-    for (SolverKind k : {SolverKind::ldlt, SolverKind::cg_ichol, SolverKind::cholmod})
+    for (SolverKind k : {SolverKind::ldlt, SolverKind::cg_ichol, SolverKind::cholmod, SolverKind::amg})
       b->Args({level, static_cast<long>(k)});
   }
 }

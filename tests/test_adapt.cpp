@@ -215,6 +215,41 @@ TEST(Adapt, UniformStrategyOnAMovingPeakKeepsOneMeshWithinMaxDofs) {
   }
 }
 
+// A floor under adaptivity (min_level): the first mesh is the uniform level-2 mesh, and a
+// moving peak with coarsening never takes a triangle below level 2, while it does coarsen.
+TEST(Adapt, NoTriangleFallsBelowTheMinimumLevel) {
+  const TriangleMeshData ico = icosahedron();
+  RgbMesh mesh = RgbMesh::from_triangles(ico.points, ico.triangles);
+  AdaptOptions o = sphere_options(Strategy::adaptive);
+  o.coarsen_below = 0.25;
+  o.marking = Marking::equidistribution;
+  o.min_level = 2;
+  DynamicOptions d;
+  d.steps = 8;
+  d.start_cycles = 6;
+  int below = 0;
+  const AdaptRun run = run_dynamic(mesh, [](double t) { return moving_peak(t); }, o, d, [&](const CycleState& s) {
+    for (const std::uint8_t level : s.solved->triangle_level) below += level < 2;
+  });
+  ASSERT_EQ(run.start.size(), 6u);
+  EXPECT_EQ(run.start.front().dofs, 162u);  // the icosahedron's level 2
+  std::uint64_t removals = 0;
+  for (const auto& r : run.cycles) removals += r.removals;
+  EXPECT_GT(removals, 100u);
+  EXPECT_EQ(below, 0);
+  // The same coarsening without the floor takes triangles below level 2 (the peak's wake
+  // returns to the base), so the floor is what holds them.
+  RgbMesh free_mesh = RgbMesh::from_triangles(ico.points, ico.triangles);
+  o.min_level = 0;
+  int coarser = 0;
+  run_dynamic(free_mesh, [](double t) { return moving_peak(t); }, o, d, [&](const CycleState& s) {
+    for (const std::uint8_t level : s.solved->triangle_level) coarser += level < 2;
+  });
+  EXPECT_GT(coarser, 0);
+  o.min_level = o.max_level + 1;
+  EXPECT_THROW(run_cycles(free_mesh, fem::sphere_peak(), o), std::invalid_argument);
+}
+
 TEST(Adapt, RunsStopAtMaxDofsAndSayWhy) {
   // Uniform refinement predicts the next level and never builds it.
   RgbMesh uniform_mesh = icosphere();

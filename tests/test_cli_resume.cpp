@@ -152,9 +152,10 @@ TEST_F(Resume, AMaxDofsStopExtendsWithMoreUnknowns) {
 }
 
 TEST_F(Resume, AMovingPeakRunResumedRepeatsTheUninterruptedRun) {
-  // Equidistribution with coarsening (0.25, the default), 8 steps; interrupted after 3.
+  // Equidistribution with coarsening (0.25, the default) above a floor at level 2, 8 steps;
+  // interrupted after 3.
   const std::string full = path("mfull"), part = path("mpart");
-  ASSERT_EQ(run("adapt --problem moving-peak --steps 8 --out " + full).code, 0);
+  ASSERT_EQ(run("adapt --problem moving-peak --steps 8 --min-level 2 --out " + full).code, 0);
   fs::copy(full, part);
   interrupt_after(part, 3, "step_");
   ASSERT_FALSE(fs::exists(part + "/step_003.vtp"));
@@ -170,6 +171,7 @@ TEST_F(Resume, AMovingPeakRunResumedRepeatsTheUninterruptedRun) {
   for (std::size_t i = 3; i < cb.size(); ++i) removals += cb[i].removals;
   EXPECT_GT(removals, 0) << "the resumed steps coarsened behind the peak";
   EXPECT_EQ(a.find("target_estimate")->number, b.find("target_estimate")->number);
+  EXPECT_EQ(b.find("min_level")->number, 2);
   EXPECT_EQ(triangles_of(full + "/step_008.vtp"), triangles_of(part + "/step_008.vtp"));
   EXPECT_EQ(b.find("stopped")->string, "steps");
   // All steps done: a moving run does not extend.
@@ -191,6 +193,7 @@ TEST_F(Resume, ConflictingOptionsAndDamagedFoldersAreRefused) {
   refused(dir + " --cycles 5 --theta 0.5", "--theta 0.5: conflicts");
   refused(dir + " --cycles 5 --problem moving-peak", "--problem moving-peak: conflicts");
   refused(dir + " --cycles 5 --estimator zz", "--estimator zz: conflicts");
+  refused(dir + " --cycles 5 --min-level 1", "--min-level 1: conflicts");
   refused(dir + " --cycles 5 --mesh " + dir + "/cycle_002.vtp", "--mesh: does not apply with --resume");
   refused(dir + " --cycles 5 --out " + path("elsewhere"), "--out");
   refused(dir, "has done 3 cycles");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 #include "rgbmesh/adapt/solution_transfer.hpp"
 #include "rgbmesh/errors.hpp"
@@ -190,7 +191,10 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
         for (std::int32_t v : c.fe.triangles[i]) star[v] = std::max(star[v], c.estimate.eta[i]);
       }
       vertex_values.assign(static_cast<std::size_t>(mesh.vertex_slots()), 1e300);
-      for (std::size_t v = 0; v < star.size(); ++v) vertex_values[c.fe.vertex[v].idx] = star[v];
+      for (std::size_t v = 0; v < star.size(); ++v) {
+        // Vertices at or below the floor stay (their removal would coarsen below it).
+        if (mesh.level(c.fe.vertex[v]) > options.min_level) vertex_values[c.fe.vertex[v].idx] = star[v];
+      }
       threshold = options.coarsen_below *
                   refinement_threshold(c.estimate.eta, marked, options.marking, options.target_estimate);
     }
@@ -203,6 +207,15 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
   report.removals += r.removals;
   report.adapt_seconds += seconds_since(t0);
   return marked;
+}
+
+// AdaptOptions::min_level: the whole mesh at that level at least before anything is solved (a
+// mesh that already is, a resumed run's, is left as it is).
+void refine_to_floor(RgbMesh& mesh, const AdaptOptions& options) {
+  if (options.min_level < 0 || options.min_level > options.max_level)
+    throw std::invalid_argument("adapt: min_level " + std::to_string(options.min_level) + " is not in [0, max_level " +
+                                std::to_string(options.max_level) + "]");
+  if (options.min_level > 0) selective_refinement(mesh, AtLeastLevel(options.min_level));
 }
 
 // Whether a cycle on the mesh as it is now fits under the memory ceiling: the unknowns added
@@ -268,6 +281,7 @@ double refinement_threshold(const std::vector<double>& eta, const std::vector<ch
 
 AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
                     const CycleCallback& on_cycle) {
+  refine_to_floor(mesh, options);
   SolutionTransfer transfer(mesh);
   AdaptRun run;
   std::size_t solved_dofs = 0;
@@ -317,6 +331,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
 
 AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& problem_at,
                      const AdaptOptions& options, const DynamicOptions& dynamic, const CycleCallback& on_step) {
+  refine_to_floor(mesh, options);
   AdaptRun run;
   const bool resuming = dynamic.first_step > 0;
   if (resuming && options.marking == Marking::equidistribution && !(options.target_estimate > 0))

@@ -373,6 +373,10 @@ double UniformLevel::vertex_priority(const RgbMesh& m, VertexHandle v) const {
   return m.level(v) > level_ ? static_cast<double>(m.level(v)) : 0.0;
 }
 
+double AtLeastLevel::triangle_priority(const RgbMesh& m, TriangleHandle t) const {
+  return m.level(t) < level_ ? static_cast<double>(level_ - m.level(t)) : 0.0;
+}
+
 double BallLevel::triangle_priority(const RgbMesh& m, TriangleHandle t) const {
   if (m.level(t) >= level_) return 0.0;
   const auto c = m.triangle_vertices(t);

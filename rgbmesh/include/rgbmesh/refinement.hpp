@@ -95,6 +95,16 @@ class UniformLevel final : public LodCriterion {
   int level_;
 };
 
+/// At least `level` on every triangle (refines only): a floor under adaptive refinement.
+class AtLeastLevel final : public LodCriterion {
+ public:
+  explicit AtLeastLevel(int level) : level_(level) {}
+  double triangle_priority(const RgbMesh& m, TriangleHandle t) const override;
+
+ private:
+  int level_;
+};
+
 /// At least `level` on every triangle that meets the ball (refines only).
 class BallLevel final : public LodCriterion {
  public:

@@ -44,6 +44,11 @@ struct AdaptOptions {
   double target_estimate = 0.0;
   std::size_t max_dofs = 1000000;
   int max_level = kMaxLevel;
+  /// A floor: no triangle coarser than this level. The mesh is refined to it before the first
+  /// solve (AtLeastLevel) and coarsening never removes a vertex of this level or below, so
+  /// every triangle of every cycle lies inside one triangle of the uniform level-min_level mesh
+  /// (the unit a distributed run partitions).
+  int min_level = 0;
   /// Memory: when set, returns the bytes still free under the caller's ceiling. A cycle whose
   /// mesh would need more (kSolveBytesPerDof per new unknown, the refinement's arrays) is not
   /// run: the run stops with StopReason::memory, its results so far intact.
