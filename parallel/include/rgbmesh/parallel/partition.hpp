@@ -1,0 +1,56 @@
+#pragma once
+/// \file
+/// The unit of distribution: macro triangles (the triangles of the uniform level-K mesh) and
+/// their partition among processes.
+///
+/// RGB refinement is local: under a floor at level K (no triangle coarser than K, as
+/// adapt::AdaptOptions::min_level keeps it), every triangle of the mesh lies inside exactly
+/// one triangle of the uniform level-K mesh, whatever was refined or coarsened above it. Those
+/// macro triangles are the pieces a distributed run hands out, each with the refinement it
+/// holds; their number grows by 4 per level, so K can be chosen for the number of processes
+/// even when the user's base has a handful of triangles (macro_level_for).
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "rgbmesh/mesh.hpp"
+
+namespace rgbmesh::parallel {
+
+struct MacroTriangles {
+  int level = 0;
+  std::vector<std::array<VertexHandle, 3>> corners;  ///< per macro triangle, counter-clockwise
+  std::vector<std::array<std::int32_t, 3>> across;   ///< the macro triangle across edge k (corner k to k+1); -1 on the boundary
+  std::vector<std::int32_t> of_triangle;             ///< per triangle slot of the mesh: its macro triangle (-1: free slot)
+  std::vector<std::size_t> triangles;                ///< per macro triangle: the mesh's triangles inside it
+};
+
+/// The macro triangles at `level` and which one holds each triangle of the mesh. Each vertex
+/// is placed in the smallest cell of the level-`level` mesh that holds it (a macro vertex, the
+/// inside of a macro edge, or of a macro triangle): a vertex above the level sits halfway
+/// between its parents, so its cell is the smallest one holding both of theirs; a triangle
+/// lies in the macro triangle that holds its three corners. Throws std::invalid_argument if a
+/// triangle is coarser than `level`.
+MacroTriangles macro_triangles(const RgbMesh& mesh, int level);
+
+struct Partition {
+  int parts = 1;
+  std::vector<std::int32_t> part_of;  ///< per macro triangle, in [0, parts)
+  std::vector<std::size_t> weight;    ///< per part: the mesh's triangles it holds
+  double imbalance = 1;               ///< the largest part's weight over the mean
+};
+
+/// Splits the macro triangles into `parts` connected groups of nearly equal weight (the mesh's
+/// triangles they hold) with few edges between them: METIS's k-way partition of their dual
+/// graph, seeded for reproducible results. Throws std::invalid_argument for fewer macro
+/// triangles than parts.
+Partition partition(const MacroTriangles& macro, int parts);
+
+/// The smallest level at or above `min_level` whose uniform mesh has at least
+/// `per_part` macro triangles per part (the granularity rebalancing needs when the refinement
+/// gathers in a few of them).
+int macro_level_for(const RgbMesh& mesh, int parts, int min_level = 0, int per_part = 32);
+
+}  // namespace rgbmesh::parallel

@@ -1,0 +1,198 @@
+#include "rgbmesh/parallel/partition.hpp"
+
+#include <metis.h>
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+#include "rgbmesh/refinement.hpp"
+
+namespace rgbmesh::parallel {
+
+namespace {
+
+std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+// The smallest cell of the macro mesh holding a point: a macro vertex, the inside of a macro
+// edge (its ends), or the inside of a macro triangle.
+struct Cell {
+  enum Kind : std::uint8_t { none, on_vertex, on_edge, in_face } kind = none;
+  std::int32_t a = -1, b = -1;  // vertex: a; edge: a < b (vertex slots)
+  std::int32_t face = -1;
+};
+
+class MacroCells {
+ public:
+  explicit MacroCells(const MacroTriangles& m) : m_(m) {
+    faces_of_edge_.reserve(m.corners.size() * 2);
+    for (std::size_t f = 0; f < m.corners.size(); ++f) {
+      for (int k = 0; k < 3; ++k) {
+        auto& faces = faces_of_edge_.try_emplace(key(f, k), std::array<std::int32_t, 2>{-1, -1}).first->second;
+        faces[faces[0] < 0 ? 0 : 1] = static_cast<std::int32_t>(f);
+      }
+    }
+  }
+  std::uint64_t key(std::size_t f, int k) const {
+    return edge_key(m_.corners[f][k].idx, m_.corners[f][(k + 1) % 3].idx);
+  }
+  const std::array<std::int32_t, 2>* faces(std::int32_t a, std::int32_t b) const {
+    const auto it = faces_of_edge_.find(edge_key(a, b));
+    return it == faces_of_edge_.end() ? nullptr : &it->second;
+  }
+  bool has_corner(std::int32_t f, std::int32_t v) const {
+    for (const VertexHandle c : m_.corners[static_cast<std::size_t>(f)])
+      if (c.idx == v) return true;
+    return false;
+  }
+  // The smallest cell holding two cells' points and every point between them.
+  Cell join(const Cell& x, const Cell& y) const {
+    if (x.kind == Cell::in_face || y.kind == Cell::in_face) {
+      const Cell& f = x.kind == Cell::in_face ? x : y;
+      const Cell& o = x.kind == Cell::in_face ? y : x;
+      const bool inside = o.kind == Cell::in_face    ? o.face == f.face
+                          : o.kind == Cell::on_edge  ? has_corner(f.face, o.a) && has_corner(f.face, o.b)
+                                                  : has_corner(f.face, o.a);
+      if (!inside) fail();
+      return f;
+    }
+    if (x.kind == Cell::on_vertex && y.kind == Cell::on_vertex) {
+      if (x.a == y.a) return x;
+      if (!faces(x.a, y.a)) fail();
+      return {Cell::on_edge, std::min(x.a, y.a), std::max(x.a, y.a), -1};
+    }
+    if (x.kind == Cell::on_edge && y.kind == Cell::on_edge) {
+      if (x.a == y.a && x.b == y.b) return x;
+      return {Cell::in_face, -1, -1, face_with(x, [&](std::int32_t f) { return has_corner(f, y.a) && has_corner(f, y.b); })};
+    }
+    const Cell& e = x.kind == Cell::on_edge ? x : y;
+    const Cell& v = x.kind == Cell::on_edge ? y : x;
+    if (v.a == e.a || v.a == e.b) return e;
+    return {Cell::in_face, -1, -1, face_with(e, [&](std::int32_t f) { return has_corner(f, v.a); })};
+  }
+
+ private:
+  template <class Holds>
+  std::int32_t face_with(const Cell& e, Holds holds) const {
+    const auto* f = faces(e.a, e.b);
+    if (!f) fail();
+    for (const std::int32_t face : *f)
+      if (face >= 0 && holds(face)) return face;
+    fail();
+  }
+  [[noreturn]] static void fail() {
+    throw std::logic_error("macro_triangles: a vertex is not between its parents' macro cells");
+  }
+  const MacroTriangles& m_;
+  std::unordered_map<std::uint64_t, std::array<std::int32_t, 2>> faces_of_edge_;
+};
+
+}  // namespace
+
+MacroTriangles macro_triangles(const RgbMesh& mesh, int level) {
+  for (const TriangleHandle t : mesh.triangles()) {
+    if (mesh.level(t) < level)
+      throw std::invalid_argument("macro_triangles: triangle " + std::to_string(t.idx) + " is at level " +
+                                  std::to_string(mesh.level(t)) + ", below the macro level " + std::to_string(level) +
+                                  " (refine to a floor first: adapt --min-level)");
+  }
+  MacroTriangles m;
+  m.level = level;
+  {
+    // The uniform level-`level` mesh: a copy coarsened to it (vertices keep their handles).
+    RgbMesh coarse = mesh;
+    selective_refinement(coarse, UniformLevel(level));
+    m.corners.reserve(coarse.num_triangles());
+    for (const TriangleHandle t : coarse.triangles()) m.corners.push_back(coarse.triangle_vertices(t));
+  }
+  const MacroCells cells(m);
+  m.across.assign(m.corners.size(), {-1, -1, -1});
+  for (std::size_t f = 0; f < m.corners.size(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const auto* faces = cells.faces(m.corners[f][k].idx, m.corners[f][(k + 1) % 3].idx);
+      const std::int32_t other = (*faces)[0] == static_cast<std::int32_t>(f) ? (*faces)[1] : (*faces)[0];
+      m.across[f][k] = other;
+    }
+  }
+  // Each vertex's cell, parents before children (a vertex's parents are of lower levels).
+  std::vector<Cell> cell(static_cast<std::size_t>(mesh.vertex_slots()));
+  std::vector<std::vector<VertexHandle>> by_level;
+  for (const VertexHandle v : mesh.vertices()) {
+    const auto l = static_cast<std::size_t>(mesh.level(v));
+    if (by_level.size() <= l) by_level.resize(l + 1);
+    by_level[l].push_back(v);
+  }
+  for (std::size_t l = 0; l < by_level.size(); ++l) {
+    for (const VertexHandle v : by_level[l]) {
+      if (static_cast<int>(l) <= level) {
+        cell[v.idx] = {Cell::on_vertex, v.idx, -1, -1};
+      } else {
+        const auto [a, b] = mesh.parents(v);
+        cell[v.idx] = cells.join(cell[a.idx], cell[b.idx]);
+      }
+    }
+  }
+  m.of_triangle.assign(static_cast<std::size_t>(mesh.triangle_slots()), -1);
+  m.triangles.assign(m.corners.size(), 0);
+  for (const TriangleHandle t : mesh.triangles()) {
+    const auto c = mesh.triangle_vertices(t);
+    const Cell joined = cells.join(cells.join(cell[c[0].idx], cell[c[1].idx]), cell[c[2].idx]);
+    if (joined.kind != Cell::in_face)
+      throw std::logic_error("macro_triangles: triangle " + std::to_string(t.idx) + " lies on a macro edge");
+    m.of_triangle[t.idx] = joined.face;
+    ++m.triangles[static_cast<std::size_t>(joined.face)];
+  }
+  return m;
+}
+
+Partition partition(const MacroTriangles& macro, int parts) {
+  const std::size_t n = macro.corners.size();
+  if (parts < 1 || static_cast<std::size_t>(parts) > n)
+    throw std::invalid_argument("partition: " + std::to_string(parts) + " parts of " + std::to_string(n) +
+                                " macro triangles");
+  Partition p;
+  p.parts = parts;
+  p.part_of.assign(n, 0);
+  if (parts > 1) {
+    // The dual graph in METIS's compressed rows, weighted by the triangles held (at least 1).
+    std::vector<idx_t> xadj{0}, adjncy, vwgt(n);
+    for (std::size_t f = 0; f < n; ++f) {
+      for (const std::int32_t g : macro.across[f])
+        if (g >= 0) adjncy.push_back(g);
+      xadj.push_back(static_cast<idx_t>(adjncy.size()));
+      vwgt[f] = static_cast<idx_t>(std::max<std::size_t>(1, macro.triangles[f]));
+    }
+    idx_t vertices = static_cast<idx_t>(n), constraints = 1, nparts = parts, cut = 0;
+    std::vector<idx_t> part(n);
+    idx_t options[METIS_NOPTIONS];
+    METIS_SetDefaultOptions(options);
+    options[METIS_OPTION_SEED] = 1;  // the same partition on every process and run
+    options[METIS_OPTION_NUMBERING] = 0;
+    const int status = METIS_PartGraphKway(&vertices, &constraints, xadj.data(), adjncy.data(), vwgt.data(), nullptr,
+                                           nullptr, &nparts, nullptr, nullptr, options, &cut, part.data());
+    if (status != METIS_OK) throw std::runtime_error("partition: METIS failed (status " + std::to_string(status) + ")");
+    for (std::size_t f = 0; f < n; ++f) p.part_of[f] = static_cast<std::int32_t>(part[f]);
+  }
+  p.weight.assign(static_cast<std::size_t>(parts), 0);
+  for (std::size_t f = 0; f < n; ++f) p.weight[static_cast<std::size_t>(p.part_of[f])] += macro.triangles[f];
+  const double total = static_cast<double>(std::accumulate(p.weight.begin(), p.weight.end(), std::size_t{0}));
+  const double largest = static_cast<double>(*std::max_element(p.weight.begin(), p.weight.end()));
+  p.imbalance = total > 0 ? largest * parts / total : 1.0;
+  return p;
+}
+
+int macro_level_for(const RgbMesh& mesh, int parts, int min_level, int per_part) {
+  int level = std::max(0, min_level);
+  while (level < kMaxLevel &&
+         uniform_level_counts(mesh, level).triangles < static_cast<double>(parts) * static_cast<double>(per_part))
+    ++level;
+  return level;
+}
+
+}  // namespace rgbmesh::parallel
