@@ -95,13 +95,11 @@ class MacroCells {
 
 }  // namespace
 
-MacroTriangles macro_triangles(const RgbMesh& mesh, int level) {
-  for (const TriangleHandle t : mesh.triangles()) {
-    if (mesh.level(t) < level)
-      throw std::invalid_argument("macro_triangles: triangle " + std::to_string(t.idx) + " is at level " +
-                                  std::to_string(mesh.level(t)) + ", below the macro level " + std::to_string(level) +
-                                  " (refine to a floor first: adapt --min-level)");
-  }
+namespace {
+
+// The macro triangles at `level`; a triangle coarser than the level gets -1 (its corners'
+// cells are macro vertices that no macro edge joins).
+MacroTriangles cells_at(const RgbMesh& mesh, int level) {
   MacroTriangles m;
   m.level = level;
   {
@@ -141,6 +139,7 @@ MacroTriangles macro_triangles(const RgbMesh& mesh, int level) {
   m.of_triangle.assign(static_cast<std::size_t>(mesh.triangle_slots()), -1);
   m.triangles.assign(m.corners.size(), 0);
   for (const TriangleHandle t : mesh.triangles()) {
+    if (mesh.level(t) < level) continue;
     const auto c = mesh.triangle_vertices(t);
     const Cell joined = cells.join(cells.join(cell[c[0].idx], cell[c[1].idx]), cell[c[2].idx]);
     if (joined.kind != Cell::in_face)
@@ -151,40 +150,132 @@ MacroTriangles macro_triangles(const RgbMesh& mesh, int level) {
   return m;
 }
 
-Partition partition(const MacroTriangles& macro, int parts) {
-  const std::size_t n = macro.corners.size();
+// METIS's k-way partition of a graph given in compressed rows, weighted (at least 1 each).
+Partition partition_graph(const std::vector<std::size_t>& weights, const std::vector<idx_t>& xadj,
+                          const std::vector<idx_t>& adjncy, int parts, const char* what) {
+  const std::size_t n = weights.size();
   if (parts < 1 || static_cast<std::size_t>(parts) > n)
-    throw std::invalid_argument("partition: " + std::to_string(parts) + " parts of " + std::to_string(n) +
-                                " macro triangles");
+    throw std::invalid_argument(std::string("partition: ") + std::to_string(parts) + " parts of " + std::to_string(n) +
+                                " " + what);
   Partition p;
   p.parts = parts;
   p.part_of.assign(n, 0);
   if (parts > 1) {
-    // The dual graph in METIS's compressed rows, weighted by the triangles held (at least 1).
-    std::vector<idx_t> xadj{0}, adjncy, vwgt(n);
-    for (std::size_t f = 0; f < n; ++f) {
-      for (const std::int32_t g : macro.across[f])
-        if (g >= 0) adjncy.push_back(g);
-      xadj.push_back(static_cast<idx_t>(adjncy.size()));
-      vwgt[f] = static_cast<idx_t>(std::max<std::size_t>(1, macro.triangles[f]));
-    }
+    std::vector<idx_t> vwgt(n), part(n);
+    for (std::size_t f = 0; f < n; ++f) vwgt[f] = static_cast<idx_t>(std::max<std::size_t>(1, weights[f]));
     idx_t vertices = static_cast<idx_t>(n), constraints = 1, nparts = parts, cut = 0;
-    std::vector<idx_t> part(n);
     idx_t options[METIS_NOPTIONS];
     METIS_SetDefaultOptions(options);
     options[METIS_OPTION_SEED] = 1;  // the same partition on every process and run
     options[METIS_OPTION_NUMBERING] = 0;
-    const int status = METIS_PartGraphKway(&vertices, &constraints, xadj.data(), adjncy.data(), vwgt.data(), nullptr,
-                                           nullptr, &nparts, nullptr, nullptr, options, &cut, part.data());
+    const int status = METIS_PartGraphKway(&vertices, &constraints, const_cast<idx_t*>(xadj.data()),
+                                           const_cast<idx_t*>(adjncy.data()), vwgt.data(), nullptr, nullptr, &nparts,
+                                           nullptr, nullptr, options, &cut, part.data());
     if (status != METIS_OK) throw std::runtime_error("partition: METIS failed (status " + std::to_string(status) + ")");
     for (std::size_t f = 0; f < n; ++f) p.part_of[f] = static_cast<std::int32_t>(part[f]);
   }
   p.weight.assign(static_cast<std::size_t>(parts), 0);
-  for (std::size_t f = 0; f < n; ++f) p.weight[static_cast<std::size_t>(p.part_of[f])] += macro.triangles[f];
+  for (std::size_t f = 0; f < n; ++f) p.weight[static_cast<std::size_t>(p.part_of[f])] += weights[f];
   const double total = static_cast<double>(std::accumulate(p.weight.begin(), p.weight.end(), std::size_t{0}));
   const double largest = static_cast<double>(*std::max_element(p.weight.begin(), p.weight.end()));
   p.imbalance = total > 0 ? largest * parts / total : 1.0;
   return p;
+}
+
+}  // namespace
+
+MacroTriangles macro_triangles(const RgbMesh& mesh, int level) {
+  for (const TriangleHandle t : mesh.triangles()) {
+    if (mesh.level(t) < level)
+      throw std::invalid_argument("macro_triangles: triangle " + std::to_string(t.idx) + " is at level " +
+                                  std::to_string(mesh.level(t)) + ", below the macro level " + std::to_string(level) +
+                                  " (refine to a floor first: adapt --min-level)");
+  }
+  return cells_at(mesh, level);
+}
+
+Partition partition(const MacroTriangles& macro, int parts) {
+  std::vector<idx_t> xadj{0}, adjncy;
+  for (const auto& across : macro.across) {
+    for (const std::int32_t g : across)
+      if (g >= 0) adjncy.push_back(g);
+    xadj.push_back(static_cast<idx_t>(adjncy.size()));
+  }
+  return partition_graph(macro.triangles, xadj, adjncy, parts, "macro triangles");
+}
+
+Units units(const RgbMesh& mesh, int floor, int parts, double share) {
+  if (!(share > 0)) throw std::invalid_argument("units: the share must be positive");
+  Units u;
+  const double limit = share * static_cast<double>(mesh.num_triangles()) / std::max(1, parts);
+  // Each triangle's cell at every level from the floor down to the finest (-1 where coarser).
+  std::vector<MacroTriangles> at{macro_triangles(mesh, floor)};
+  const int finest = mesh.max_level();
+  // Top-down: a unit heavier than the limit whose triangles are all finer than it splits into
+  // the cells one level down that hold them.
+  struct Pending {
+    int level;
+    std::int32_t cell;
+    std::vector<TriangleHandle> triangles;
+  };
+  std::vector<Pending> todo;
+  {
+    std::vector<std::vector<TriangleHandle>> by_cell(at[0].corners.size());
+    for (const TriangleHandle t : mesh.triangles()) by_cell[static_cast<std::size_t>(at[0].of_triangle[t.idx])].push_back(t);
+    for (std::size_t f = 0; f < by_cell.size(); ++f)
+      todo.push_back({floor, static_cast<std::int32_t>(f), std::move(by_cell[f])});
+  }
+  u.of_triangle.assign(static_cast<std::size_t>(mesh.triangle_slots()), -1);
+  while (!todo.empty()) {
+    Pending p = std::move(todo.back());
+    todo.pop_back();
+    bool split = static_cast<double>(p.triangles.size()) > limit && p.level < finest;
+    for (const TriangleHandle t : p.triangles) split = split && mesh.level(t) > p.level;
+    if (split) {
+      const auto depth = static_cast<std::size_t>(p.level + 1 - floor);
+      if (at.size() <= depth) at.push_back(cells_at(mesh, p.level + 1));
+      std::vector<std::pair<std::int32_t, std::vector<TriangleHandle>>> children;
+      for (const TriangleHandle t : p.triangles) {
+        const std::int32_t c = at[depth].of_triangle[t.idx];
+        auto it = std::find_if(children.begin(), children.end(), [c](const auto& x) { return x.first == c; });
+        if (it == children.end()) it = children.insert(children.end(), {c, {}});
+        it->second.push_back(t);
+      }
+      for (auto& [c, triangles] : children) todo.push_back({p.level + 1, c, std::move(triangles)});
+      continue;
+    }
+    const auto id = static_cast<std::int32_t>(u.level.size());
+    u.level.push_back(p.level);
+    u.cell.push_back(p.cell);
+    u.triangles.push_back(p.triangles.size());
+    for (const TriangleHandle t : p.triangles) u.of_triangle[t.idx] = id;
+  }
+  // Units are neighbours where their triangles share an edge.
+  std::vector<std::vector<std::int32_t>> next(u.level.size());
+  for (const TriangleHandle t : mesh.triangles()) {
+    const std::int32_t a = u.of_triangle[t.idx];
+    for (const EdgeHandle e : mesh.triangle_edges(t)) {
+      if (mesh.is_boundary(e)) continue;
+      const std::int32_t b = u.of_triangle[mesh.other_triangle(e, t).idx];
+      if (b != a) next[static_cast<std::size_t>(a)].push_back(b);
+    }
+  }
+  u.neighbours.resize(next.size());
+  for (std::size_t a = 0; a < next.size(); ++a) {
+    std::sort(next[a].begin(), next[a].end());
+    next[a].erase(std::unique(next[a].begin(), next[a].end()), next[a].end());
+    u.neighbours[a] = std::move(next[a]);
+  }
+  return u;
+}
+
+Partition partition(const Units& units, int parts) {
+  std::vector<idx_t> xadj{0}, adjncy;
+  for (const auto& n : units.neighbours) {
+    adjncy.insert(adjncy.end(), n.begin(), n.end());
+    xadj.push_back(static_cast<idx_t>(adjncy.size()));
+  }
+  return partition_graph(units.triangles, xadj, adjncy, parts, "units");
 }
 
 int macro_level_for(const RgbMesh& mesh, int parts, int min_level, int per_part) {

@@ -48,6 +48,23 @@ struct Partition {
 /// triangles than parts.
 Partition partition(const MacroTriangles& macro, int parts);
 
+/// Units of distribution finer than the macro triangles where the mesh is heavy: a macro
+/// triangle at the floor holding more than `share` times the mean part's triangles (the mesh's
+/// triangles over `parts`) is replaced by its four sub-triangles of the next level (the cells
+/// of the uniform mesh one level down that hold its triangles), and so on down, as long as all
+/// of a unit's triangles are finer than it (a forest of quadtrees over the macro triangles).
+/// A refinement gathered in a few macro triangles is then still spread over many units.
+struct Units {
+  std::vector<int> level;                             ///< per unit: its level (the floor or finer)
+  std::vector<std::int32_t> cell;                     ///< per unit: its cell among that level's triangles
+  std::vector<std::size_t> triangles;                 ///< per unit: the mesh's triangles inside it
+  std::vector<std::int32_t> of_triangle;              ///< per triangle slot: its unit (-1: free slot)
+  std::vector<std::vector<std::int32_t>> neighbours;  ///< units sharing an edge of the mesh
+};
+Units units(const RgbMesh& mesh, int floor, int parts, double share = 0.1);
+/// METIS's k-way partition of the units' graph, weighted by the triangles each holds.
+Partition partition(const Units& units, int parts);
+
 /// The smallest level at or above `min_level` whose uniform mesh has at least
 /// `per_part` macro triangles per part (the granularity rebalancing needs when the refinement
 /// gathers in a few of them).
