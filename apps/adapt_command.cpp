@@ -140,6 +140,7 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   if (a.order != 1 && a.order != 2) throw InputError("--order " + std::to_string(a.order) + ": 1 or 2");
   o.order = a.order;
   o.min_level = a.min_level;
+  o.solve.linear_solver = a.linear_solver;
   s.estimator = a.estimator;
   o.estimator = choose<adapt::EstimatorKind>(
       "--estimator", s.estimator, {{"residual", adapt::EstimatorKind::residual}, {"zz", adapt::EstimatorKind::zz}});
@@ -518,7 +519,7 @@ int run_adapt(const AdaptArgs& args) {
   // Output: the folder, the per-cycle files, the series and the report after every cycle.
   // A resumed run keeps its folder, series and report, and goes on with them.
   const fs::path dir(a.out);
-  if (!prior) prepare_output_directory(dir);
+  if (!prior && a.writes) prepare_output_directory(dir);
   std::vector<std::pair<double, std::string>> series;
   adapt::AdaptRun progress;  // what has been computed so far, for the report
   std::vector<std::string> resumed;
@@ -558,6 +559,7 @@ int run_adapt(const AdaptArgs& args) {
   // The report goes into the run's folder (what --resume reads), and to --report FILE.
   const fs::path run_report = dir / "report.json";
   auto write_report = [&](const std::string& json) {
+    if (!a.writes) return;
     write_text_atomically(run_report, json);
     if (!a.report.empty() && !same_path(a.report, run_report)) write_text_atomically(a.report, json);
   };
@@ -573,15 +575,15 @@ int run_adapt(const AdaptArgs& args) {
   auto on_cycle = [&](const adapt::CycleState& c) {
     const auto& r = c.report;
     const std::string file = cycle_file(s.moving, r.cycle);
-    write_mesh(dir / file, adapt::snapshot(c), output_options((dir / file).string(), a.compression));
-    if (a.order == 2) {
+    if (a.writes) write_mesh(dir / file, adapt::snapshot(c), output_options((dir / file).string(), a.compression));
+    if (a.order == 2 && a.writes) {
       const std::string p2 = series_file(s.moving, r.cycle, 2);
       const adapt::QuadraticSnapshot q = adapt::quadratic_snapshot(c);
       write_quadratic_triangles(dir / p2, q.points, q.cells, q.point_data, q.cell_data,
                                 output_options((dir / p2).string(), a.compression));
     }
     series.emplace_back(s.moving ? r.time : r.cycle, series_file(s.moving, r.cycle, a.order));
-    write_pvd(dir / "solution.pvd", series);  // after every cycle: usable while running
+    if (a.writes) write_pvd(dir / "solution.pvd", series);  // after every cycle: usable while running
     progress.cycles.push_back(r);
     write_report(report_json("running", "", ""));
     std::cout << number(r.cycle, "%5.0f") << (s.moving ? number(r.time, "%7.3f") : "")

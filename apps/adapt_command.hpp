@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "rgbmesh/fem/solver.hpp"
 #include "rgbmesh/vtk_io.hpp"
 
 namespace rgbmesh::cli {
@@ -39,6 +40,11 @@ struct AdaptArgs {
   std::string command_line;     // for the report
   std::string memory_limit;     // the global --memory-limit ("" for the default)
   std::string resume;           // --resume DIR: continue the run in DIR; empty: a new run
+  // Several processes (mpirun): whether this one writes the files and the report (rank 0),
+  // the solver of the linear systems on all processes, and how many there are.
+  bool writes = true;
+  fem::LinearSolver linear_solver;
+  int processes = 1;
 };
 
 // Checks the arguments against each other and the mesh, runs, writes everything; returns the

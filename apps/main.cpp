@@ -25,6 +25,7 @@
 #include <sstream>
 
 #include "adapt_command.hpp"
+#include "processes.hpp"
 #include "fit_command.hpp"
 #include "json.hpp"
 #include "rgbmesh/mesh.hpp"
@@ -205,6 +206,7 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
 #endif
   remove_temporaries_on_signals();
+  const Processes processes = start_processes(&argc, &argv);
   CLI::App app{
       "rgbmesh: adaptive RGB subdivision meshes (Puppo & Panozzo, IEEE TVCG 2009),\n"
       "conforming at every step, with the limit surface of Loop subdivision.\n"
@@ -455,6 +457,9 @@ int main(int argc, char** argv) {
   try {
     const MemoryCeiling ceiling = MemoryCeiling::from_option(memory_limit);
     adapt_args.memory_limit = memory_limit;
+    // Only adapt runs on several processes; any other command is rank 0's alone.
+    if (processes.rank != 0 && !adapt_cmd->parsed() && (info->parsed() || convert->parsed() || refine->parsed() || fit_cmd->parsed()))
+      return 0;
     if (info->parsed()) {
       print_statistics(info_path, load_mesh(info_path, info_triangulate), info_json);
       return 0;
@@ -493,7 +498,10 @@ int main(int argc, char** argv) {
       if (refine_stats) std::cout << stats_json(mesh, totals, read_s, write_s) << "\n";
       return 0;
     }
-    if (adapt_cmd->parsed()) return run_adapt(adapt_args);
+    if (adapt_cmd->parsed()) {
+      distribute(adapt_args, processes);
+      return run_adapt(adapt_args);
+    }
     if (fit_cmd->parsed()) return run_fit(fit_args);
     // The main job: rgbmesh adapt with its defaults.
     AdaptArgs defaults;
@@ -501,6 +509,7 @@ int main(int argc, char** argv) {
     defaults.command_line = adapt_args.command_line;
     defaults.memory_limit = memory_limit;
     defaults.compression = compression;
+    distribute(defaults, processes);
     return run_adapt(defaults);
   } catch (const InputError& e) {
     std::cerr << "rgbmesh: error: " << e.what() << "\n";

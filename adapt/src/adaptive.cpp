@@ -250,17 +250,26 @@ std::vector<char> mark(const std::vector<double>& eta, Marking marking, double t
   std::vector<std::size_t> order(eta.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&eta](std::size_t a, std::size_t b) { return eta[a] > eta[b]; });
+  std::size_t k = 0;
   if (marking == Marking::fixed_fraction) {
     const auto n = static_cast<std::size_t>(std::ceil(theta * static_cast<double>(eta.size())));
-    for (std::size_t k = 0; k < std::min(n, eta.size()); ++k) marked[order[k]] = 1;
-    return marked;
+    for (; k < std::min(n, eta.size()); ++k) marked[order[k]] = 1;
+  } else {
+    double total = 0;
+    for (double e : eta) total += e * e;
+    double sum = 0;
+    for (; k < order.size() && sum < theta * total; ++k) {
+      marked[order[k]] = 1;
+      sum += eta[order[k]] * eta[order[k]];
+    }
   }
-  double total = 0;
-  for (double e : eta) total += e * e;
-  double sum = 0;
-  for (std::size_t k = 0; k < order.size() && sum < theta * total; ++k) {
-    marked[order[k]] = 1;
-    sum += eta[order[k]] * eta[order[k]];
+  // Ties: every indicator within a relative 1e-6 of the last one marked is marked too. On
+  // symmetric meshes many indicators are equal but for rounding, and rounding (the solver's
+  // last digits, which differ with the number of processes) must not choose which of them
+  // are refined: the same marks, and the same mesh, on any number of processes.
+  if (k > 0) {
+    const double cutoff = eta[order[k - 1]] * (1 - 1e-6);
+    for (; k < order.size() && eta[order[k]] >= cutoff; ++k) marked[order[k]] = 1;
   }
   return marked;
 }

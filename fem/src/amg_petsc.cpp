@@ -29,17 +29,6 @@ void check(PetscErrorCode code, const char* what) {
   throw std::runtime_error(std::string("amg: ") + what + " failed (PETSc: " + (text ? text : "unknown error") + ")");
 }
 
-// The options every solve takes, under the prefix "rgbmesh_amg_" (so that PETSC_OPTIONS can
-// still change them): HMIS coarsening with extended+i interpolation, the usual choice for 2-D
-// problems (fewer levels and less memory than the default Falgout coarsening at the same
-// iteration counts).
-constexpr const char* kOptions[][2] = {
-    {"-rgbmesh_amg_pc_hypre_boomeramg_coarsen_type", "HMIS"},
-    {"-rgbmesh_amg_pc_hypre_boomeramg_interp_type", "ext+i"},
-    {"-rgbmesh_amg_pc_hypre_boomeramg_P_max", "4"},
-    {"-rgbmesh_amg_pc_hypre_boomeramg_strong_threshold", "0.25"},
-};
-
 void initialize_petsc() {
   static std::once_flag once;
   std::call_once(once, [] {
@@ -49,7 +38,7 @@ void initialize_petsc() {
     static char** argv = arguments;
     check(PetscInitialize(&argc, &argv, nullptr, nullptr), "initializing PETSc");
     PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
-    for (const auto& option : kOptions) check(PetscOptionsSetValue(nullptr, option[0], option[1]), "setting options");
+    for (const auto& option : amg_options()) check(PetscOptionsSetValue(nullptr, option[0], option[1]), "setting options");
     std::atexit([] { PetscFinalize(); });
   });
 }

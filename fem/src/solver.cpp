@@ -168,6 +168,16 @@ SolverKind parse_solver(const std::string& name) {
   throw InputError("unknown solver '" + name + "' (auto, ldlt, cg, cholmod, amg)");
 }
 
+const std::vector<std::array<const char*, 2>>& amg_options() {
+  static const std::vector<std::array<const char*, 2>> options = {
+      {"-rgbmesh_amg_pc_hypre_boomeramg_coarsen_type", "HMIS"},
+      {"-rgbmesh_amg_pc_hypre_boomeramg_interp_type", "ext+i"},
+      {"-rgbmesh_amg_pc_hypre_boomeramg_P_max", "4"},
+      {"-rgbmesh_amg_pc_hypre_boomeramg_strong_threshold", "0.25"},
+  };
+  return options;
+}
+
 bool cholmod_available() {
 #if defined(RGBMESH_HAVE_CHOLMOD)
   return true;
@@ -366,7 +376,8 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   if (automatic) kind = nf < 20000 ? SolverKind::ldlt : amg_available() ? SolverKind::amg : direct();
   t0 = std::chrono::steady_clock::now();
   Eigen::VectorXd x;
-  if (kind == SolverKind::amg) {
+  // The initial guess on the free unknowns (empty without one).
+  const auto free_guess = [&] {
     Eigen::VectorXd guess;
     if (options.initial_guess != nullptr && options.initial_guess->size() == n) {
       guess.resize(nf);
@@ -374,6 +385,16 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
         if (index[i] >= 0) guess[index[i]] = (*options.initial_guess)[i];
       }
     }
+    return guess;
+  };
+  if (options.linear_solver) {
+    const Eigen::VectorXd guess = free_guess();
+    a.makeCompressed();
+    LinearSolution s = options.linear_solver(a, rhs, guess.size() > 0 ? &guess : nullptr, options.cg_tolerance);
+    x = std::move(s.x);
+    sol.iterations = s.iterations;
+  } else if (kind == SolverKind::amg) {
+    const Eigen::VectorXd guess = free_guess();
     a.makeCompressed();
     try {
       detail::AmgSolution amg = detail::solve_amg(a, rhs, guess.size() > 0 ? &guess : nullptr, options.cg_tolerance);
@@ -384,8 +405,8 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
       kind = direct();
     }
   }
-  sol.solver = kind;
-  switch (kind) {
+  sol.solver = options.linear_solver ? SolverKind::amg : kind;  // the hook is multigrid on all processes
+  switch (options.linear_solver ? SolverKind::automatic : kind) {
     case SolverKind::ldlt: {
       Eigen::SimplicialLDLT<SparseMatrix> ldlt;
       x = factor_and_solve(ldlt, a, rhs, "ldlt");
@@ -416,15 +437,8 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
       cg.compute(a);
       if (cg.info() != Eigen::Success)
         throw std::runtime_error("cg: the incomplete Cholesky preconditioner failed (singular or indefinite system)");
-      if (options.initial_guess != nullptr && options.initial_guess->size() == n) {
-        Eigen::VectorXd guess(nf);
-        for (Eigen::Index i = 0; i < n; ++i) {
-          if (index[i] >= 0) guess[index[i]] = (*options.initial_guess)[i];
-        }
-        x = cg.solveWithGuess(rhs, guess);
-      } else {
-        x = cg.solve(rhs);
-      }
+      const Eigen::VectorXd guess = free_guess();
+      x = guess.size() > 0 ? Eigen::VectorXd(cg.solveWithGuess(rhs, guess)) : Eigen::VectorXd(cg.solve(rhs));
       sol.iterations = static_cast<int>(cg.iterations());
       if (cg.info() != Eigen::Success)
         throw std::runtime_error("cg: no convergence to " + std::to_string(options.cg_tolerance) + " in " +

@@ -195,6 +195,9 @@ struct QuadraticSnapshot {
 QuadraticSnapshot quadratic_snapshot(const CycleState& state);
 
 /// Marks triangles (per FE triangle) by the chosen strategy (target: for equidistribution).
+/// Dörfler and fixed-fraction marking also mark every indicator within a relative 1e-6 of the
+/// last one they mark (ties that only rounding separates), so that marks do not depend on the
+/// solver's last digits (e.g. on the number of processes).
 std::vector<char> mark(const std::vector<double>& eta, Marking marking, double theta, double target = 0);
 
 /// The refinement threshold of a marking: the smallest marked indicator (the equidistribution

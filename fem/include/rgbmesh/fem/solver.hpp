@@ -4,7 +4,10 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <array>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "rgbmesh/fem/problem.hpp"
 #include "rgbmesh/fem/surface_mesh.hpp"
@@ -35,11 +38,31 @@ const char* to_string(SolverKind k);
 SolverKind parse_solver(const std::string& name);
 bool cholmod_available();
 bool amg_available();
+/// The PETSc options (name, value) every amg solve takes, here and in rgbmesh::parallel's
+/// distributed solve: under the prefix rgbmesh_amg_ (so that PETSC_OPTIONS can still change
+/// them), HMIS coarsening with extended+i interpolation, the usual choice for 2-D problems
+/// (fewer levels and less memory than the default Falgout coarsening at the same iteration
+/// counts).
+const std::vector<std::array<const char*, 2>>& amg_options();
+
+/// What a linear solver returns: the solution and its iterations (0 for direct solvers).
+struct LinearSolution {
+  Eigen::VectorXd x;
+  int iterations = 0;
+};
+/// A solver for the assembled system of the free unknowns, a x = b (a symmetric positive
+/// definite, both triangles stored, compressed), to the relative residual ‖b - a x‖ / ‖b‖ <=
+/// tolerance, from guess when not null. Throws std::runtime_error when it fails.
+using LinearSolver = std::function<LinearSolution(const SparseMatrix& a, const Eigen::VectorXd& b,
+                                                  const Eigen::VectorXd* guess, double tolerance)>;
 
 struct SolveOptions {
   SolverKind solver = SolverKind::automatic;
   double cg_tolerance = 1e-10;
   const Eigen::VectorXd* initial_guess = nullptr;  ///< for CG and AMG (e.g. the previous cycle's solution)
+  /// When set, solves every system in place of the kind above (which is then only what the
+  /// solution reports): how rgbmesh::parallel solves on all processes of an MPI run.
+  LinearSolver linear_solver;
 };
 
 struct Solution {

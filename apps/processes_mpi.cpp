@@ -1,0 +1,28 @@
+#include <iostream>
+
+#include "processes.hpp"
+#include "rgbmesh/parallel/mpi.hpp"
+
+namespace rgbmesh::cli {
+
+Processes start_processes(int* argc, char*** argv) {
+  Processes p;
+  if (!parallel::launched_by_mpi()) return p;
+  parallel::initialize(argc, argv);
+  p.rank = parallel::rank();
+  p.count = parallel::processes();
+  if (p.rank != 0) {
+    std::cout.setstate(std::ios::badbit);
+    std::cerr.setstate(std::ios::badbit);
+  }
+  return p;
+}
+
+void distribute(AdaptArgs& args, const Processes& processes) {
+  if (processes.count <= 1) return;
+  args.writes = processes.rank == 0;
+  args.linear_solver = parallel::distributed_amg();
+  args.processes = processes.count;
+}
+
+}  // namespace rgbmesh::cli
