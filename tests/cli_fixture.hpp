@@ -58,9 +58,11 @@ class Cli : public ::testing::Test {
 
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
-  RunResult run(const std::string& args) const {
+  RunResult run(const std::string& args) const { return run_with(RGBMESH_CLI, args); }
+  // A command line (e.g. the tool under mpirun) and its arguments.
+  RunResult run_with(const std::string& program, const std::string& args) const {
     const std::string err_file = path("stderr.txt");
-    const std::string cmd = std::string(RGBMESH_CLI) + " " + args + " 2>" + err_file;
+    const std::string cmd = program + " " + args + " 2>" + err_file;
     RunResult r;
     FILE* pipe = ::popen(cmd.c_str(), "r");
     char buf[4096];

@@ -16,38 +16,13 @@
 
 #include "../apps/json_read.hpp"
 #include "cli_fixture.hpp"
+#include "cli_reports.hpp"
 
 namespace {
 
 using namespace rgbmesh::testing;
 using rgbmesh::cli::JsonReader;
 using rgbmesh::cli::JsonValue;
-
-struct Cycle {
-  long dofs = 0, triangles = 0, removals = 0;
-  double estimate = 0, error_l2 = 0, error_h1 = 0, time = 0;
-};
-
-// The cycles of a report, and the report itself.
-std::vector<Cycle> cycles_of(const JsonValue& report) {
-  std::vector<Cycle> out;
-  const JsonValue* list = report.find("cycles");
-  if (list == nullptr) return out;
-  for (const JsonValue& c : list->array) {
-    Cycle r;
-    const auto num = [&c](const char* key) { return c.find(key) ? c.find(key)->number : std::nan(""); };
-    r.dofs = static_cast<long>(num("dofs"));
-    r.triangles = static_cast<long>(num("triangles"));
-    r.removals = static_cast<long>(num("removals"));
-    r.estimate = num("estimate");
-    r.error_l2 = num("error_l2");
-    r.error_h1 = num("error_h1");
-    r.time = c.find("time") ? num("time") : 0.0;
-    out.push_back(r);
-  }
-  return out;
-}
-JsonValue report_of(const std::string& dir) { return JsonReader::parse(read_text(dir + "/report.json")); }
 
 bool close(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b)); }
 
@@ -65,23 +40,6 @@ void expect_same_cycles(const std::vector<Cycle>& a, const std::vector<Cycle>& b
 }
 
 // A file's triangles as sets of their corners' positions: the mesh, whatever its numbering.
-std::set<std::set<std::array<double, 3>>> triangles_of(const std::string& file) {
-  const vtkSmartPointer<vtkPolyData> pd = read_vtp(file);
-  std::set<std::set<std::array<double, 3>>> out;
-  auto ids = vtkSmartPointer<vtkIdList>::New();
-  for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c) {
-    pd->GetCellPoints(c, ids);
-    std::set<std::array<double, 3>> corners;
-    for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k) {
-      std::array<double, 3> p;
-      pd->GetPoint(ids->GetId(k), p.data());
-      corners.insert(p);
-    }
-    out.insert(corners);
-  }
-  return out;
-}
-
 int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
 class Resume : public Cli {

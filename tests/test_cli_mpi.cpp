@@ -1,0 +1,86 @@
+// `mpirun -np P rgbmesh adapt` (issue 13): for P = 2, 3 and 4 (oversubscribed on two cores),
+// the same run as one process with the same options gives the same mesh in every cycle (the
+// same unknowns and triangles, the final mesh's triangles by their corners' positions) and the
+// same estimates and errors within the solver's tolerance: sphere-peak above --min-level 2, a
+// Gaussian source on a torus with a hole (boundary and genus), and the moving peak with
+// coarsening. Skipped, with a message, where the build has no MPI.
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+
+#include "cli_fixture.hpp"
+#include "cli_reports.hpp"
+#include "test_meshes.hpp"
+
+namespace {
+
+using namespace rgbmesh::testing;
+
+class Mpi : public Cli {
+ protected:
+  void SetUp() override {
+    Cli::SetUp();
+    if (std::string(RGBMESH_MPIEXEC).empty()) GTEST_SKIP() << "built without MPI (Debian: openmpi-bin, libopenmpi-dev)";
+    // Open MPI refuses to start as root (CI machines, containers) unless told.
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    ::setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+  }
+  RunResult run_on(int processes, const std::string& args) const {
+    return run_with(std::string(RGBMESH_MPIEXEC) + " --oversubscribe -np " + std::to_string(processes) + " " +
+                    RGBMESH_CLI, args);
+  }
+  // The run on one process and on 2, 3 and 4: the same cycles and the same final mesh.
+  void expect_same_runs(const std::string& args, const std::string& last_file) {
+    const std::string serial = path("serial");
+    const RunResult one = run(args + " --out " + serial);
+    ASSERT_EQ(one.code, 0) << one.err;
+    const JsonValue a = report_of(serial);
+    for (int p : {2, 3, 4}) {
+      const std::string dir = path("p" + std::to_string(p));
+      const RunResult many = run_on(p, args + " --out " + dir);
+      ASSERT_EQ(many.code, 0) << p << " processes: " << many.err;
+      const JsonValue b = report_of(dir);
+      const std::vector<Cycle> ca = cycles_of(a), cb = cycles_of(b);
+      ASSERT_EQ(ca.size(), cb.size()) << p << " processes";
+      ASSERT_GE(ca.size(), 6u);
+      for (std::size_t i = 0; i < ca.size(); ++i) {
+        EXPECT_EQ(ca[i].dofs, cb[i].dofs) << p << " processes, cycle " << i;
+        EXPECT_EQ(ca[i].triangles, cb[i].triangles) << p << " processes, cycle " << i;
+        EXPECT_NEAR(ca[i].estimate, cb[i].estimate, 1e-7 * ca[i].estimate) << p << " processes, cycle " << i;
+        if (std::isfinite(ca[i].error_h1)) {
+          EXPECT_NEAR(ca[i].error_h1, cb[i].error_h1, 1e-7 * ca[i].error_h1) << p << " processes, cycle " << i;
+        }
+      }
+      // Every cycle's system was solved on all processes (the distributed multigrid).
+      const std::string text = read_text(dir + "/report.json");
+      std::size_t distributed = 0;
+      for (std::size_t at = text.find("\"solver\": \"amg\""); at != std::string::npos;
+           at = text.find("\"solver\": \"amg\"", at + 1))
+        ++distributed;
+      EXPECT_GE(distributed, ca.size()) << p << " processes";
+      EXPECT_EQ(triangles_of(serial + "/" + last_file), triangles_of(dir + "/" + last_file)) << p << " processes";
+    }
+  }
+};
+
+TEST_F(Mpi, SpherePeakAboveAFloorIsTheSerialRun) {
+  expect_same_runs("adapt --min-level 2 --cycles 12", "cycle_011.vtp");
+}
+
+TEST_F(Mpi, AGaussianOnATorusWithAHoleIsTheSerialRun) {
+  // The torus less two adjacent triangles: one boundary loop, genus 1.
+  const BaseMesh torus = rgbmesh::testing::torus(12, 8);
+  std::ofstream obj(path("holed_torus.obj"));
+  for (const auto& p : torus.points) obj << "v " << p.x << " " << p.y << " " << p.z << "\n";
+  for (std::size_t t = 2; t < torus.triangles.size(); ++t)
+    obj << "f " << torus.triangles[t][0] + 1 << " " << torus.triangles[t][1] + 1 << " " << torus.triangles[t][2] + 1 << "\n";
+  obj.close();
+  expect_same_runs("adapt --mesh " + path("holed_torus.obj") + " --cycles 10", "cycle_009.vtp");
+}
+
+TEST_F(Mpi, AMovingPeakWithCoarseningIsTheSerialRun) {
+  expect_same_runs("adapt --problem moving-peak --steps 6 --min-level 1", "step_006.vtp");
+}
+
+}  // namespace
