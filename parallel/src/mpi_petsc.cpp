@@ -3,13 +3,17 @@
 #include <mpi.h>
 #include <petscksp.h>
 
+#include <algorithm>
 #include <cstdlib>
+#include <thread>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <vector>
 
+#include "rgbmesh/parallel.hpp"
 #include "rgbmesh/parallel/mpi.hpp"
+#include "rgbmesh/parallel/partition.hpp"
 
 namespace rgbmesh::parallel {
 
@@ -44,32 +48,48 @@ fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, 
                           double tolerance) {
   if (!started) throw std::logic_error("distributed amg: parallel::initialize was not called");
   const int p = processes(), r = rank();
-  const auto n = static_cast<long long>(a.rows());
-  // This process's rows: a contiguous block of the unknowns.
-  const auto first = static_cast<PetscInt>(n * r / p), last = static_cast<PetscInt>(n * (r + 1) / p);
-  const PetscInt m = last - first;
-  // The matrix is symmetric: Eigen's columns are its rows. Local rows, global columns.
+  const auto n = static_cast<std::size_t>(a.rows());
+  // Each process's rows: a METIS part of the matrix's graph (the same on every process),
+  // numbered part after part so that each process holds a contiguous block.
+  const Partition parts = partition_rows(a, p);
+  std::vector<int> counts(static_cast<std::size_t>(p), 0), offsets(static_cast<std::size_t>(p), 0);
+  for (const std::int32_t q : parts.part_of) ++counts[static_cast<std::size_t>(q)];
+  for (int q = 1; q < p; ++q) offsets[static_cast<std::size_t>(q)] = offsets[static_cast<std::size_t>(q - 1)] + counts[static_cast<std::size_t>(q - 1)];
+  std::vector<PetscInt> to_new(n), to_old(n);
+  {
+    std::vector<int> next = offsets;
+    for (std::size_t i = 0; i < n; ++i) {
+      const int k = next[static_cast<std::size_t>(parts.part_of[i])]++;
+      to_new[i] = k;
+      to_old[static_cast<std::size_t>(k)] = static_cast<PetscInt>(i);
+    }
+  }
+  const PetscInt first = offsets[static_cast<std::size_t>(r)], m = counts[static_cast<std::size_t>(r)];
+  // The matrix is symmetric: Eigen's columns are its rows. This process's rows, in the new
+  // numbering (local rows, global columns).
   std::vector<PetscInt> rows(static_cast<std::size_t>(m) + 1, 0), columns;
   std::vector<PetscScalar> values;
   const int* outer = a.outerIndexPtr();
-  columns.reserve(static_cast<std::size_t>(outer[last] - outer[first]));
-  values.reserve(columns.capacity());
-  for (PetscInt i = first; i < last; ++i) {
-    for (int k = outer[i]; k < outer[i + 1]; ++k) {
-      columns.push_back(a.innerIndexPtr()[k]);
-      values.push_back(a.valuePtr()[k]);
+  for (PetscInt k = 0; k < m; ++k) {
+    const PetscInt i = to_old[static_cast<std::size_t>(first + k)];
+    for (int e = outer[i]; e < outer[i + 1]; ++e) {
+      columns.push_back(to_new[static_cast<std::size_t>(a.innerIndexPtr()[e])]);
+      values.push_back(a.valuePtr()[e]);
     }
-    rows[static_cast<std::size_t>(i - first) + 1] = static_cast<PetscInt>(columns.size());
+    rows[static_cast<std::size_t>(k) + 1] = static_cast<PetscInt>(columns.size());
   }
-  fem::LinearSolution out;
-  out.x = (guess != nullptr && guess->size() == b.size()) ? *guess : Eigen::VectorXd::Zero(b.size());
-  const bool nonzero_guess = out.x.any();
+  Eigen::VectorXd rhs(static_cast<Eigen::Index>(n)), x(static_cast<Eigen::Index>(n));
+  const bool with_guess = guess != nullptr && guess->size() == b.size() && guess->any();
+  for (std::size_t i = 0; i < n; ++i) {
+    rhs[to_new[i]] = b[static_cast<Eigen::Index>(i)];
+    x[to_new[i]] = with_guess ? (*guess)[static_cast<Eigen::Index>(i)] : 0.0;
+  }
   Objects o;
   const auto N = static_cast<PetscInt>(n);
   check(MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, m, m, N, N, rows.data(), columns.data(), values.data(), &o.a),
         "creating the matrix");
-  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, N, b.data() + first, &o.b), "creating the right-hand side");
-  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, N, out.x.data() + first, &o.x), "creating the solution");
+  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, N, rhs.data() + first, &o.b), "creating the right-hand side");
+  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, N, x.data() + first, &o.x), "creating the solution");
   check(KSPCreate(PETSC_COMM_WORLD, &o.ksp), "creating the solver");
   check(KSPSetOperators(o.ksp, o.a, o.a), "setting the operator");
   check(KSPSetType(o.ksp, KSPCG), "choosing CG");
@@ -79,7 +99,7 @@ fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, 
   check(PCHYPRESetType(pc, "boomeramg"), "choosing BoomerAMG");
   check(KSPSetNormType(o.ksp, KSP_NORM_UNPRECONDITIONED), "setting the norm");
   check(KSPSetTolerances(o.ksp, tolerance, 0.0, PETSC_DEFAULT, 10000), "setting the tolerances");
-  check(KSPSetInitialGuessNonzero(o.ksp, nonzero_guess ? PETSC_TRUE : PETSC_FALSE), "setting the initial guess");
+  check(KSPSetInitialGuessNonzero(o.ksp, with_guess ? PETSC_TRUE : PETSC_FALSE), "setting the initial guess");
   check(KSPSetOptionsPrefix(o.ksp, "rgbmesh_amg_"), "setting the options prefix");
   check(KSPSetFromOptions(o.ksp), "reading the options");
   check(KSPSolve(o.ksp, o.b, o.x), "solving");
@@ -87,19 +107,18 @@ fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, 
   check(KSPGetConvergedReason(o.ksp, &reason), "asking why it stopped");
   PetscInt iterations = 0;
   check(KSPGetIterationNumber(o.ksp, &iterations), "counting iterations");
+  fem::LinearSolution out;
   out.iterations = static_cast<int>(iterations);
   if (reason < 0)
     throw std::runtime_error("distributed amg: no convergence to " + std::to_string(tolerance) + " after " +
                              std::to_string(iterations) + " iterations (PETSc's reason " +
                              std::to_string(static_cast<int>(reason)) + ")");
-  // Every process gets the whole solution: the blocks, gathered in rank order.
-  std::vector<int> counts(static_cast<std::size_t>(p)), offsets(static_cast<std::size_t>(p));
-  for (int q = 0; q < p; ++q) {
-    offsets[static_cast<std::size_t>(q)] = static_cast<int>(n * q / p);
-    counts[static_cast<std::size_t>(q)] = static_cast<int>(n * (q + 1) / p) - offsets[static_cast<std::size_t>(q)];
-  }
-  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, out.x.data(), counts.data(), offsets.data(), MPI_DOUBLE,
+  // Every process gets the whole solution: the blocks, gathered in rank order, then numbered
+  // as the caller's unknowns.
+  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, x.data(), counts.data(), offsets.data(), MPI_DOUBLE,
                  PETSC_COMM_WORLD);
+  out.x.resize(static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i) out.x[static_cast<Eigen::Index>(i)] = x[to_new[i]];
   return out;
 }
 
@@ -127,6 +146,14 @@ void initialize(int* argc, char*** argv) {
   PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
   for (const auto& option : fem::amg_options()) check(PetscOptionsSetValue(nullptr, option[0], option[1]), "setting options");
   started = true;
+  // The processes on this machine share its cores: each takes its share for its loops.
+  MPI_Comm local = MPI_COMM_NULL;
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &local);
+  int here = 1;
+  MPI_Comm_size(local, &here);
+  MPI_Comm_free(&local);
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  rgbmesh::detail::thread_cap = std::max(1u, cores / static_cast<unsigned>(std::max(1, here)));
   std::atexit([] {
     PetscBool finalized = PETSC_FALSE;
     PetscFinalized(&finalized);

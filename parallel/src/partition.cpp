@@ -278,6 +278,19 @@ Partition partition(const Units& units, int parts) {
   return partition_graph(units.triangles, xadj, adjncy, parts, "units");
 }
 
+Partition partition_rows(const fem::SparseMatrix& a, int parts) {
+  if (!a.isCompressed()) throw std::invalid_argument("partition_rows: the matrix must be compressed");
+  const auto n = static_cast<std::size_t>(a.outerSize());
+  std::vector<idx_t> xadj{0}, adjncy;
+  adjncy.reserve(static_cast<std::size_t>(a.nonZeros()));
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = a.outerIndexPtr()[i]; k < a.outerIndexPtr()[i + 1]; ++k)
+      if (static_cast<std::size_t>(a.innerIndexPtr()[k]) != i) adjncy.push_back(a.innerIndexPtr()[k]);
+    xadj.push_back(static_cast<idx_t>(adjncy.size()));
+  }
+  return partition_graph(std::vector<std::size_t>(n, 1), xadj, adjncy, parts, "rows");
+}
+
 int macro_level_for(const RgbMesh& mesh, int parts, int min_level, int per_part) {
   int level = std::max(0, min_level);
   while (level < kMaxLevel &&

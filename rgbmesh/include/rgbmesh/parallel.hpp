@@ -12,8 +12,16 @@
 
 namespace rgbmesh::detail {
 
-/// The threads worth starting: the hardware's, at least one.
-inline std::size_t hardware_threads() { return std::max(1u, std::thread::hardware_concurrency()); }
+/// A cap on the threads of every loop (0: none). Several processes on one machine (an MPI
+/// run) share its cores: rgbmesh::parallel sets the cores per process here.
+inline std::atomic<unsigned> thread_cap{0};
+
+/// The threads worth starting: the hardware's (or the cap's), at least one.
+inline std::size_t hardware_threads() {
+  const unsigned cap = thread_cap.load(std::memory_order_relaxed);
+  const unsigned hardware = std::thread::hardware_concurrency();
+  return std::max(1u, cap > 0 ? std::min(cap, std::max(1u, hardware)) : hardware);
+}
 
 /// Calls work(thread, i) for every i in [0, n), on up to `threads` threads (this one is thread
 /// 0), handing out blocks of `block` consecutive indices. The first exception is rethrown once

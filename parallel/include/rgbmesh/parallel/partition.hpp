@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "rgbmesh/fem/solver.hpp"
 #include "rgbmesh/mesh.hpp"
 
 namespace rgbmesh::parallel {
@@ -64,6 +65,12 @@ struct Units {
 Units units(const RgbMesh& mesh, int floor, int parts, double share = 0.1);
 /// METIS's k-way partition of the units' graph, weighted by the triangles each holds.
 Partition partition(const Units& units, int parts);
+
+/// The rows of a symmetric sparse matrix (both triangles stored) in `parts` groups for the
+/// processes of a distributed solve: METIS's k-way partition of the matrix's graph (rows
+/// coupled by a nonzero), so that each process's rows are a compact patch of the mesh and few
+/// couplings cross between processes. The same result on every process (seeded).
+Partition partition_rows(const fem::SparseMatrix& a, int parts);
 
 /// The smallest level at or above `min_level` whose uniform mesh has at least
 /// `per_part` macro triangles per part (the granularity rebalancing needs when the refinement
