@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// Assembly and solution of -Δu + c u = f with P1 elements on a SurfaceMesh.
+/// Assembly and solution of -Δu + c u = f with linear (P1) or isoparametric quadratic (P2)
+/// elements on a SurfaceMesh.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>

@@ -1,8 +1,9 @@
 #pragma once
 /// \file
-/// The finite-element view of an RGB mesh: flat triangles whose vertices lie on the surface.
+/// The finite-element view of an RGB mesh: triangles whose nodes lie on the surface.
 ///
-/// One degree of freedom per mesh vertex (P1). The vertices sit at their Loop limit positions
+/// P1: one degree of freedom per mesh vertex, flat triangles; P2: one more per edge, the
+/// triangles curved through their six nodes (build_surface_mesh). The vertices sit at their Loop limit positions
 /// (the default: the mesh is then inscribed in the limit surface), or at the image of the
 /// limit positions under a projection onto a known surface (the exact-geometry mode, used to
 /// verify the solver against exact solutions; the unit sphere is built in). With a projection,
