@@ -30,3 +30,7 @@ if cmake --build build --target bench_vs_dealii 2>/dev/null; then
 else
   echo "no deal.II (Debian: libdeal.ii-dev): bench_vs_dealii skipped"
 fi
+# The adaptive loop on 1, 2 and 4 MPI processes.
+echo
+echo "adaptive loop on 1, 2 and 4 processes:"
+bench/mpi_cycles.sh build
