@@ -141,6 +141,12 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   o.order = a.order;
   o.min_level = a.min_level;
   o.solve.linear_solver = a.linear_solver;
+  if (a.part_triangles) {
+    const int floor = a.min_level, parts = a.processes;
+    o.partition = [f = a.part_triangles, floor, parts](const RgbMesh& m, const fem::SurfaceMesh& fe) {
+      return f(m, fe, floor, parts);
+    };
+  }
   s.estimator = a.estimator;
   o.estimator = choose<adapt::EstimatorKind>(
       "--estimator", s.estimator, {{"residual", adapt::EstimatorKind::residual}, {"zz", adapt::EstimatorKind::zz}});
@@ -216,9 +222,15 @@ std::string cycle_file(bool moving, int cycle) {
 
 // The file of a cycle that the .pvd lists: the cycle's .vtp, or for P2 its quadratic
 // triangles (cycle_NNN_p2.vtu), which ParaView draws curved.
-std::string series_file(bool moving, int cycle, int order) {
-  if (order != 2) return cycle_file(moving, cycle);
-  return (moving ? "step_" : "cycle_") + number(cycle, "%03.0f") + "_p2.vtu";
+std::string series_file(bool moving, int cycle, int order, bool pieces = false) {
+  if (order == 2) return (moving ? "step_" : "cycle_") + number(cycle, "%03.0f") + "_p2.vtu";
+  if (pieces) return (moving ? "step_" : "cycle_") + number(cycle, "%03.0f") + ".pvtp";
+  return cycle_file(moving, cycle);
+}
+
+// A process's piece of a cycle (runs on several processes): cycle_NNN_rK.vtp.
+std::string piece_file(bool moving, int cycle, int rank) {
+  return (moving ? "step_" : "cycle_") + number(cycle, "%03.0f") + "_r" + std::to_string(rank) + ".vtp";
 }
 
 // A run folder read back for --resume: the settings and cycles of its report, the last
@@ -575,14 +587,28 @@ int run_adapt(const AdaptArgs& args) {
   auto on_cycle = [&](const adapt::CycleState& c) {
     const auto& r = c.report;
     const std::string file = cycle_file(s.moving, r.cycle);
-    if (a.writes) write_mesh(dir / file, adapt::snapshot(c), output_options((dir / file).string(), a.compression));
+    const bool pieces = a.processes > 1 && a.order == 1 && c.solved && !c.solved->triangle_part.empty();
+    const MeshSnapshot snapshot = adapt::snapshot(c);
+    // The whole mesh with its RGB state (what --resume reads), by rank 0; on several
+    // processes also each process's piece and the summary that joins them for ParaView.
+    if (a.writes) write_mesh(dir / file, snapshot, output_options((dir / file).string(), a.compression));
+    if (pieces) {
+      const std::string mine = piece_file(s.moving, r.cycle, a.rank);
+      const MeshSnapshot piece = snapshot_piece(snapshot, c.solved->triangle_part, a.rank);
+      write_mesh(dir / mine, piece, output_options((dir / mine).string(), a.compression));
+      if (a.writes) {
+        std::vector<std::string> all;
+        for (int q = 0; q < a.processes; ++q) all.push_back(piece_file(s.moving, r.cycle, q));
+        write_pvtp(dir / series_file(s.moving, r.cycle, 1, true), snapshot, all);
+      }
+    }
     if (a.order == 2 && a.writes) {
       const std::string p2 = series_file(s.moving, r.cycle, 2);
       const adapt::QuadraticSnapshot q = adapt::quadratic_snapshot(c);
       write_quadratic_triangles(dir / p2, q.points, q.cells, q.point_data, q.cell_data,
                                 output_options((dir / p2).string(), a.compression));
     }
-    series.emplace_back(s.moving ? r.time : r.cycle, series_file(s.moving, r.cycle, a.order));
+    series.emplace_back(s.moving ? r.time : r.cycle, series_file(s.moving, r.cycle, a.order, pieces));
     if (a.writes) write_pvd(dir / "solution.pvd", series);  // after every cycle: usable while running
     progress.cycles.push_back(r);
     write_report(report_json("running", "", ""));

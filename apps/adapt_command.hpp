@@ -3,6 +3,7 @@
 // `rgbmesh` runs without arguments (all defaults).
 
 #include <cstdint>
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -44,7 +45,10 @@ struct AdaptArgs {
   // the solver of the linear systems on all processes, and how many there are.
   bool writes = true;
   fem::LinearSolver linear_solver;
-  int processes = 1;
+  int processes = 1, rank = 0;
+  // Each triangle's process (per FE triangle, for the pieces of the output): (mesh, FE mesh,
+  // floor level, processes). Empty on one process.
+  std::function<std::vector<std::int32_t>(const RgbMesh&, const fem::SurfaceMesh&, int, int)> part_triangles;
 };
 
 // Checks the arguments against each other and the mesh, runs, writes everything; returns the

@@ -48,8 +48,15 @@ bool is_run_output(const std::string& name) {
   for (const char* f : fixed) {
     if (name == f) return true;
   }
-  return is_numbered(name, "cycle_") || is_numbered(name, "step_") || is_numbered(name, "cycle_", "_p2.vtu") ||
-         is_numbered(name, "step_", "_p2.vtu");
+  for (const char* prefix : {"cycle_", "step_"}) {
+    if (is_numbered(name, prefix) || is_numbered(name, prefix, "_p2.vtu") || is_numbered(name, prefix, ".pvtp"))
+      return true;
+    // A process's piece of a cycle: prefix + digits + "_r" + digits + ".vtp".
+    const auto r = name.rfind("_r");
+    if (r != std::string::npos && is_numbered(name.substr(0, r) + ".vtp", prefix) && is_numbered(name.substr(r), "_r"))
+      return true;
+  }
+  return false;
 }
 
 void prepare_output_directory(const fs::path& dir) {

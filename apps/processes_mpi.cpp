@@ -2,6 +2,7 @@
 
 #include "processes.hpp"
 #include "rgbmesh/parallel/mpi.hpp"
+#include "rgbmesh/parallel/partition.hpp"
 
 namespace rgbmesh::cli {
 
@@ -23,6 +24,8 @@ void distribute(AdaptArgs& args, const Processes& processes) {
   args.writes = processes.rank == 0;
   args.linear_solver = parallel::distributed_amg();
   args.processes = processes.count;
+  args.rank = processes.rank;
+  args.part_triangles = parallel::triangle_parts;
 }
 
 }  // namespace rgbmesh::cli

@@ -44,8 +44,7 @@ inline std::vector<Cycle> cycles_of(const JsonValue& report) {
 }
 inline JsonValue report_of(const std::string& dir) { return JsonReader::parse(read_text(dir + "/report.json")); }
 
-inline std::set<std::set<std::array<double, 3>>> triangles_of(const std::string& file) {
-  const vtkSmartPointer<vtkPolyData> pd = read_vtp(file);
+inline std::set<std::set<std::array<double, 3>>> triangles_in(const vtkSmartPointer<vtkPolyData>& pd) {
   std::set<std::set<std::array<double, 3>>> out;
   auto ids = vtkSmartPointer<vtkIdList>::New();
   for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c) {
@@ -60,5 +59,6 @@ inline std::set<std::set<std::array<double, 3>>> triangles_of(const std::string&
   }
   return out;
 }
+inline std::set<std::set<std::array<double, 3>>> triangles_of(const std::string& file) { return triangles_in(read_vtp(file)); }
 
 }  // namespace rgbmesh::testing

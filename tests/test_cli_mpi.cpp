@@ -9,6 +9,10 @@
 #include <cstdlib>
 #include <fstream>
 
+#include <set>
+
+#include <vtkXMLPPolyDataReader.h>
+
 #include "cli_fixture.hpp"
 #include "cli_reports.hpp"
 #include "test_meshes.hpp"
@@ -16,6 +20,13 @@
 namespace {
 
 using namespace rgbmesh::testing;
+
+vtkSmartPointer<vtkPolyData> read_pvtp(const std::string& file) {
+  auto reader = vtkSmartPointer<vtkXMLPPolyDataReader>::New();
+  reader->SetFileName(file.c_str());
+  reader->Update();
+  return reader->GetOutput();
+}
 
 class Mpi : public Cli {
  protected:
@@ -31,7 +42,7 @@ class Mpi : public Cli {
                     RGBMESH_CLI, args);
   }
   // The run on one process and on 2, 3 and 4: the same cycles and the same final mesh.
-  void expect_same_runs(const std::string& args, const std::string& last_file) {
+  void expect_same_runs(const std::string& args, const std::string& last) {
     const std::string serial = path("serial");
     const RunResult one = run(args + " --out " + serial);
     ASSERT_EQ(one.code, 0) << one.err;
@@ -59,13 +70,24 @@ class Mpi : public Cli {
            at = text.find("\"solver\": \"amg\"", at + 1))
         ++distributed;
       EXPECT_GE(distributed, ca.size()) << p << " processes";
-      EXPECT_EQ(triangles_of(serial + "/" + last_file), triangles_of(dir + "/" + last_file)) << p << " processes";
+      EXPECT_EQ(triangles_of(serial + "/" + last + ".vtp"), triangles_of(dir + "/" + last + ".vtp")) << p << " processes";
+      // The pieces: the summary joins them into the serial mesh, each triangle once, with a
+      // "rank" array naming every process; the series lists the summaries.
+      const vtkSmartPointer<vtkPolyData> joined = read_pvtp(dir + "/" + last + ".pvtp");
+      EXPECT_EQ(triangles_in(joined), triangles_of(serial + "/" + last + ".vtp")) << p << " processes";
+      EXPECT_EQ(joined->GetNumberOfCells(), read_vtp(serial + "/" + last + ".vtp")->GetNumberOfCells());
+      vtkDataArray* rank = joined->GetCellData()->GetArray("rank");
+      ASSERT_NE(rank, nullptr);
+      std::set<int> ranks;
+      for (vtkIdType c = 0; c < rank->GetNumberOfTuples(); ++c) ranks.insert(static_cast<int>(rank->GetTuple1(c)));
+      EXPECT_EQ(ranks.size(), static_cast<std::size_t>(p));
+      EXPECT_NE(read_text(dir + "/solution.pvd").find(last + ".pvtp"), std::string::npos);
     }
   }
 };
 
 TEST_F(Mpi, SpherePeakAboveAFloorIsTheSerialRun) {
-  expect_same_runs("adapt --min-level 2 --cycles 12", "cycle_011.vtp");
+  expect_same_runs("adapt --min-level 2 --cycles 12", "cycle_011");
 }
 
 TEST_F(Mpi, AGaussianOnATorusWithAHoleIsTheSerialRun) {
@@ -76,11 +98,21 @@ TEST_F(Mpi, AGaussianOnATorusWithAHoleIsTheSerialRun) {
   for (std::size_t t = 2; t < torus.triangles.size(); ++t)
     obj << "f " << torus.triangles[t][0] + 1 << " " << torus.triangles[t][1] + 1 << " " << torus.triangles[t][2] + 1 << "\n";
   obj.close();
-  expect_same_runs("adapt --mesh " + path("holed_torus.obj") + " --cycles 10", "cycle_009.vtp");
+  expect_same_runs("adapt --mesh " + path("holed_torus.obj") + " --cycles 10", "cycle_009");
 }
 
 TEST_F(Mpi, AMovingPeakWithCoarseningIsTheSerialRun) {
-  expect_same_runs("adapt --problem moving-peak --steps 6 --min-level 1", "step_006.vtp");
+  expect_same_runs("adapt --problem moving-peak --steps 6 --min-level 1", "step_006");
+}
+
+TEST_F(Mpi, ARunOnFewerProcessesLeavesNoPiecesOfTheLastOne) {
+  const std::string dir = path("run");
+  ASSERT_EQ(run_on(4, "adapt --cycles 3 --out " + dir).code, 0);
+  ASSERT_TRUE(fs::exists(dir + "/cycle_002_r3.vtp"));
+  ASSERT_EQ(run_on(2, "adapt --cycles 3 --out " + dir).code, 0);
+  EXPECT_TRUE(fs::exists(dir + "/cycle_002_r1.vtp"));
+  EXPECT_FALSE(fs::exists(dir + "/cycle_002_r2.vtp"));
+  EXPECT_FALSE(fs::exists(dir + "/cycle_002_r3.vtp"));
 }
 
 }  // namespace

@@ -132,7 +132,7 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
 
 // The levels and colours of the mesh a solution lives on, and its RGB state if asked: taken
 // before the mesh is adapted.
-SolvedMesh describe(const RgbMesh& mesh, const fem::SurfaceMesh& fe, bool with_state) {
+SolvedMesh describe(const RgbMesh& mesh, const fem::SurfaceMesh& fe, bool with_state, const AdaptOptions& options) {
   SolvedMesh m;
   m.vertex_level.reserve(fe.vertex.size());
   for (const VertexHandle v : fe.vertex) m.vertex_level.push_back(static_cast<std::uint8_t>(mesh.level(v)));
@@ -147,6 +147,7 @@ SolvedMesh describe(const RgbMesh& mesh, const fem::SurfaceMesh& fe, bool with_s
     points.vertex_handle = fe.vertex;
     m.state = save_state(mesh, points);
   }
+  if (options.partition) m.triangle_part = options.partition(mesh, fe);
   return m;
 }
 
@@ -305,7 +306,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
     SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer);
     solved_dofs = c.fe.num_dofs();
     c.report.cycle = cycle;
-    const SolvedMesh solved = replay ? SolvedMesh{} : describe(mesh, c.fe, options.resumable);
+    const SolvedMesh solved = replay ? SolvedMesh{} : describe(mesh, c.fe, options.resumable, options);
     bool last = true;
     if (cycle + 1 == options.max_cycles)
       run.stopped = StopReason::cycles;
@@ -431,7 +432,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     const std::vector<char> marked = o.strategy == Strategy::adaptive
                                          ? mark(c.estimate.eta, o.marking, o.theta, o.target_estimate)
                                          : std::vector<char>(c.fe.triangles.size(), 0);
-    const SolvedMesh solved = describe(mesh, c.fe, o.resumable);
+    const SolvedMesh solved = describe(mesh, c.fe, o.resumable, o);
     if (on_step) on_step({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved});
   }
   return run;
@@ -478,6 +479,8 @@ MeshSnapshot snapshot(const CycleState& s) {
   }
   out.cell_data.push_back(std::move(eta));
   out.cell_data.push_back(std::move(marked));
+  if (s.solved && !s.solved->triangle_part.empty())
+    out.cell_data.push_back({"rank", 1, std::vector<double>(s.solved->triangle_part.begin(), s.solved->triangle_part.end())});
   return out;
 }
 

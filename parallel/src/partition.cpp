@@ -278,6 +278,15 @@ Partition partition(const Units& units, int parts) {
   return partition_graph(units.triangles, xadj, adjncy, parts, "units");
 }
 
+std::vector<std::int32_t> triangle_parts(const RgbMesh& mesh, const fem::SurfaceMesh& fe, int floor, int parts) {
+  const Units u = units(mesh, floor, parts);
+  const Partition p = partition(u, std::min<int>(parts, static_cast<int>(u.level.size())));
+  std::vector<std::int32_t> out(fe.triangle.size());
+  for (std::size_t t = 0; t < fe.triangle.size(); ++t)
+    out[t] = p.part_of[static_cast<std::size_t>(u.of_triangle[fe.triangle[t].idx])];
+  return out;
+}
+
 Partition partition_rows(const fem::SparseMatrix& a, int parts) {
   if (!a.isCompressed()) throw std::invalid_argument("partition_rows: the matrix must be compressed");
   const auto n = static_cast<std::size_t>(a.outerSize());

@@ -64,20 +64,6 @@ std::size_t type_size(XmlType type) {
   return 0;
 }
 
-const char* type_name(XmlType type) {
-  switch (type) {
-    case XmlType::uint8:
-      return "UInt8";
-    case XmlType::int32:
-      return "Int32";
-    case XmlType::int64:
-      return "Int64";
-    case XmlType::float64:
-      return "Float64";
-  }
-  return "?";
-}
-
 // A file written at its end and patched in place, every failure (full disk, size limit)
 // reported with the system's reason.
 class PatchableFile {
@@ -407,6 +393,20 @@ XmlArray borrowed_array(std::string name, XmlType type, int components, std::siz
                   [bytes, tuple_bytes](std::size_t first, std::size_t count, void* out) {
                     if (count > 0) std::memcpy(out, bytes + first * tuple_bytes, count * tuple_bytes);
                   }};
+}
+
+const char* type_name(XmlType type) {
+  switch (type) {
+    case XmlType::uint8:
+      return "UInt8";
+    case XmlType::int32:
+      return "Int32";
+    case XmlType::int64:
+      return "Int64";
+    case XmlType::float64:
+      return "Float64";
+  }
+  return "?";
 }
 
 }  // namespace rgbmesh::detail

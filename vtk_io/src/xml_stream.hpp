@@ -25,6 +25,9 @@ namespace rgbmesh::detail {
 
 enum class XmlType { uint8, int32, int64, float64 };
 
+// VTK's name of a type ("UInt8", "Int32", "Int64", "Float64").
+const char* type_name(XmlType type);
+
 struct XmlArray {
   std::string name;
   XmlType type = XmlType::float64;

@@ -173,6 +173,17 @@ void remove_temporaries_on_signals();
 /// Replaces `path` by a file holding `contents`, atomically.
 void write_text_atomically(const std::filesystem::path& path, const std::string& contents);
 
+/// One piece of a snapshot split among processes: the cells whose `part` is `which`, the points
+/// they use (in their order), and every point and cell array restricted alike (not the RGB
+/// state, which belongs to the whole mesh).
+MeshSnapshot snapshot_piece(const MeshSnapshot& whole, const std::vector<std::int32_t>& part, std::int32_t which);
+
+/// The summary file (.pvtp) of a data set written as pieces (.vtp files, relative to the
+/// summary's folder): the arrays are those the pieces of `like` (the whole snapshot, or any
+/// piece) are written with, so that ParaView and VTK's vtkXMLPPolyDataReader open the pieces
+/// as one data set. Written atomically.
+void write_pvtp(const std::filesystem::path& pvtp, const MeshSnapshot& like, const std::vector<std::string>& pieces);
+
 /// A ParaView collection (.pvd) of a time series: one DataSet per (time, file relative to the
 /// .pvd's directory). Written atomically.
 void write_pvd(const std::filesystem::path& pvd,

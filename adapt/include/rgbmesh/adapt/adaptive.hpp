@@ -49,6 +49,10 @@ struct AdaptOptions {
   /// every triangle of every cycle lies inside one triangle of the uniform level-min_level mesh
   /// (the unit a distributed run partitions).
   int min_level = 0;
+  /// Output in pieces (a run on several processes): the part of every triangle of a solved
+  /// mesh, per FE triangle, taken before the mesh is adapted (SolvedMesh::triangle_part, the
+  /// snapshot's "rank" cell array). Empty: none.
+  std::function<std::vector<std::int32_t>(const RgbMesh&, const fem::SurfaceMesh&)> partition;
   /// Memory: when set, returns the bytes still free under the caller's ceiling. A cycle whose
   /// mesh would need more (kSolveBytesPerDof per new unknown, the refinement's arrays) is not
   /// run: the run stops with StopReason::memory, its results so far intact.
@@ -117,6 +121,7 @@ struct SolvedMesh {
   std::vector<std::uint8_t> vertex_level, triangle_level;
   std::vector<Color> triangle_color;
   std::optional<RgbState> state;  ///< with AdaptOptions::resumable; point i is FE point i
+  std::vector<std::int32_t> triangle_part;  ///< with AdaptOptions::partition, per FE triangle
 };
 
 /// Everything about one cycle, for output. `mesh` is the mesh after the cycle's adaptation
@@ -180,7 +185,8 @@ fem::Problem moving_peak(double t, double kappa = 100.0);
 /// The cycle's mesh for output: the finite-element geometry (limit or projected positions)
 /// with point data "solution", and "exact_solution" and "error" where the exact solution is
 /// known, plus the insertion level; cell data "error_indicator", "marked", "level", "color";
-/// and the RGB state when the cycle carries one (AdaptOptions::resumable).
+/// and the RGB state when the cycle carries one (AdaptOptions::resumable); "rank" (each
+/// triangle's part) with AdaptOptions::partition.
 MeshSnapshot snapshot(const CycleState& state);
 
 /// A P2 cycle's elements for output as quadratic triangles (vtk_io's

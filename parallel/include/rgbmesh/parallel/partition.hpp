@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "rgbmesh/fem/solver.hpp"
+#include "rgbmesh/fem/surface_mesh.hpp"
 #include "rgbmesh/mesh.hpp"
 
 namespace rgbmesh::parallel {
@@ -65,6 +66,11 @@ struct Units {
 Units units(const RgbMesh& mesh, int floor, int parts, double share = 0.1);
 /// METIS's k-way partition of the units' graph, weighted by the triangles each holds.
 Partition partition(const Units& units, int parts);
+
+/// Each finite-element triangle's part among `parts` processes: the units above `floor`
+/// (units), partitioned by METIS (partition), read through fe.triangle. What a run on several
+/// processes writes as pieces, and what each process will own.
+std::vector<std::int32_t> triangle_parts(const RgbMesh& mesh, const fem::SurfaceMesh& fe, int floor, int parts);
 
 /// The rows of a symmetric sparse matrix (both triangles stored) in `parts` groups for the
 /// processes of a distributed solve: METIS's k-way partition of the matrix's graph (rows
