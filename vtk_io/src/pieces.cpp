@@ -59,24 +59,10 @@ MeshSnapshot snapshot_piece(const MeshSnapshot& whole, const std::vector<std::in
 
 namespace {
 
-std::string attribute(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
 std::string declarations(const std::vector<detail::XmlArray>& arrays) {
   std::string xml;
   for (const detail::XmlArray& a : arrays)
-    xml += "      <PDataArray type=\"" + std::string(detail::type_name(a.type)) + "\" Name=\"" + attribute(a.name) +
+    xml += "      <PDataArray type=\"" + std::string(detail::type_name(a.type)) + "\" Name=\"" + detail::xml_attribute(a.name) +
            "\" NumberOfComponents=\"" + std::to_string(a.components) + "\"/>\n";
   return xml;
 }
@@ -107,7 +93,7 @@ void write_pvtp(const std::filesystem::path& pvtp, const MeshSnapshot& like, con
       "      <PDataArray type=\"" + std::string(detail::type_name(d.coordinates.type)) +
       "\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"
       "    </PPoints>\n";
-  for (const std::string& piece : pieces) xml += "    <Piece Source=\"" + attribute(piece) + "\"/>\n";
+  for (const std::string& piece : pieces) xml += "    <Piece Source=\"" + detail::xml_attribute(piece) + "\"/>\n";
   xml +=
       "  </PPolyData>\n"
       "</VTKFile>\n";
