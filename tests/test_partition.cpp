@@ -106,14 +106,23 @@ TEST(Partition, BalancesTheTrianglesOfAMeshRefinedAroundOnePoint) {
 // peak inside a few of them: the final mesh partitioned at the floor's level for 2, 3 and 4
 // processes. (A moving peak's wake gathers more tightly: 1.36 for 3 parts of 96,548 triangles
 // at this level; units finer than the floor where the mesh is heavy are the next step.)
-TEST(Partition, AnAdaptiveRunAboveAFloorBalancesWithinTwentyPercent) {
-  const TriangleMeshData ico = icosahedron();
+// Adaptive runs on the unit sphere from the icosahedron above a floor at level 2.
+adapt::AdaptOptions above_level_2() {
   adapt::AdaptOptions o;
   o.projection = fem::Projection(fem::project_to_unit_sphere);
   o.min_level = 2;
   o.max_cycles = 60;
   o.max_dofs = 30000;
-  RgbMesh peak = RgbMesh::from_triangles(ico.points, ico.triangles);
+  return o;
+}
+RgbMesh icosahedron_mesh() {
+  const TriangleMeshData ico = icosahedron();
+  return RgbMesh::from_triangles(ico.points, ico.triangles);
+}
+
+TEST(Partition, AnAdaptiveRunAboveAFloorBalancesWithinTwentyPercent) {
+  const adapt::AdaptOptions o = above_level_2();
+  RgbMesh peak = icosahedron_mesh();
   adapt::run_cycles(peak, fem::sphere_peak(), o);
   const MacroTriangles macro = macro_triangles(peak, 2);
   ASSERT_EQ(macro.corners.size(), 320u);
@@ -127,18 +136,13 @@ TEST(Partition, AnAdaptiveRunAboveAFloorBalancesWithinTwentyPercent) {
 // 96,548 triangles at level 2): units split where heavy spread it, and each unit is covered
 // exactly once by its triangles (parametric areas relative to the unit's level add up to 1).
 TEST(Partition, UnitsFinerWhereTheMeshIsHeavyBalanceAMovingPeaksWake) {
-  const TriangleMeshData ico = icosahedron();
-  adapt::AdaptOptions o;
-  o.projection = fem::Projection(fem::project_to_unit_sphere);
-  o.min_level = 2;
-  o.max_cycles = 60;
-  o.max_dofs = 30000;
+  adapt::AdaptOptions o = above_level_2();
   o.marking = adapt::Marking::equidistribution;
   o.coarsen_below = 0.25;
   adapt::DynamicOptions d;
   d.steps = 6;
   d.start_cycles = 16;
-  RgbMesh m = RgbMesh::from_triangles(ico.points, ico.triangles);
+  RgbMesh m = icosahedron_mesh();
   adapt::run_dynamic(m, [](double t) { return adapt::moving_peak(t); }, o, d);
   ASSERT_GT(m.num_triangles(), 50000u);
   const MacroTriangles macro = macro_triangles(m, 2);

@@ -57,6 +57,20 @@ std::vector<std::array<Side, 2>> interior_edges(const SurfaceMesh& mesh) {
   return edges;
 }
 
+// u_h and its surface gradient at a point of an element.
+struct Evaluated {
+  double value = 0;
+  Vec3 gradient;
+};
+Evaluated evaluate(const ElementPoint& p, const Eigen::VectorXd& u) {
+  Evaluated e;
+  for (int i = 0; i < p.nodes; ++i) {
+    e.value += p.value[i] * u[p.dof[i]];
+    e.gradient += u[p.dof[i]] * p.gradient[i];
+  }
+  return e;
+}
+
 // Each triangle's geometry and the (constant) gradient of u_h on it.
 struct TriangleFields {
   std::vector<TriangleGeometry> geo;
@@ -137,12 +151,7 @@ ErrorNorms error_norms(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const 
     const double size = longest_edge(mesh.points[c[0]], mesh.points[c[1]], mesh.points[c[2]]);
     for (const auto& q : rule) {
       const ElementPoint p = element_point(mesh, t, q.barycentric);
-      double uh = 0;
-      Vec3 grad_h;
-      for (int i = 0; i < p.nodes; ++i) {
-        uh += p.value[i] * u[p.dof[i]];
-        grad_h += u[p.dof[i]] * p.gradient[i];
-      }
+      const auto [uh, grad_h] = evaluate(p, u);
       const Vec3 y = mesh.lift(p.x);
       const double d = exact.value(y) - mean - uh;
       // The gradient on the element of the lifted solution u∘P: along each direction e of its
@@ -218,8 +227,7 @@ CurvedEdgePoint curved_edge_point(const SurfaceMesh& mesh, const Eigen::VectorXd
   const Vec3& m = mesh.points[mesh.edge_nodes[t][k]];
   const Vec3 tangent = (4 * s - 3) * a + (4 * s - 1) * b + (4 - 8 * s) * m;
   const Vec3 conormal = cross(tangent, p.normal);
-  Vec3 grad;
-  for (int i = 0; i < p.nodes; ++i) grad += u[p.dof[i]] * p.gradient[i];
+  const Vec3 grad = evaluate(p, u).gradient;
   return {p.x, p.normal, norm(tangent), dot(grad, conormal) / norm(conormal)};
 }
 
@@ -244,12 +252,7 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
     double r2 = 0;
     for (const auto& q : rule) {
       const ElementPoint p = element_point(mesh, t, q.barycentric);
-      double uh = 0;
-      Vec3 grad;
-      for (int i = 0; i < p.nodes; ++i) {
-        uh += p.value[i] * u[p.dof[i]];
-        grad += u[p.dof[i]] * p.gradient[i];
-      }
+      const auto [uh, grad] = evaluate(p, u);
       const Vec3 lifted = mesh.lift(p.x);
       const double r = (problem.source ? problem.source(lifted) : 0.0) - problem.c * uh +
                        laplace_beltrami(mesh, t, q.barycentric, u);
@@ -396,11 +399,7 @@ Estimate zz_estimator_quadratic(const SurfaceMesh& mesh, const Eigen::VectorXd& 
   const std::size_t nt = mesh.triangles.size();
   static constexpr std::array<std::array<double, 3>, 6> kNodes = {
       {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}}};
-  const auto gradient_at = [&](const ElementPoint& p) {
-    Vec3 g;
-    for (int i = 0; i < p.nodes; ++i) g += u[p.dof[i]] * p.gradient[i];
-    return g;
-  };
+  const auto gradient_at = [&](const ElementPoint& p) { return evaluate(p, u).gradient; };
   std::vector<Vec3> recovered(mesh.num_dofs());
   std::vector<double> weight(mesh.num_dofs(), 0.0);
   for (std::size_t t = 0; t < nt; ++t) {

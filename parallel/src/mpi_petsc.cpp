@@ -11,6 +11,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "rgbmesh/fem/petsc_cg_amg.hpp"
 #include "rgbmesh/parallel.hpp"
 #include "rgbmesh/parallel/mpi.hpp"
 #include "rgbmesh/parallel/partition.hpp"
@@ -19,30 +20,9 @@ namespace rgbmesh::parallel {
 
 namespace {
 
-static_assert(std::is_same_v<PetscInt, int> && std::is_same_v<PetscScalar, double>,
-              "Eigen's index and value arrays are handed to PETSc as they are");
-
-void check(PetscErrorCode code, const char* what) {
-  if (code == 0) return;
-  const char* text = nullptr;
-  PetscErrorMessage(code, &text, nullptr);
-  throw std::runtime_error(std::string("distributed amg: ") + what + " failed (PETSc: " + (text ? text : "unknown error") +
-                           ")");
-}
+void check(PetscErrorCode code, const char* what) { fem::petsc::check(code, "distributed amg", what); }
 
 bool started = false;
-
-struct Objects {
-  Mat a = nullptr;
-  Vec x = nullptr, b = nullptr;
-  KSP ksp = nullptr;
-  ~Objects() {
-    KSPDestroy(&ksp);
-    VecDestroy(&x);
-    VecDestroy(&b);
-    MatDestroy(&a);
-  }
-};
 
 fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, const Eigen::VectorXd* guess,
                           double tolerance) {
@@ -84,35 +64,14 @@ fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, 
     rhs[to_new[i]] = b[static_cast<Eigen::Index>(i)];
     x[to_new[i]] = with_guess ? (*guess)[static_cast<Eigen::Index>(i)] : 0.0;
   }
-  Objects o;
+  fem::petsc::Objects o;
   const auto N = static_cast<PetscInt>(n);
   check(MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, m, m, N, N, rows.data(), columns.data(), values.data(), &o.a),
         "creating the matrix");
   check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, N, rhs.data() + first, &o.b), "creating the right-hand side");
   check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, N, x.data() + first, &o.x), "creating the solution");
-  check(KSPCreate(PETSC_COMM_WORLD, &o.ksp), "creating the solver");
-  check(KSPSetOperators(o.ksp, o.a, o.a), "setting the operator");
-  check(KSPSetType(o.ksp, KSPCG), "choosing CG");
-  PC pc = nullptr;
-  check(KSPGetPC(o.ksp, &pc), "getting the preconditioner");
-  check(PCSetType(pc, PCHYPRE), "choosing hypre");
-  check(PCHYPRESetType(pc, "boomeramg"), "choosing BoomerAMG");
-  check(KSPSetNormType(o.ksp, KSP_NORM_UNPRECONDITIONED), "setting the norm");
-  check(KSPSetTolerances(o.ksp, tolerance, 0.0, PETSC_DEFAULT, 10000), "setting the tolerances");
-  check(KSPSetInitialGuessNonzero(o.ksp, with_guess ? PETSC_TRUE : PETSC_FALSE), "setting the initial guess");
-  check(KSPSetOptionsPrefix(o.ksp, "rgbmesh_amg_"), "setting the options prefix");
-  check(KSPSetFromOptions(o.ksp), "reading the options");
-  check(KSPSolve(o.ksp, o.b, o.x), "solving");
-  KSPConvergedReason reason;
-  check(KSPGetConvergedReason(o.ksp, &reason), "asking why it stopped");
-  PetscInt iterations = 0;
-  check(KSPGetIterationNumber(o.ksp, &iterations), "counting iterations");
   fem::LinearSolution out;
-  out.iterations = static_cast<int>(iterations);
-  if (reason < 0)
-    throw std::runtime_error("distributed amg: no convergence to " + std::to_string(tolerance) + " after " +
-                             std::to_string(iterations) + " iterations (PETSc's reason " +
-                             std::to_string(static_cast<int>(reason)) + ")");
+  out.iterations = fem::petsc::solve_cg_amg(PETSC_COMM_WORLD, o, tolerance, with_guess, "distributed amg", "");
   // Every process gets the whole solution: the blocks, gathered in rank order, then numbered
   // as the caller's unknowns.
   MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, x.data(), counts.data(), offsets.data(), MPI_DOUBLE,
