@@ -60,6 +60,9 @@ std::string cycles_json(const std::vector<adapt::CycleReport>& reports, bool dyn
         .add("estimate_seconds", r.estimate_seconds)
         .add("error_seconds", r.error_seconds)
         .add("adapt_seconds", r.adapt_seconds)
+        .add("partition_seconds", r.partition_seconds)
+        .add("bytes_sent", static_cast<std::uint64_t>(r.bytes_sent))
+        .add("bytes_sent_largest", static_cast<std::uint64_t>(r.bytes_sent_largest))
         .add("marked", static_cast<std::uint64_t>(r.marked))
         .add("splits", static_cast<std::uint64_t>(r.splits))
         .add("removals", static_cast<std::uint64_t>(r.removals))
@@ -141,11 +144,15 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   o.order = a.order;
   o.min_level = a.min_level;
   o.solve.linear_solver = a.linear_solver;
+  o.bytes_sent = a.bytes_sent;
   if (a.part_triangles) {
     const int floor = a.min_level, parts = a.processes;
     o.partition = [f = a.part_triangles, floor, parts](const RgbMesh& m, const fem::SurfaceMesh& fe) {
       return f(m, fe, floor, parts);
     };
+    o.part = a.rank;
+    o.sum_over_parts = a.sum;
+    o.gather_over_parts = a.gather;
   }
   s.estimator = a.estimator;
   o.estimator = choose<adapt::EstimatorKind>(
@@ -283,7 +290,8 @@ std::vector<adapt::CycleReport> cycles_from(const JsonValue& list, const fs::pat
     r.adapt_seconds = real(c, "adapt_seconds", file);
     // Reports written before these fields existed have none.
     for (auto [key, field] : {std::pair{"mesh_seconds", &r.mesh_seconds}, std::pair{"estimate_seconds", &r.estimate_seconds},
-                              std::pair{"error_seconds", &r.error_seconds}})
+                              std::pair{"error_seconds", &r.error_seconds},
+                              std::pair{"partition_seconds", &r.partition_seconds}})
       if (c.find(key)) *field = real(c, key, file);
     r.marked = static_cast<std::size_t>(count(c, "marked", file));
     r.splits = static_cast<std::size_t>(count(c, "splits", file));
@@ -291,6 +299,8 @@ std::vector<adapt::CycleReport> cycles_from(const JsonValue& list, const fs::pat
     r.solver = text(c, "solver", file);
     // Reports written before the field existed have none.
     if (c.find("solver_iterations")) r.solver_iterations = static_cast<int>(count(c, "solver_iterations", file));
+    if (c.find("bytes_sent")) r.bytes_sent = count(c, "bytes_sent", file);
+    if (c.find("bytes_sent_largest")) r.bytes_sent_largest = count(c, "bytes_sent_largest", file);
     out.push_back(std::move(r));
   }
   return out;

@@ -2,6 +2,7 @@
 // `rgbmesh adapt`: error-driven adaptive cycles written for ParaView. It is also the job that
 // `rgbmesh` runs without arguments (all defaults).
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <set>
@@ -49,6 +50,11 @@ struct AdaptArgs {
   // Each triangle's process (per FE triangle, for the pieces of the output): (mesh, FE mesh,
   // floor level, processes). Empty on one process.
   std::function<std::vector<std::int32_t>(const RgbMesh&, const fem::SurfaceMesh&, int, int)> part_triangles;
+  // The sum and gather across processes (each computes its own triangles' estimates and errors) and the
+  // bytes the processes sent in each cycle (adapt::AdaptOptions::sum_over_parts, bytes_sent).
+  std::function<void(double*, std::size_t)> sum;
+  std::function<void(double*, std::size_t, const std::vector<std::int32_t>&)> gather;
+  std::function<std::array<std::uint64_t, 2>()> bytes_sent;
 };
 
 // Checks the arguments against each other and the mesh, runs, writes everything; returns the

@@ -26,6 +26,9 @@ void distribute(AdaptArgs& args, const Processes& processes) {
   args.processes = processes.count;
   args.rank = processes.rank;
   args.part_triangles = parallel::triangle_parts;
+  args.sum = parallel::sum;
+  args.gather = parallel::gather;
+  args.bytes_sent = parallel::bytes_sent_since_last;
 }
 
 }  // namespace rgbmesh::cli

@@ -3,7 +3,9 @@
 // same unknowns and triangles, the final mesh's triangles by their corners' positions) and the
 // same estimates and errors within the solver's tolerance: sphere-peak above --min-level 2, a
 // Gaussian source on a torus with a hole (boundary and genus), and the moving peak with
-// coarsening. Skipped, with a message, where the build has no MPI.
+// coarsening. Each process computes the estimates and errors of its own triangles only (the
+// others' arrive by messages), so equal estimates also check that exchange; the report counts
+// the bytes sent. Skipped, with a message, where the build has no MPI.
 
 #include <cmath>
 #include <cstdlib>
@@ -62,6 +64,14 @@ class Mpi : public Cli {
         if (std::isfinite(ca[i].error_h1)) {
           EXPECT_NEAR(ca[i].error_h1, cb[i].error_h1, 1e-7 * ca[i].error_h1) << p << " processes, cycle " << i;
         }
+        // The bytes sent: none by one process; on several, at least the estimates, which each
+        // process sends for its own triangles (two numbers each: η_T² and its geometric part);
+        // all processes' bytes at least the most by one and at most p times it.
+        EXPECT_EQ(ca[i].bytes_sent, 0.0) << "cycle " << i;
+        EXPECT_GE(cb[i].bytes_sent, 16.0 * static_cast<double>(cb[i].triangles))
+            << p << " processes, cycle " << i;
+        EXPECT_GE(cb[i].bytes_sent, cb[i].bytes_sent_largest) << p << " processes, cycle " << i;
+        EXPECT_LE(cb[i].bytes_sent, p * cb[i].bytes_sent_largest) << p << " processes, cycle " << i;
       }
       // Every cycle's system was solved on all processes (the distributed multigrid).
       const std::string text = read_text(dir + "/report.json");

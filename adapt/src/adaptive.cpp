@@ -25,6 +25,7 @@ struct SolvedCycle {
   fem::Solution solution;
   fem::Estimate estimate;
   CycleReport report;
+  std::vector<std::int32_t> triangle_part;  ///< with AdaptOptions::partition
 };
 
 // Rebuilds the mesh from its RGB state with the points in an order that depends on the mesh
@@ -110,9 +111,22 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   const Eigen::VectorXd guess = transfer.on(c.fe);
   if (guess.size() > 0) so.initial_guess = &guess;
   c.solution = fem::solve(c.fe, problem, so);
+  // On several processes, each computes the estimator's and the norms' terms of its part.
+  fem::WorkShare share;
+  if (options.partition) {
+    const auto t_part = std::chrono::steady_clock::now();
+    c.triangle_part = options.partition(mesh, c.fe);
+    c.report.partition_seconds = seconds_since(t_part);
+    if (options.sum_over_parts && options.gather_over_parts) {
+      share.part = c.triangle_part;
+      share.process = options.part;
+      share.sum = options.sum_over_parts;
+      share.gather = options.gather_over_parts;
+    }
+  }
   const auto t0 = std::chrono::steady_clock::now();
-  c.estimate = options.estimator == EstimatorKind::residual ? fem::residual_estimator(c.fe, problem, c.solution.u)
-                                                            : fem::zz_estimator(c.fe, c.solution.u);
+  c.estimate = options.estimator == EstimatorKind::residual ? fem::residual_estimator(c.fe, problem, c.solution.u, share)
+                                                            : fem::zz_estimator(c.fe, c.solution.u, share);
   c.report.estimate_seconds = seconds_since(t0);
   c.report.triangles = c.fe.triangles.size();
   c.report.dofs = c.fe.num_dofs();
@@ -122,7 +136,7 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   c.report.solver_iterations = c.solution.iterations;
   if (problem.exact) {
     const auto t_errors = std::chrono::steady_clock::now();
-    const fem::ErrorNorms e = fem::error_norms(c.fe, c.solution.u, *problem.exact, c.solution.zero_mean);
+    const fem::ErrorNorms e = fem::error_norms(c.fe, c.solution.u, *problem.exact, c.solution.zero_mean, share);
     c.report.error_l2 = e.l2;
     c.report.error_h1 = e.h1;
     c.report.error_seconds = seconds_since(t_errors);
@@ -130,9 +144,17 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   return c;
 }
 
+void count_bytes_sent(CycleReport& report, const AdaptOptions& options) {
+  if (!options.bytes_sent) return;
+  const std::array<std::uint64_t, 2> sent = options.bytes_sent();
+  report.bytes_sent = sent[0];
+  report.bytes_sent_largest = sent[1];
+}
+
 // The levels and colours of the mesh a solution lives on, and its RGB state if asked: taken
 // before the mesh is adapted.
-SolvedMesh describe(const RgbMesh& mesh, const fem::SurfaceMesh& fe, bool with_state, const AdaptOptions& options) {
+SolvedMesh describe(const RgbMesh& mesh, const SolvedCycle& c, bool with_state) {
+  const fem::SurfaceMesh& fe = c.fe;
   SolvedMesh m;
   m.vertex_level.reserve(fe.vertex.size());
   for (const VertexHandle v : fe.vertex) m.vertex_level.push_back(static_cast<std::uint8_t>(mesh.level(v)));
@@ -147,7 +169,7 @@ SolvedMesh describe(const RgbMesh& mesh, const fem::SurfaceMesh& fe, bool with_s
     points.vertex_handle = fe.vertex;
     m.state = save_state(mesh, points);
   }
-  if (options.partition) m.triangle_part = options.partition(mesh, fe);
+  m.triangle_part = c.triangle_part;
   return m;
 }
 
@@ -306,7 +328,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
     SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer);
     solved_dofs = c.fe.num_dofs();
     c.report.cycle = cycle;
-    const SolvedMesh solved = replay ? SolvedMesh{} : describe(mesh, c.fe, options.resumable, options);
+    const SolvedMesh solved = replay ? SolvedMesh{} : describe(mesh, c, options.resumable);
     bool last = true;
     if (cycle + 1 == options.max_cycles)
       run.stopped = StopReason::cycles;
@@ -322,6 +344,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
       marked = adapt_mesh(mesh, c, options, c.report);
     }
     c.report.seconds = seconds_since(t0);
+    count_bytes_sent(c.report, options);
     if (!replay) {
       run.cycles.push_back(c.report);
       if (on_cycle) on_cycle({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved});
@@ -428,11 +451,12 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     c.report.removals = adapted.removals;
     c.report.adapt_seconds = adapted.adapt_seconds;
     c.report.seconds = seconds_since(t0);
+    count_bytes_sent(c.report, o);
     run.cycles.push_back(c.report);
     const std::vector<char> marked = o.strategy == Strategy::adaptive
                                          ? mark(c.estimate.eta, o.marking, o.theta, o.target_estimate)
                                          : std::vector<char>(c.fe.triangles.size(), 0);
-    const SolvedMesh solved = describe(mesh, c.fe, o.resumable, o);
+    const SolvedMesh solved = describe(mesh, c, o.resumable);
     if (on_step) on_step({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved});
   }
   return run;

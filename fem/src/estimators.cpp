@@ -111,7 +111,22 @@ void require_order_1_or_2(const SurfaceMesh& mesh, const char* what) {
                                 std::to_string(mesh.order));
 }
 
-Estimate finish(std::vector<double> eta_squared, std::vector<double> geometric) {
+// η_T from η_T² and the total; on several processes, the other processes' triangles first
+// (one message: each triangle's square and geometric part side by side).
+Estimate finish(std::vector<double> eta_squared, std::vector<double> geometric, const WorkShare& share) {
+  if (share.gather && !share.part.empty()) {
+    const std::size_t nt = eta_squared.size();
+    std::vector<double> both(2 * nt);
+    for (std::size_t t = 0; t < nt; ++t) {
+      both[2 * t] = eta_squared[t];
+      both[2 * t + 1] = geometric[t];
+    }
+    share.gather(both.data(), 2, share.part);
+    for (std::size_t t = 0; t < nt; ++t) {
+      eta_squared[t] = both[2 * t];
+      geometric[t] = both[2 * t + 1];
+    }
+  }
   Estimate e;
   double sum = 0;
   e.eta.resize(eta_squared.size());
@@ -127,26 +142,29 @@ Estimate finish(std::vector<double> eta_squared, std::vector<double> geometric) 
 }  // namespace
 
 ErrorNorms error_norms(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const ExactSolution& exact,
-                       bool subtract_mean) {
+                       bool subtract_mean, const WorkShare& share) {
   const auto& rule = triangle_quadrature();
   const std::size_t nt = mesh.triangles.size();
   double mean = 0;
   if (subtract_mean) {
-    double integral = 0, area = 0;
+    std::vector<double> integral_area(2, 0.0);
     for (std::size_t t = 0; t < nt; ++t) {
+      if (!share.computes(t)) continue;
       for (const auto& q : rule) {
         const ElementPoint p = element_point(mesh, t, q.barycentric);
-        integral += q.weight * p.density * exact.value(mesh.lift(p.x));
-        area += q.weight * p.density;
+        integral_area[0] += q.weight * p.density * exact.value(mesh.lift(p.x));
+        integral_area[1] += q.weight * p.density;
       }
     }
-    mean = integral / area;
+    if (share.sum) share.sum(integral_area.data(), integral_area.size());
+    mean = integral_area[0] / integral_area[1];
   }
   // Each triangle's share on every core, summed in triangle order (the numbers of one thread).
-  std::vector<std::array<double, 2>> share(nt, {0.0, 0.0});
+  std::vector<std::array<double, 2>> terms(nt, {0.0, 0.0});
   detail::for_each_index(nt, [&](std::size_t t) {
-    double& l2 = share[t][0];
-    double& h1 = share[t][1];
+    if (!share.computes(t)) return;
+    double& l2 = terms[t][0];
+    double& h1 = terms[t][1];
     const auto& c = mesh.triangles[t];
     const double size = longest_edge(mesh.points[c[0]], mesh.points[c[1]], mesh.points[c[2]]);
     for (const auto& q : rule) {
@@ -165,12 +183,13 @@ ErrorNorms error_norms(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const 
       h1 += w * dot(dg, dg);
     }
   });
-  double l2 = 0, h1 = 0;
-  for (const auto& [a, b] : share) {
-    l2 += a;
-    h1 += b;
+  std::vector<double> sums(2, 0.0);
+  for (const auto& [a, b] : terms) {
+    sums[0] += a;
+    sums[1] += b;
   }
-  return {std::sqrt(l2), std::sqrt(h1)};
+  if (share.sum) share.sum(sums.data(), sums.size());
+  return {std::sqrt(sums[0]), std::sqrt(sums[1])};
 }
 
 double laplace_beltrami(const SurfaceMesh& mesh, std::size_t triangle, const std::array<double, 3>& lambda,
@@ -240,13 +259,14 @@ constexpr std::array<std::array<double, 2>, 3> kEdgeGauss = {
 // core into per-triangle and per-edge slots, summed serially in triangle and edge order (the
 // numbers of one thread).
 Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& problem,
-                                      const Eigen::VectorXd& u) {
+                                      const Eigen::VectorXd& u, const WorkShare& share) {
   const std::size_t nt = mesh.triangles.size();
   const auto& rule = triangle_quadrature();
   std::vector<double> h(nt), eta2(nt, 0.0), energy(nt, 0.0), delta(nt, 0.0), geometric(nt, 0.0);
   // Element residuals f - c u_h + Δ_Γh u_h, ‖∇u_h‖²_T and (with a projection) the distance to
   // the surface.
   detail::for_each_index(nt, [&](std::size_t t) {
+    if (!share.computes(t)) return;
     const auto& c = mesh.triangles[t];
     h[t] = longest_edge(mesh.points[c[0]], mesh.points[c[1]], mesh.points[c[2]]);
     double r2 = 0;
@@ -270,6 +290,8 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
   detail::for_each_index(edges.size(), [&](std::size_t n) {
     const auto& [a, b] = edges[n];
     const auto ta = static_cast<std::size_t>(a.triangle), tb = static_cast<std::size_t>(b.triangle);
+    edge_terms[n] = {0.0, 0.0};
+    if (!share.computes(ta) && !share.computes(tb)) return;
     double integral = 0, theta = 0;
     for (const auto& [s, w] : kEdgeGauss) {
       const CurvedEdgePoint pa = curved_edge_point(mesh, u, ta, a.edge, s);
@@ -285,6 +307,7 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
   for (std::size_t n = 0; n < edges.size(); ++n) {
     for (const Side& side : edges[n]) {
       const auto t = static_cast<std::size_t>(side.triangle);
+      if (!share.computes(t)) continue;
       eta2[t] += edge_terms[n][0];
       if (!mesh.projection) delta[t] = std::max(delta[t], edge_terms[n][1]);
     }
@@ -296,6 +319,7 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
       const Vec3 &pa = mesh.points[e.a], &pb = mesh.points[e.b];
       if (!problem.is_neumann(mesh.lift(0.5 * (pa + pb)))) continue;
       const auto t = static_cast<std::size_t>(e.triangle);
+      if (!share.computes(t)) continue;
       int k = 0;
       while (k < 2 && mesh.triangles[t][k] != e.a) ++k;
       double integral = 0;
@@ -308,16 +332,18 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
     }
   }
   for (std::size_t t = 0; t < nt; ++t) {
+    if (!share.computes(t)) continue;
     geometric[t] = delta[t] / h[t] * std::sqrt(energy[t]);
     eta2[t] += geometric[t] * geometric[t];
   }
-  return finish(std::move(eta2), std::move(geometric));
+  return finish(std::move(eta2), std::move(geometric), share);
 }
 
 }  // namespace
 
-Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, const Eigen::VectorXd& u) {
-  if (mesh.order == 2) return residual_estimator_quadratic(mesh, problem, u);
+Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, const Eigen::VectorXd& u,
+                            const WorkShare& share) {
+  if (mesh.order == 2) return residual_estimator_quadratic(mesh, problem, u, share);
   require_order_1_or_2(mesh, "residual_estimator");
   const std::size_t nt = mesh.triangles.size();
   const auto& rule = triangle_quadrature();
@@ -329,6 +355,7 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
   }
   // Element residuals (and, with a projection, the distance to the surface), on every core.
   detail::for_each_index(nt, [&](std::size_t i) {
+    if (!share.computes(i)) return;
     const auto& t = mesh.triangles[i];
     const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
     double r2 = 0;
@@ -348,6 +375,8 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
   std::vector<std::array<double, 2>> edge_terms(edges.size());  // ½ h_e ‖J‖²_e, sagitta
   detail::for_each_index(edges.size(), [&](std::size_t n) {
     const auto i = static_cast<std::size_t>(edges[n][1].triangle), j = static_cast<std::size_t>(edges[n][0].triangle);
+    edge_terms[n] = {0.0, 0.0};
+    if (!share.computes(i) && !share.computes(j)) return;
     const int k = edges[n][1].edge;
     const std::int32_t a = mesh.triangles[i][k], b = mesh.triangles[i][(k + 1) % 3];
     const Vec3 pa = mesh.points[a], pb = mesh.points[b];
@@ -362,12 +391,12 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
     edge_terms[n][1] = len * theta / 8.0;
   });
   for (std::size_t n = 0; n < edges.size(); ++n) {
-    const auto i = static_cast<std::size_t>(edges[n][1].triangle), j = static_cast<std::size_t>(edges[n][0].triangle);
-    eta2[i] += edge_terms[n][0];
-    eta2[j] += edge_terms[n][0];
-    if (!mesh.projection) {
-      delta[i] = std::max(delta[i], edge_terms[n][1]);
-      delta[j] = std::max(delta[j], edge_terms[n][1]);
+    // The second side first, as before sides were skipped (the same sums bit for bit).
+    for (const Side& side : {edges[n][1], edges[n][0]}) {
+      const auto t = static_cast<std::size_t>(side.triangle);
+      if (!share.computes(t)) continue;
+      eta2[t] += edge_terms[n][0];
+      if (!mesh.projection) delta[t] = std::max(delta[t], edge_terms[n][1]);
     }
   }
   // Neumann edges: the flux misfit.
@@ -377,6 +406,7 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
       const Vec3 mid = mesh.lift(0.5 * (pa + pb));
       if (!problem.is_neumann(mid)) continue;
       const auto i = static_cast<std::size_t>(e.triangle);
+      if (!share.computes(i)) continue;
       const double len = distance(pa, pb);
       const Vec3 n = cross((pb - pa) * (1.0 / len), geo[i].normal);
       const double misfit = (problem.neumann_flux ? problem.neumann_flux(mid) : 0.0) - dot(grad[i], n);
@@ -384,10 +414,11 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
     }
   }
   for (std::size_t i = 0; i < nt; ++i) {
+    if (!share.computes(i)) continue;
     geometric[i] = delta[i] / h[i] * std::sqrt(geo[i].area) * norm(grad[i]);
     eta2[i] += geometric[i] * geometric[i];
   }
-  return finish(std::move(eta2), std::move(geometric));
+  return finish(std::move(eta2), std::move(geometric), share);
 }
 
 namespace {
@@ -395,7 +426,7 @@ namespace {
 // ZZ for P2: the gradient recovered at every node (corners and edge nodes) as the
 // density-weighted mean of the elements' gradients there, interpolated quadratically, against
 // ∇u_h on each curved element.
-Estimate zz_estimator_quadratic(const SurfaceMesh& mesh, const Eigen::VectorXd& u) {
+Estimate zz_estimator_quadratic(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const WorkShare& share) {
   const std::size_t nt = mesh.triangles.size();
   static constexpr std::array<std::array<double, 3>, 6> kNodes = {
       {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0.5, 0.5, 0}, {0, 0.5, 0.5}, {0.5, 0, 0.5}}};
@@ -414,6 +445,7 @@ Estimate zz_estimator_quadratic(const SurfaceMesh& mesh, const Eigen::VectorXd& 
   }
   std::vector<double> eta2(nt, 0.0);
   for (std::size_t t = 0; t < nt; ++t) {
+    if (!share.computes(t)) continue;
     for (const auto& q : triangle_quadrature()) {
       const ElementPoint p = element_point(mesh, t, q.barycentric);
       Vec3 g;
@@ -422,13 +454,13 @@ Estimate zz_estimator_quadratic(const SurfaceMesh& mesh, const Eigen::VectorXd& 
       eta2[t] += q.weight * p.density * dot(d, d);
     }
   }
-  return finish(std::move(eta2), std::vector<double>(nt, 0.0));
+  return finish(std::move(eta2), std::vector<double>(nt, 0.0), share);
 }
 
 }  // namespace
 
-Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u) {
-  if (mesh.order == 2) return zz_estimator_quadratic(mesh, u);
+Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const WorkShare& share) {
+  if (mesh.order == 2) return zz_estimator_quadratic(mesh, u, share);
   require_order_1_or_2(mesh, "zz_estimator");
   const std::size_t nt = mesh.triangles.size();
   std::vector<Vec3> recovered(mesh.num_dofs());
@@ -447,6 +479,7 @@ Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u) {
   const auto& rule = triangle_quadrature();
   std::vector<double> eta2(nt, 0.0);
   for (std::size_t i = 0; i < nt; ++i) {
+    if (!share.computes(i)) continue;
     const auto& t = mesh.triangles[i];
     for (const auto& q : rule) {
       const Vec3 g = at(q.barycentric, recovered[t[0]], recovered[t[1]], recovered[t[2]]);
@@ -454,7 +487,7 @@ Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u) {
       eta2[i] += q.weight * geo[i].area * dot(d, d);
     }
   }
-  return finish(std::move(eta2), std::vector<double>(nt, 0.0));
+  return finish(std::move(eta2), std::vector<double>(nt, 0.0), share);
 }
 
 }  // namespace rgbmesh::fem

@@ -139,4 +139,47 @@ int processes() {
 
 fem::LinearSolver distributed_amg() { return solve; }
 
+void sum(double* values, std::size_t count) {
+  // In slices that an int counts.
+  constexpr std::size_t kSlice = std::size_t{1} << 30;
+  for (std::size_t first = 0; first < count; first += kSlice) {
+    const auto n = static_cast<int>(std::min(kSlice, count - first));
+    MPI_Allreduce(MPI_IN_PLACE, values + first, n, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  }
+}
+
+void gather(double* values, std::size_t width, const std::vector<std::int32_t>& part) {
+  const int p = processes(), r = rank();
+  std::vector<int> counts(static_cast<std::size_t>(p), 0), offsets(static_cast<std::size_t>(p), 0);
+  for (const std::int32_t q : part) counts[static_cast<std::size_t>(q)] += static_cast<int>(width);
+  for (int q = 1; q < p; ++q) offsets[static_cast<std::size_t>(q)] = offsets[static_cast<std::size_t>(q - 1)] + counts[static_cast<std::size_t>(q - 1)];
+  // Every process's elements in element order, its block after the lower ranks' blocks.
+  std::vector<double> all(part.size() * width);
+  std::vector<int> next = offsets;
+  for (std::size_t e = 0; e < part.size(); ++e) {
+    if (part[e] != r) continue;
+    std::copy(values + e * width, values + (e + 1) * width, all.begin() + next[static_cast<std::size_t>(r)]);
+    next[static_cast<std::size_t>(r)] += static_cast<int>(width);
+  }
+  MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, all.data(), counts.data(), offsets.data(), MPI_DOUBLE,
+                 PETSC_COMM_WORLD);
+  next = offsets;
+  for (std::size_t e = 0; e < part.size(); ++e) {
+    const auto q = static_cast<std::size_t>(part[e]);
+    std::copy(all.begin() + next[q], all.begin() + next[q] + static_cast<std::ptrdiff_t>(width), values + e * width);
+    next[q] += static_cast<int>(width);
+  }
+}
+
+std::array<std::uint64_t, 2> bytes_sent_since_last() {
+  static std::uint64_t before = 0;
+  const std::uint64_t now = bytes_sent();
+  const unsigned long long mine = now - before;
+  unsigned long long total = 0, largest = 0;
+  MPI_Allreduce(&mine, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, PETSC_COMM_WORLD);
+  MPI_Allreduce(&mine, &largest, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, PETSC_COMM_WORLD);
+  before = bytes_sent();  // these two reductions belong to the next interval
+  return {total, largest};
+}
+
 }  // namespace rgbmesh::parallel

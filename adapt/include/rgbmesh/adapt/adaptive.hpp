@@ -4,6 +4,7 @@
 /// queues (paper section V), carry the solution over, repeat.
 
 #include <Eigen/Core>
+#include <array>
 #include <functional>
 #include <optional>
 #include <string>
@@ -53,6 +54,16 @@ struct AdaptOptions {
   /// mesh, per FE triangle, taken before the mesh is adapted (SolvedMesh::triangle_part, the
   /// snapshot's "rank" cell array). Empty: none.
   std::function<std::vector<std::int32_t>(const RgbMesh&, const fem::SurfaceMesh&)> partition;
+  /// With partition: this process's part, the sum across processes and the gather of
+  /// per-triangle values (fem::WorkShare). Each process then computes the estimator's and the
+  /// error norms' terms of its own part's triangles only, and receives the others'.
+  int part = 0;
+  std::function<void(double* values, std::size_t count)> sum_over_parts;
+  std::function<void(double* values, std::size_t width, const std::vector<std::int32_t>& part)> gather_over_parts;
+  /// On several processes: called by every process at the end of each cycle, returns the
+  /// bytes all processes sent since the previous call, in all and the most by one process
+  /// (CycleReport::bytes_sent, bytes_sent_largest).
+  std::function<std::array<std::uint64_t, 2>()> bytes_sent;
   /// Memory: when set, returns the bytes still free under the caller's ceiling. A cycle whose
   /// mesh would need more (kSolveBytesPerDof per new unknown, the refinement's arrays) is not
   /// run: the run stops with StopReason::memory, its results so far intact.
@@ -108,6 +119,10 @@ struct CycleReport {
   double estimate_seconds = 0;
   double error_seconds = 0;  ///< the errors against the exact solution, where it is known
   double adapt_seconds = 0;  ///< marking + mesh update + solution transfer
+  double partition_seconds = 0;  ///< with AdaptOptions::partition: the triangles' parts
+  /// With AdaptOptions::bytes_sent: the bytes the processes sent during the cycle, in all and
+  /// the most by one of them.
+  std::uint64_t bytes_sent = 0, bytes_sent_largest = 0;
   std::size_t marked = 0, splits = 0, removals = 0;
   bool memory_limit_reached = false;  ///< the adaptation stopped at the memory ceiling
   std::string solver;

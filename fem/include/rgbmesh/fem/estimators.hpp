@@ -5,12 +5,32 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "rgbmesh/fem/problem.hpp"
 #include "rgbmesh/fem/surface_mesh.hpp"
 
 namespace rgbmesh::fem {
+
+/// How the processes of a distributed run share the per-triangle work of the estimators and
+/// the norms (rgbmesh::parallel): each computes the terms of its own triangles (and of the
+/// edges next to them); `gather` then gives every process the others' per-triangle values and
+/// `sum` adds up the norms' partial sums. The estimates come out bit for bit those of one
+/// process (each η_T is computed whole by its process); the norms' sums only change order.
+/// The default, one process: every triangle here, nothing to exchange.
+struct WorkShare {
+  std::vector<std::int32_t> part;  ///< per FE triangle: the process computing it (empty: all here)
+  std::int32_t process = 0;        ///< this process
+  /// Adds values across the processes, in place.
+  std::function<void(double* values, std::size_t count)> sum;
+  /// values holds `width` numbers per triangle, valid for this process's triangles: fills in
+  /// every other triangle's from its process (each process sends only its own).
+  std::function<void(double* values, std::size_t width, const std::vector<std::int32_t>& part)> gather;
+
+  bool computes(std::size_t triangle) const { return part.empty() || part[triangle] == process; }
+};
 
 struct ErrorNorms {
   double l2 = 0;  ///< ‖u - u_h‖
@@ -26,7 +46,7 @@ struct ErrorNorms {
 /// subtract_mean, the exact solution is compared with its mean removed (for solutions defined
 /// up to a constant).
 ErrorNorms error_norms(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const ExactSolution& exact,
-                       bool subtract_mean = false);
+                       bool subtract_mean = false, const WorkShare& share = {});
 
 /// Per-triangle indicators η_T and their total sqrt(Σ η_T²).
 struct Estimate {
@@ -59,7 +79,8 @@ struct Estimate {
 /// θ_e is the largest angle between the two elements' normals at those points, which falls as
 /// h² for quadratic elements (as h for flat ones), so that δ_T ~ h³, as the distance to an
 /// exact surface does.
-Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, const Eigen::VectorXd& u);
+Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, const Eigen::VectorXd& u,
+                            const WorkShare& share = {});
 
 /// Δ_Γh u_h, the Laplace–Beltrami operator of the discrete function u on the element, at a
 /// point of its reference triangle (barycentric coordinates λ): 0 for P1 (linear on a flat
@@ -74,6 +95,6 @@ double laplace_beltrami(const SurfaceMesh& mesh, std::size_t triangle, const std
 
 /// The Zienkiewicz-Zhu estimator: η_T = ‖G_h - ∇u_h‖_T, with G_h the piecewise linear field of
 /// area-weighted averages of ∇u_h at the vertices, projected onto each triangle's plane.
-Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u);
+Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const WorkShare& share = {});
 
 }  // namespace rgbmesh::fem

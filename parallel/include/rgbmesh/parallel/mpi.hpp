@@ -8,6 +8,11 @@
 /// and adapts it alike (the marks come from the same indicators), assembles the same system,
 /// and owns a contiguous block of its rows for CG with BoomerAMG on all processes.
 
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
 #include "rgbmesh/fem/solver.hpp"
 
 namespace rgbmesh::parallel {
@@ -27,5 +32,21 @@ int processes();
 /// BoomerAMG (fem::amg_options) solves on all processes, and every process gets the whole
 /// solution. Throws std::runtime_error when it does not converge.
 fem::LinearSolver distributed_amg();
+
+/// Adds values across all processes, in place; every process passes the same count (the sum
+/// of adapt::AdaptOptions::sum_over_parts). Without MPI: nothing.
+void sum(double* values, std::size_t count);
+/// Per-element values, `width` numbers per element, each element computed by the process
+/// part[e] (the same part on every process): every process sends its own elements' values and
+/// receives the others' into `values` (adapt::AdaptOptions::gather_over_parts).
+void gather(double* values, std::size_t width, const std::vector<std::int32_t>& part);
+
+/// The bytes this process has handed to MPI so far: its point-to-point messages to other
+/// processes and its contributions to collectives, PETSc's and hypre's included (counted
+/// through MPI's profiling interface, traffic.cpp). 0 without MPI.
+std::uint64_t bytes_sent();
+/// Called by every process at the same point: the bytes sent since the previous call (or the
+/// start), added over the processes, and the most by one process.
+std::array<std::uint64_t, 2> bytes_sent_since_last();
 
 }  // namespace rgbmesh::parallel
