@@ -7,6 +7,7 @@
 // others' arrive by messages), so equal estimates also check that exchange; the report counts
 // the bytes sent. Skipped, with a message, where the build has no MPI.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -92,6 +93,21 @@ class Mpi : public Cli {
       for (vtkIdType c = 0; c < rank->GetNumberOfTuples(); ++c) ranks.insert(static_cast<int>(rank->GetTuple1(c)));
       EXPECT_EQ(ranks.size(), static_cast<std::size_t>(p));
       EXPECT_NE(read_text(dir + "/solution.pvd").find(last + ".pvtp"), std::string::npos);
+      // Balance: in every cycle, the most triangles on one process at most 1.2 times the mean
+      // (the partition is made anew each cycle, weighted by the triangles of each unit).
+      std::size_t summaries = 0;
+      for (const auto& entry : fs::directory_iterator(dir)) {
+        if (entry.path().extension() != ".pvtp") continue;
+        ++summaries;
+        const vtkSmartPointer<vtkPolyData> cycle = read_pvtp(entry.path().string());
+        vtkDataArray* owner = cycle->GetCellData()->GetArray("rank");
+        ASSERT_NE(owner, nullptr) << entry.path();
+        std::vector<double> count(static_cast<std::size_t>(p), 0.0);
+        for (vtkIdType c = 0; c < owner->GetNumberOfTuples(); ++c) count[static_cast<std::size_t>(owner->GetTuple1(c))] += 1;
+        const double mean = static_cast<double>(owner->GetNumberOfTuples()) / p;
+        EXPECT_LE(*std::max_element(count.begin(), count.end()), 1.2 * mean) << entry.path();
+      }
+      EXPECT_EQ(summaries, ca.size()) << p << " processes";
     }
   }
 };
