@@ -144,6 +144,7 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   o.order = a.order;
   o.min_level = a.min_level;
   o.solve.linear_solver = a.linear_solver;
+  o.solve.shared_solver = a.shared_solver;
   o.bytes_sent = a.bytes_sent;
   if (a.part_triangles) {
     const int floor = a.min_level, parts = a.processes;

@@ -46,6 +46,7 @@ struct AdaptArgs {
   // the solver of the linear systems on all processes, and how many there are.
   bool writes = true;
   fem::LinearSolver linear_solver;
+  fem::SharedLinearSolver shared_solver;  // each process assembling its own triangles
   int processes = 1, rank = 0;
   // Each triangle's process (per FE triangle, for the pieces of the output): (mesh, FE mesh,
   // floor level, processes). Empty on one process.

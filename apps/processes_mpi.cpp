@@ -23,6 +23,7 @@ void distribute(AdaptArgs& args, const Processes& processes) {
   if (processes.count <= 1) return;
   args.writes = processes.rank == 0;
   args.linear_solver = parallel::distributed_amg();
+  args.shared_solver = parallel::shared_amg();
   args.processes = processes.count;
   args.rank = processes.rank;
   args.part_triangles = parallel::triangle_parts;

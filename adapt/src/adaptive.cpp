@@ -107,11 +107,8 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   const auto t_mesh = std::chrono::steady_clock::now();
   c.fe = fem::build_surface_mesh(mesh, options.projection, options.order);
   c.report.mesh_seconds = seconds_since(t_mesh);
-  fem::SolveOptions so = options.solve;
-  const Eigen::VectorXd guess = transfer.on(c.fe);
-  if (guess.size() > 0) so.initial_guess = &guess;
-  c.solution = fem::solve(c.fe, problem, so);
-  // On several processes, each computes the estimator's and the norms' terms of its part.
+  // On several processes, each assembles and computes the estimator's and the norms' terms of
+  // its part's triangles.
   fem::WorkShare share;
   if (options.partition) {
     const auto t_part = std::chrono::steady_clock::now();
@@ -124,6 +121,11 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
       share.gather = options.gather_over_parts;
     }
   }
+  fem::SolveOptions so = options.solve;
+  const Eigen::VectorXd guess = transfer.on(c.fe);
+  if (guess.size() > 0) so.initial_guess = &guess;
+  if (so.shared_solver) so.share = share;
+  c.solution = fem::solve(c.fe, problem, so);
   const auto t0 = std::chrono::steady_clock::now();
   c.estimate = options.estimator == EstimatorKind::residual ? fem::residual_estimator(c.fe, problem, c.solution.u, share)
                                                             : fem::zz_estimator(c.fe, c.solution.u, share);

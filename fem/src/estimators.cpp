@@ -38,15 +38,35 @@ struct Side {
   int edge;
 };
 
-// The interior edges, each with its two sides, in the order in which a sweep over the
-// triangles meets their second side (the order the estimators add the edges' terms in).
-std::vector<std::array<Side, 2>> interior_edges(const SurfaceMesh& mesh) {
+// The triangles that the terms of this process's own triangles read (WorkShare): those with
+// at least `corners` corners at vertices of its own triangles (2: its own and their neighbours
+// across edges; 1: every triangle around their corners). Empty, meaning all, on one process.
+std::vector<char> needed_triangles(const SurfaceMesh& mesh, const WorkShare& share, int corners) {
+  if (share.part.empty()) return {};
+  const std::size_t nt = mesh.triangles.size();
+  std::vector<char> near(mesh.num_dofs(), 0), needed(nt, 0);
+  for (std::size_t t = 0; t < nt; ++t)
+    if (share.computes(t))
+      for (const std::int32_t v : mesh.triangles[t]) near[v] = 1;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& c = mesh.triangles[t];
+    needed[t] = near[c[0]] + near[c[1]] + near[c[2]] >= corners;
+  }
+  return needed;
+}
+bool among(const std::vector<char>& triangles, std::size_t t) { return triangles.empty() || triangles[t] != 0; }
+
+// The interior edges between the given triangles (empty: all), each with its two sides, in the
+// order in which a sweep over the triangles meets their second side (the order the estimators
+// add the edges' terms in; a subset of the triangles keeps the order of the edges it has).
+std::vector<std::array<Side, 2>> interior_edges(const SurfaceMesh& mesh, const std::vector<char>& triangles = {}) {
   const std::size_t nt = mesh.triangles.size();
   std::vector<std::array<Side, 2>> edges;
   edges.reserve(nt * 3 / 2);
   std::unordered_map<std::uint64_t, Side> first;
   first.reserve(nt * 2);
   for (std::size_t i = 0; i < nt; ++i) {
+    if (!among(triangles, i)) continue;
     const auto& t = mesh.triangles[i];
     for (int k = 0; k < 3; ++k) {
       const Side side{static_cast<std::int32_t>(i), k};
@@ -76,11 +96,12 @@ struct TriangleFields {
   std::vector<TriangleGeometry> geo;
   std::vector<Vec3> grad;
 };
-TriangleFields triangle_fields(const SurfaceMesh& mesh, const Eigen::VectorXd& u) {
+TriangleFields triangle_fields(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const std::vector<char>& triangles) {
   TriangleFields f;
   f.geo.resize(mesh.triangles.size());
   f.grad.resize(mesh.triangles.size());
   detail::for_each_index(mesh.triangles.size(), [&](std::size_t i) {
+    if (!among(triangles, i)) return;
     const auto& t = mesh.triangles[i];
     f.geo[i] = triangle_geometry(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
     f.grad[i] = gradient(f.geo[i], t, u);
@@ -283,7 +304,7 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
     }
     eta2[t] = h[t] * h[t] * r2;
   });
-  const std::vector<std::array<Side, 2>> edges = interior_edges(mesh);
+  const std::vector<std::array<Side, 2>> edges = interior_edges(mesh, needed_triangles(mesh, share, 2));
   // Per edge: ½ h_e ∫_e [∂u_h/∂μ]² ds and the sagitta h_e θ_e / 8. The second side runs the
   // other way along the edge, so its parameter 1 - s meets the first side's s at the same point.
   std::vector<std::array<double, 2>> edge_terms(edges.size());
@@ -347,9 +368,11 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
   require_order_1_or_2(mesh, "residual_estimator");
   const std::size_t nt = mesh.triangles.size();
   const auto& rule = triangle_quadrature();
-  const auto [geo, grad] = triangle_fields(mesh, u);
+  const std::vector<char> needed = needed_triangles(mesh, share, 2);
+  const auto [geo, grad] = triangle_fields(mesh, u, needed);
   std::vector<double> h(nt), eta2(nt, 0.0), geometric(nt, 0.0), delta(nt, 0.0);
   for (std::size_t i = 0; i < nt; ++i) {
+    if (!share.computes(i)) continue;
     const auto& t = mesh.triangles[i];
     h[i] = longest_edge(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
   }
@@ -371,7 +394,7 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
   });
   // Jumps of the conormal derivative across interior edges: each edge's term on every core,
   // added to its triangles in edge order.
-  const std::vector<std::array<Side, 2>> edges = interior_edges(mesh);
+  const std::vector<std::array<Side, 2>> edges = interior_edges(mesh, needed);
   std::vector<std::array<double, 2>> edge_terms(edges.size());  // ½ h_e ‖J‖²_e, sagitta
   detail::for_each_index(edges.size(), [&](std::size_t n) {
     const auto i = static_cast<std::size_t>(edges[n][1].triangle), j = static_cast<std::size_t>(edges[n][0].triangle);
@@ -433,7 +456,10 @@ Estimate zz_estimator_quadratic(const SurfaceMesh& mesh, const Eigen::VectorXd& 
   const auto gradient_at = [&](const ElementPoint& p) { return evaluate(p, u).gradient; };
   std::vector<Vec3> recovered(mesh.num_dofs());
   std::vector<double> weight(mesh.num_dofs(), 0.0);
+  // (On several processes, only the triangles around this process's nodes.)
+  const std::vector<char> around = needed_triangles(mesh, share, 1);
   for (std::size_t t = 0; t < nt; ++t) {
+    if (!among(around, t)) continue;
     for (int k = 0; k < 6; ++k) {
       const ElementPoint p = element_point(mesh, t, kNodes[k]);
       recovered[p.dof[k]] += p.density * gradient_at(p);
@@ -465,8 +491,10 @@ Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const W
   const std::size_t nt = mesh.triangles.size();
   std::vector<Vec3> recovered(mesh.num_dofs());
   std::vector<double> weight(mesh.num_dofs(), 0.0);
-  const auto [geo, grad] = triangle_fields(mesh, u);
+  const std::vector<char> around = needed_triangles(mesh, share, 1);  // (all on one process)
+  const auto [geo, grad] = triangle_fields(mesh, u, around);
   for (std::size_t i = 0; i < nt; ++i) {
+    if (!among(around, i)) continue;
     const auto& t = mesh.triangles[i];
     for (std::int32_t v : t) {
       recovered[v] += geo[i].area * grad[i];

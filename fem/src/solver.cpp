@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -122,11 +123,14 @@ void local_system(const SurfaceMesh& mesh, std::size_t t, LocalSystem& out) {
 
 // ∫f + ∫h over the surface and ∫|f| + ∫|h|, for the compatibility check: the degree-5 rule on
 // each triangle with the lifted area element (Neumann edges as in the load vector).
-std::pair<double, double> surface_integral_of_data(const SurfaceMesh& mesh, const Problem& problem) {
+std::pair<double, double> surface_integral_of_data(const SurfaceMesh& mesh, const Problem& problem,
+                                                   const WorkShare& share) {
   double total = 0, scale = 0;
   const auto& rule = triangle_quadrature();
   if (problem.source) {
-    for (const auto& t : mesh.triangles) {
+    for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
+      if (!share.computes(k)) continue;
+      const auto& t = mesh.triangles[k];
       const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
       const TriangleGeometry g = triangle_geometry(p0, p1, p2);
       const double size = std::sqrt(g.area);
@@ -139,11 +143,14 @@ std::pair<double, double> surface_integral_of_data(const SurfaceMesh& mesh, cons
       }
     }
   }
-  for_each_neumann_point(mesh, problem, [&](const SurfaceMesh::BoundaryEdge&, double weight, const std::array<double, 3>&, double h) {
+  for_each_neumann_point(mesh, problem, [&](const SurfaceMesh::BoundaryEdge& e, double weight, const std::array<double, 3>&, double h) {
+    if (!share.computes(static_cast<std::size_t>(e.triangle))) return;
     total += weight * h;
     scale += weight * std::abs(h);
   });
-  return {total, scale};
+  double both[2] = {total, scale};
+  if (share.sum) share.sum(both, 2);
+  return {both[0], both[1]};
 }
 
 }  // namespace
@@ -188,7 +195,10 @@ bool cholmod_available() {
 
 bool amg_available() { return detail::amg_available(); }
 
-Eigen::VectorXd load_vector(const SurfaceMesh& mesh, const Problem& problem) {
+namespace {
+
+// The load vector of this process's triangles (and Neumann edges).
+Eigen::VectorXd shared_load_vector(const SurfaceMesh& mesh, const Problem& problem, const WorkShare& share) {
   Eigen::VectorXd load = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.num_dofs()));
   const auto& rule = triangle_quadrature();
   if (problem.source) {
@@ -200,6 +210,7 @@ Eigen::VectorXd load_vector(const SurfaceMesh& mesh, const Problem& problem) {
     detail::for_each_index(nt, [&](std::size_t t) {
       std::array<double, 6>& l = local[t];
       l.fill(0.0);
+      if (!share.computes(t)) return;
       if (mesh.order == 1) {
         const auto& c = mesh.triangles[t];
         const Vec3 &p0 = mesh.points[c[0]], &p1 = mesh.points[c[1]], &p2 = mesh.points[c[2]];
@@ -222,11 +233,35 @@ Eigen::VectorXd load_vector(const SurfaceMesh& mesh, const Problem& problem) {
     }
   }
   for_each_neumann_point(mesh, problem, [&](const SurfaceMesh::BoundaryEdge& e, double weight, const std::array<double, 3>& v, double h) {
+    if (!share.computes(static_cast<std::size_t>(e.triangle))) return;
     load[e.a] += weight * h * v[0];
     load[e.b] += weight * h * v[1];
     if (e.middle >= 0) load[e.middle] += weight * h * v[2];
   });
   return load;
+}
+
+// Every process's rows of a shared system: each DOF's row belongs to the lowest part among its
+// triangles (the same on every process).
+std::vector<std::int32_t> row_parts(const SurfaceMesh& mesh, const std::vector<std::int32_t>& part,
+                                    const std::vector<Eigen::Index>& index, Eigen::Index free_dofs) {
+  std::vector<std::int32_t> owner(mesh.num_dofs(), std::numeric_limits<std::int32_t>::max());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& c = mesh.triangles[t];
+    for (int i = 0; i < 3; ++i) owner[c[i]] = std::min(owner[c[i]], part[t]);
+    if (mesh.order == 2)
+      for (const std::int32_t e : mesh.edge_nodes[t]) owner[e] = std::min(owner[e], part[t]);
+  }
+  std::vector<std::int32_t> rows(static_cast<std::size_t>(free_dofs));
+  for (std::size_t i = 0; i < owner.size(); ++i)
+    if (index[i] >= 0) rows[static_cast<std::size_t>(index[i])] = owner[i];
+  return rows;
+}
+
+}  // namespace
+
+Eigen::VectorXd load_vector(const SurfaceMesh& mesh, const Problem& problem) {
+  return shared_load_vector(mesh, problem, WorkShare{});
 }
 
 System assemble(const SurfaceMesh& mesh, const Problem& problem) {
@@ -260,7 +295,15 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   Solution sol;
   auto t0 = std::chrono::steady_clock::now();
   const auto n = static_cast<Eigen::Index>(mesh.num_dofs());
-  Eigen::VectorXd b = load_vector(mesh, problem);
+  // On several processes (a shared solver and this process's part): its own triangles only.
+  const bool shared = !options.share.part.empty() && options.shared_solver;
+  const WorkShare everything;
+  const WorkShare& share = shared ? options.share : everything;
+  const auto total_of = [&share](double value) {
+    if (share.sum) share.sum(&value, 1);
+    return value;
+  };
+  Eigen::VectorXd b = shared_load_vector(mesh, problem, share);
   if (!b.allFinite())
     throw InputError("problem '" + problem.name + "': the source or flux is not finite somewhere on the mesh");
   std::vector<char> fixed = dirichlet_dofs(mesh, problem);
@@ -282,12 +325,12 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
     // a projection is known), and only a source whose mean is clearly non-zero is refused;
     // the discrete load is then made compatible by removing its mean, as FEM codes do.
     sol.zero_mean = true;
-    const auto [total, scale] = surface_integral_of_data(mesh, problem);
+    const auto [total, scale] = surface_integral_of_data(mesh, problem, share);
     if (std::abs(total) > problem.mean_tolerance * scale)
       throw InputError("problem '" + problem.name + "': on a closed surface with c = 0 the source must have zero mean, but ∫f = " +
                        std::to_string(total) + " (relative " + std::to_string(scale > 0 ? total / scale : 0.0) +
                        "); use c > 0, or subtract the mean");
-    mean_load = b.sum();
+    mean_load = total_of(b.sum());
     fixed[0] = 1;
   }
 
@@ -322,6 +365,11 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   std::vector<std::array<double, 6>> integral(nt);
   std::vector<char> touches_fixed(nt, 0);
   detail::for_each_index(nt, [&](std::size_t t) {
+    if (!share.computes(t)) {
+      std::fill_n(trip.begin() + static_cast<std::ptrdiff_t>(t * slots), slots, Triplet(0, 0, 0.0));
+      integral[t].fill(0.0);
+      return;
+    }
     LocalSystem local;
     local_system(mesh, t, local);
     for (int i = 0; i < local.nodes; ++i) {
@@ -353,7 +401,7 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   touches_fixed = {};
   if (sol.zero_mean) {
     // The compatible load b - (∫f / |Γ|) ∫φi (its free rows; the fixed row is dropped).
-    const double shift = mean_load / area.sum();
+    const double shift = mean_load / total_of(area.sum());
     for (Eigen::Index i = 0; i < n; ++i) {
       if (index[i] >= 0) rhs[index[i]] -= shift * area[i];
     }
@@ -376,6 +424,7 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   if (automatic) kind = nf < 20000 ? SolverKind::ldlt : amg_available() ? SolverKind::amg : direct();
   t0 = std::chrono::steady_clock::now();
   Eigen::VectorXd x;
+  double shared_residual = -1;  // a shared system's residual, as its solver measured it
   // The initial guess on the free unknowns (empty without one).
   const auto free_guess = [&] {
     Eigen::VectorXd guess;
@@ -387,7 +436,15 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
     }
     return guess;
   };
-  if (options.linear_solver) {
+  if (shared) {
+    const Eigen::VectorXd guess = free_guess();
+    a.makeCompressed();
+    LinearSolution s = options.shared_solver(a, rhs, row_parts(mesh, share.part, index, nf),
+                                             guess.size() > 0 ? &guess : nullptr, options.cg_tolerance);
+    x = std::move(s.x);
+    sol.iterations = s.iterations;
+    shared_residual = s.relative_residual;
+  } else if (options.linear_solver) {
     const Eigen::VectorXd guess = free_guess();
     a.makeCompressed();
     LinearSolution s = options.linear_solver(a, rhs, guess.size() > 0 ? &guess : nullptr, options.cg_tolerance);
@@ -405,8 +462,9 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
       kind = direct();
     }
   }
-  sol.solver = options.linear_solver ? SolverKind::amg : kind;  // the hook is multigrid on all processes
-  switch (options.linear_solver ? SolverKind::automatic : kind) {
+  const bool hook = shared || options.linear_solver;
+  sol.solver = hook ? SolverKind::amg : kind;  // the hooks are multigrid on all processes
+  switch (hook ? SolverKind::automatic : kind) {
     case SolverKind::ldlt: {
       Eigen::SimplicialLDLT<SparseMatrix> ldlt;
       x = factor_and_solve(ldlt, a, rhs, "ldlt");
@@ -451,14 +509,19 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
       break;
   }
   sol.solve_seconds = seconds_since(t0);
-  const double residual = (a * x - rhs).norm(), scale = rhs.norm();
-  if (!x.allFinite() || residual > 1e-6 * std::max(scale, 1e-300))
+  // (Each process holds only its part of a shared system: its solver measured the residual.)
+  const double relative = shared ? shared_residual : (a * x - rhs).norm() / std::max(rhs.norm(), 1e-300);
+  if (!x.allFinite() || !(relative <= 1e-6))
     throw std::runtime_error("problem '" + problem.name + "': the system is singular (" + to_string(kind) +
-                             " left a relative residual of " + std::to_string(residual / std::max(scale, 1e-300)) + ")");
+                             " left a relative residual of " + std::to_string(relative) + ")");
   for (Eigen::Index i = 0; i < n; ++i) {
     if (index[i] >= 0) u[i] = x[index[i]];
   }
-  if (sol.zero_mean) u.array() -= area.dot(u) / area.sum();
+  if (sol.zero_mean) {
+    double moments[2] = {area.dot(u), area.sum()};
+    if (share.sum) share.sum(moments, 2);
+    u.array() -= moments[0] / moments[1];
+  }
   sol.u = std::move(u);
   return sol;
 }

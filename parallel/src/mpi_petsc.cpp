@@ -24,6 +24,31 @@ void check(PetscErrorCode code, const char* what) { fem::petsc::check(code, "dis
 
 bool started = false;
 
+// Rows numbered part after part (each process a contiguous block), in increasing order within
+// each part: to_new[old row], to_old[new row], and every part's first row and count.
+struct Numbering {
+  std::vector<PetscInt> to_new, to_old;
+  std::vector<int> counts, offsets;
+};
+Numbering number_by_part(const std::vector<std::int32_t>& part_of, int p) {
+  Numbering nb;
+  const std::size_t n = part_of.size();
+  nb.counts.assign(static_cast<std::size_t>(p), 0);
+  nb.offsets.assign(static_cast<std::size_t>(p), 0);
+  for (const std::int32_t q : part_of) ++nb.counts[static_cast<std::size_t>(q)];
+  for (int q = 1; q < p; ++q)
+    nb.offsets[static_cast<std::size_t>(q)] = nb.offsets[static_cast<std::size_t>(q - 1)] + nb.counts[static_cast<std::size_t>(q - 1)];
+  nb.to_new.resize(n);
+  nb.to_old.resize(n);
+  std::vector<int> next = nb.offsets;
+  for (std::size_t i = 0; i < n; ++i) {
+    const int k = next[static_cast<std::size_t>(part_of[i])]++;
+    nb.to_new[i] = k;
+    nb.to_old[static_cast<std::size_t>(k)] = static_cast<PetscInt>(i);
+  }
+  return nb;
+}
+
 fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, const Eigen::VectorXd* guess,
                           double tolerance) {
   if (!started) throw std::logic_error("distributed amg: parallel::initialize was not called");
@@ -31,19 +56,9 @@ fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, 
   const auto n = static_cast<std::size_t>(a.rows());
   // Each process's rows: a METIS part of the matrix's graph (the same on every process),
   // numbered part after part so that each process holds a contiguous block.
-  const Partition parts = partition_rows(a, p);
-  std::vector<int> counts(static_cast<std::size_t>(p), 0), offsets(static_cast<std::size_t>(p), 0);
-  for (const std::int32_t q : parts.part_of) ++counts[static_cast<std::size_t>(q)];
-  for (int q = 1; q < p; ++q) offsets[static_cast<std::size_t>(q)] = offsets[static_cast<std::size_t>(q - 1)] + counts[static_cast<std::size_t>(q - 1)];
-  std::vector<PetscInt> to_new(n), to_old(n);
-  {
-    std::vector<int> next = offsets;
-    for (std::size_t i = 0; i < n; ++i) {
-      const int k = next[static_cast<std::size_t>(parts.part_of[i])]++;
-      to_new[i] = k;
-      to_old[static_cast<std::size_t>(k)] = static_cast<PetscInt>(i);
-    }
-  }
+  const Numbering nb = number_by_part(partition_rows(a, p).part_of, p);
+  const std::vector<int>&counts = nb.counts, &offsets = nb.offsets;
+  const std::vector<PetscInt>&to_new = nb.to_new, &to_old = nb.to_old;
   const PetscInt first = offsets[static_cast<std::size_t>(r)], m = counts[static_cast<std::size_t>(r)];
   // The matrix is symmetric: Eigen's columns are its rows. This process's rows, in the new
   // numbering (local rows, global columns).
@@ -78,6 +93,128 @@ fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, 
                  PETSC_COMM_WORLD);
   out.x.resize(static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < n; ++i) out.x[static_cast<Eigen::Index>(i)] = x[to_new[i]];
+  return out;
+}
+
+// The system's pieces sent to the processes owning their rows: (row, column, value) with the
+// new numbers, column -1 for the right-hand side.
+struct Entries {
+  std::vector<PetscInt> index;  // row, column pairs
+  std::vector<double> value;
+  void add(PetscInt row, PetscInt column, double v) {
+    index.push_back(row);
+    index.push_back(column);
+    value.push_back(v);
+  }
+};
+
+// Sends every process the entries of its rows; returns this process's, its own first and then
+// the others' in rank order.
+Entries exchange(std::vector<Entries>& outgoing, int me) {
+  const int p = static_cast<int>(outgoing.size());
+  std::vector<int> send(static_cast<std::size_t>(p)), receive(static_cast<std::size_t>(p));
+  for (int q = 0; q < p; ++q) send[static_cast<std::size_t>(q)] = q == me ? 0 : static_cast<int>(outgoing[static_cast<std::size_t>(q)].value.size());
+  MPI_Alltoall(send.data(), 1, MPI_INT, receive.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+  const auto displacements = [p](const std::vector<int>& counts, int width) {
+    std::vector<int> d(static_cast<std::size_t>(p), 0);
+    for (int q = 1; q < p; ++q) d[static_cast<std::size_t>(q)] = d[static_cast<std::size_t>(q - 1)] + width * counts[static_cast<std::size_t>(q - 1)];
+    return d;
+  };
+  std::vector<int> send2(send), receive2(receive);
+  for (int& c : send2) c *= 2;
+  for (int& c : receive2) c *= 2;
+  const std::vector<int> sd = displacements(send, 1), rd = displacements(receive, 1);
+  const std::vector<int> sd2 = displacements(send, 2), rd2 = displacements(receive, 2);
+  std::vector<PetscInt> index_out, index_in(static_cast<std::size_t>(rd2.back() + receive2.back()));
+  std::vector<double> value_out, value_in(static_cast<std::size_t>(rd.back() + receive.back()));
+  for (int q = 0; q < p; ++q) {
+    if (q == me) continue;
+    const Entries& e = outgoing[static_cast<std::size_t>(q)];
+    index_out.insert(index_out.end(), e.index.begin(), e.index.end());
+    value_out.insert(value_out.end(), e.value.begin(), e.value.end());
+  }
+  MPI_Alltoallv(index_out.data(), send2.data(), sd2.data(), MPI_INT, index_in.data(), receive2.data(), rd2.data(),
+                MPI_INT, PETSC_COMM_WORLD);
+  MPI_Alltoallv(value_out.data(), send.data(), sd.data(), MPI_DOUBLE, value_in.data(), receive.data(), rd.data(),
+                MPI_DOUBLE, PETSC_COMM_WORLD);
+  Entries mine = std::move(outgoing[static_cast<std::size_t>(me)]);
+  mine.index.insert(mine.index.end(), index_in.begin(), index_in.end());
+  mine.value.insert(mine.value.end(), value_in.begin(), value_in.end());
+  return mine;
+}
+
+fem::LinearSolution solve_shared(const fem::SparseMatrix& a, const Eigen::VectorXd& b,
+                                 const std::vector<std::int32_t>& row_part, const Eigen::VectorXd* guess,
+                                 double tolerance) {
+  if (!started) throw std::logic_error("shared amg: parallel::initialize was not called");
+  const int p = processes(), r = rank();
+  const auto n = static_cast<std::size_t>(a.rows());
+  const Numbering nb = number_by_part(row_part, p);
+  const PetscInt first = nb.offsets[static_cast<std::size_t>(r)], m = nb.counts[static_cast<std::size_t>(r)];
+  // This process's contributions, to the owners of their rows (the matrix is symmetric:
+  // Eigen's column k is row k).
+  std::vector<Entries> outgoing(static_cast<std::size_t>(p));
+  for (Eigen::Index k = 0; k < a.outerSize(); ++k) {
+    Entries& to = outgoing[static_cast<std::size_t>(row_part[static_cast<std::size_t>(k)])];
+    const PetscInt row = nb.to_new[static_cast<std::size_t>(k)];
+    for (fem::SparseMatrix::InnerIterator it(a, k); it; ++it)
+      if (it.value() != 0.0) to.add(row, nb.to_new[static_cast<std::size_t>(it.index())], it.value());
+    if (b[k] != 0.0) to.add(row, -1, b[k]);
+  }
+  const Entries mine = exchange(outgoing, r);
+  outgoing = {};
+  // This process's rows: the sums of every process's contributions (added in the order
+  // received), in compressed rows with sorted columns.
+  std::vector<Eigen::Triplet<double, PetscInt>> entries;
+  entries.reserve(mine.value.size());
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
+  for (std::size_t e = 0; e < mine.value.size(); ++e) {
+    const PetscInt row = mine.index[2 * e] - first, column = mine.index[2 * e + 1];
+    if (column < 0) {
+      rhs[row] += mine.value[e];
+    } else {
+      entries.emplace_back(row, column, mine.value[e]);
+    }
+  }
+  Eigen::SparseMatrix<double, Eigen::RowMajor, PetscInt> rows(m, static_cast<PetscInt>(n));
+  rows.setFromTriplets(entries.begin(), entries.end());
+  rows.makeCompressed();
+  entries = {};
+  Eigen::VectorXd x(m);
+  const bool with_guess = guess != nullptr && guess->size() == b.size() && guess->any();
+  for (PetscInt k = 0; k < m; ++k) x[k] = with_guess ? (*guess)[nb.to_old[static_cast<std::size_t>(first + k)]] : 0.0;
+  fem::petsc::Objects o;
+  const auto N = static_cast<PetscInt>(n);
+  check(MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, m, m, N, N, rows.outerIndexPtr(), rows.innerIndexPtr(), rows.valuePtr(),
+                                  &o.a),
+        "creating the matrix");
+  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, N, rhs.data(), &o.b), "creating the right-hand side");
+  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, N, x.data(), &o.x), "creating the solution");
+  fem::LinearSolution out;
+  out.iterations = fem::petsc::solve_cg_amg(PETSC_COMM_WORLD, o, tolerance, with_guess, "shared amg", "");
+  // The residual of the summed system, computed anew.
+  {
+    Vec residual = nullptr;
+    check(VecDuplicate(o.b, &residual), "creating the residual");
+    PetscReal rn = 0, bn = 0;
+    const PetscErrorCode code = [&] {
+      PetscErrorCode c = MatMult(o.a, o.x, residual);
+      if (c == 0) c = VecAYPX(residual, -1.0, o.b);
+      if (c == 0) c = VecNorm(residual, NORM_2, &rn);
+      if (c == 0) c = VecNorm(o.b, NORM_2, &bn);
+      return c;
+    }();
+    VecDestroy(&residual);
+    check(code, "measuring the residual");
+    out.relative_residual = bn > 0 ? rn / bn : rn;
+  }
+  // Every process gets the whole solution: the blocks, gathered in rank order, then numbered
+  // as the caller's unknowns.
+  Eigen::VectorXd all(static_cast<Eigen::Index>(n));
+  MPI_Allgatherv(x.data(), static_cast<int>(m), MPI_DOUBLE, all.data(), nb.counts.data(), nb.offsets.data(), MPI_DOUBLE,
+                 PETSC_COMM_WORLD);
+  out.x.resize(static_cast<Eigen::Index>(n));
+  for (std::size_t i = 0; i < n; ++i) out.x[static_cast<Eigen::Index>(i)] = all[nb.to_new[i]];
   return out;
 }
 
@@ -138,6 +275,8 @@ int processes() {
 }
 
 fem::LinearSolver distributed_amg() { return solve; }
+
+fem::SharedLinearSolver shared_amg() { return solve_shared; }
 
 void sum(double* values, std::size_t count) {
   // In slices that an int counts.

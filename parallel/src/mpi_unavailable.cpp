@@ -18,6 +18,13 @@ fem::LinearSolver distributed_amg() {
   };
 }
 
+fem::SharedLinearSolver shared_amg() {
+  return [](const fem::SparseMatrix&, const Eigen::VectorXd&, const std::vector<std::int32_t>&, const Eigen::VectorXd*,
+            double) -> fem::LinearSolution {
+    throw std::runtime_error("shared amg: rgbmesh was built without MPI and PETSc");
+  };
+}
+
 void sum(double*, std::size_t) {}
 void gather(double*, std::size_t, const std::vector<std::int32_t>&) {}
 std::uint64_t bytes_sent() { return 0; }

@@ -6,31 +6,13 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <vector>
 
 #include "rgbmesh/fem/problem.hpp"
 #include "rgbmesh/fem/surface_mesh.hpp"
+#include "rgbmesh/fem/work_share.hpp"
 
 namespace rgbmesh::fem {
-
-/// How the processes of a distributed run share the per-triangle work of the estimators and
-/// the norms (rgbmesh::parallel): each computes the terms of its own triangles (and of the
-/// edges next to them); `gather` then gives every process the others' per-triangle values and
-/// `sum` adds up the norms' partial sums. The estimates come out bit for bit those of one
-/// process (each η_T is computed whole by its process); the norms' sums only change order.
-/// The default, one process: every triangle here, nothing to exchange.
-struct WorkShare {
-  std::vector<std::int32_t> part;  ///< per FE triangle: the process computing it (empty: all here)
-  std::int32_t process = 0;        ///< this process
-  /// Adds values across the processes, in place.
-  std::function<void(double* values, std::size_t count)> sum;
-  /// values holds `width` numbers per triangle, valid for this process's triangles: fills in
-  /// every other triangle's from its process (each process sends only its own).
-  std::function<void(double* values, std::size_t width, const std::vector<std::int32_t>& part)> gather;
-
-  bool computes(std::size_t triangle) const { return part.empty() || part[triangle] == process; }
-};
 
 struct ErrorNorms {
   double l2 = 0;  ///< ‖u - u_h‖

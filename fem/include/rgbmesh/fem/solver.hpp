@@ -12,6 +12,7 @@
 
 #include "rgbmesh/fem/problem.hpp"
 #include "rgbmesh/fem/surface_mesh.hpp"
+#include "rgbmesh/fem/work_share.hpp"
 
 namespace rgbmesh::fem {
 
@@ -50,12 +51,22 @@ const std::vector<std::array<const char*, 2>>& amg_options();
 struct LinearSolution {
   Eigen::VectorXd x;
   int iterations = 0;
+  double relative_residual = -1;  ///< ‖b - a x‖ / ‖b‖ where the solver measured it (shared solvers)
 };
 /// A solver for the assembled system of the free unknowns, a x = b (a symmetric positive
 /// definite, both triangles stored, compressed), to the relative residual ‖b - a x‖ / ‖b‖ <=
 /// tolerance, from guess when not null. Throws std::runtime_error when it fails.
 using LinearSolver = std::function<LinearSolution(const SparseMatrix& a, const Eigen::VectorXd& b,
                                                   const Eigen::VectorXd* guess, double tolerance)>;
+
+/// The solver of a system shared among processes (SolveOptions::share): each process passes
+/// the contributions of its own triangles, a and b (the system is their sum over the
+/// processes; rows that other processes own included), and row_part[i], the process owning
+/// row i (the same on every process). Returns the whole solution on every process and the
+/// relative residual of the summed system. Throws std::runtime_error when it fails.
+using SharedLinearSolver =
+    std::function<LinearSolution(const SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<std::int32_t>& row_part,
+                                 const Eigen::VectorXd* guess, double tolerance)>;
 
 struct SolveOptions {
   SolverKind solver = SolverKind::automatic;
@@ -64,6 +75,10 @@ struct SolveOptions {
   /// When set, solves every system in place of the kind above (which is then only what the
   /// solution reports): how rgbmesh::parallel solves on all processes of an MPI run.
   LinearSolver linear_solver;
+  /// A run on several processes: with share.part and shared_solver set, each process assembles
+  /// its own triangles only and shared_solver solves the sum (rgbmesh::parallel::shared_amg).
+  WorkShare share;
+  SharedLinearSolver shared_solver;
 };
 
 struct Solution {

@@ -33,6 +33,12 @@ int processes();
 /// solution. Throws std::runtime_error when it does not converge.
 fem::LinearSolver distributed_amg();
 
+/// The linear solver of a system assembled in parts (fem::SolveOptions::shared_solver): each
+/// process passes its own triangles' contributions; they go to the processes owning their rows
+/// (row_part), which add them up in rank order; CG with BoomerAMG solves on all processes, and
+/// every process gets the whole solution and the relative residual of the summed system.
+fem::SharedLinearSolver shared_amg();
+
 /// Adds values across all processes, in place; every process passes the same count (the sum
 /// of adapt::AdaptOptions::sum_over_parts). Without MPI: nothing.
 void sum(double* values, std::size_t count);
