@@ -454,6 +454,11 @@ int main(int argc, char** argv) {
     fit_args.command_line = line;
   }
 
+  // A failure: one line (rank 0 speaks for the run), and on several processes, an end for all.
+  const auto fail = [&processes](int code, const std::string& message) {
+    std::cerr << "rgbmesh: " << message << "\n";
+    return finish(processes, code, message);
+  };
   try {
     const MemoryCeiling ceiling = MemoryCeiling::from_option(memory_limit);
     adapt_args.memory_limit = memory_limit;
@@ -512,20 +517,14 @@ int main(int argc, char** argv) {
     distribute(defaults, processes);
     return run_adapt(defaults);
   } catch (const InputError& e) {
-    std::cerr << "rgbmesh: error: " << e.what() << "\n";
-    return 2;
+    return fail(2, std::string("error: ") + e.what());
   } catch (const OutputError& e) {
-    std::cerr << "rgbmesh: error: " << e.what() << "\n";
-    return 1;
+    return fail(1, std::string("error: ") + e.what());
   } catch (const ResourceError& e) {
-    std::cerr << "rgbmesh: error: " << e.what() << "\n";
-    return 3;
+    return fail(3, std::string("error: ") + e.what());
   } catch (const std::bad_alloc&) {
-    std::cerr << "rgbmesh: error: out of memory (the work needs more memory than the machine has; see "
-                 "--memory-limit)\n";
-    return 3;
+    return fail(3, "error: out of memory (the work needs more memory than the machine has; see --memory-limit)");
   } catch (const std::exception& e) {
-    std::cerr << "rgbmesh: internal error: " << e.what() << "\n";
-    return 3;
+    return fail(3, std::string("internal error: ") + e.what());
   }
 }

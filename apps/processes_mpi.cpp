@@ -32,4 +32,14 @@ void distribute(AdaptArgs& args, const Processes& processes) {
   args.bytes_sent = parallel::bytes_sent_since_last;
 }
 
+int finish(const Processes& processes, int code, const std::string& message) {
+  if (code == 0 || processes.count <= 1) return code;
+  if (parallel::every_process_stops(10.0)) return code;
+  if (processes.rank != 0) {
+    std::cerr.clear();
+    std::cerr << "rgbmesh (process " << processes.rank << " of " << processes.count << "): " << message << std::endl;
+  }
+  parallel::abort_all(code);
+}
+
 }  // namespace rgbmesh::cli

@@ -131,6 +131,24 @@ TEST_F(Mpi, AMovingPeakWithCoarseningIsTheSerialRun) {
   expect_same_runs("adapt --problem moving-peak --steps 6 --min-level 1", "step_006");
 }
 
+TEST_F(Mpi, AProcessFailingAloneEndsTheRunWithItsError) {
+  // Process 1 is given an output folder that does not exist (its piece cannot be written), while
+  // the others wait for it in the next cycle's collective operations: the run must end, with
+  // process 1's error and the exit code of an output failure, not hang.
+  const std::string good = path("good"), missing = path("missing");
+  const RunResult r = run_with(std::string(RGBMESH_MPIEXEC) + " --oversubscribe -np 2 sh -c '" + RGBMESH_CLI +
+                                   " adapt --cycles 6 --out \"$([ \"$OMPI_COMM_WORLD_RANK\" = 0 ] && echo " + good +
+                                   " || echo " + missing + ")\"'",
+                               "");
+  EXPECT_EQ(r.code, 1) << r.err;
+  EXPECT_NE(r.err.find("rgbmesh (process 1 of 2): error: " + missing + "/cycle_000_r1.vtp"), std::string::npos) << r.err;
+  // Every process failing alike (the same bad input) ends normally, with rank 0's one line.
+  const RunResult bad = run_on(3, "adapt --mesh " + path("nothing.obj"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("rgbmesh: error: " + path("nothing.obj")), std::string::npos) << bad.err;
+  EXPECT_EQ(bad.err.find("MPI_ABORT"), std::string::npos) << bad.err;
+}
+
 TEST_F(Mpi, ARunOnFewerProcessesLeavesNoPiecesOfTheLastOne) {
   const std::string dir = path("run");
   ASSERT_EQ(run_on(4, "adapt --cycles 3 --out " + dir).code, 0);

@@ -4,6 +4,7 @@
 #include <petscksp.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <thread>
 #include <stdexcept>
@@ -23,6 +24,9 @@ namespace {
 void check(PetscErrorCode code, const char* what) { fem::petsc::check(code, "distributed amg", what); }
 
 bool started = false;
+// A communicator of its own for the processes' meeting at a failure (every_process_stops), so
+// that it never matches a collective operation that other processes are waiting in.
+MPI_Comm failure_comm = MPI_COMM_NULL;
 
 // Rows numbered part after part (each process a contiguous block), in increasing order within
 // each part: to_new[old row], to_old[new row], and every part's first row and count.
@@ -242,6 +246,7 @@ void initialize(int* argc, char*** argv) {
   PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
   for (const auto& option : fem::amg_options()) check(PetscOptionsSetValue(nullptr, option[0], option[1]), "setting options");
   started = true;
+  MPI_Comm_dup(MPI_COMM_WORLD, &failure_comm);
   // The processes on this machine share its cores: each takes its share for its loops.
   MPI_Comm local = MPI_COMM_NULL;
   MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &local);
@@ -258,6 +263,25 @@ void initialize(int* argc, char*** argv) {
     MPI_Finalized(&mpi_finalized);
     if (!mpi_finalized) MPI_Finalize();
   });
+}
+
+bool every_process_stops(double seconds) {
+  if (!started || processes() == 1) return true;
+  MPI_Request request = MPI_REQUEST_NULL;
+  MPI_Ibarrier(failure_comm, &request);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  for (;;) {
+    int done = 0;
+    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
+    if (done) return true;
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
+void abort_all(int code) {
+  if (started) MPI_Abort(MPI_COMM_WORLD, code);
+  std::exit(code);
 }
 
 int rank() {

@@ -1,5 +1,6 @@
 // rgbmesh::parallel without MPI and PETSc (mpi.hpp): one process.
 
+#include <cstdlib>
 #include <stdexcept>
 
 #include "rgbmesh/parallel/mpi.hpp"
@@ -11,6 +12,8 @@ bool launched_by_mpi() { return false; }
 void initialize(int*, char***) {}
 int rank() { return 0; }
 int processes() { return 1; }
+bool every_process_stops(double) { return true; }
+void abort_all(int code) { std::exit(code); }
 
 fem::LinearSolver distributed_amg() {
   return [](const fem::SparseMatrix&, const Eigen::VectorXd&, const Eigen::VectorXd*, double) -> fem::LinearSolution {

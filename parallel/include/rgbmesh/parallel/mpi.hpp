@@ -27,6 +27,13 @@ void initialize(int* argc, char*** argv);
 int rank();
 int processes();
 
+/// At a failure: whether every process comes to this call within `seconds` (all failed alike,
+/// for instance on the same bad input, and can finish normally). If not, the others may wait
+/// forever in a collective operation for this one: call abort_all. Without MPI: true.
+bool every_process_stops(double seconds);
+/// Ends every process of the run with this exit code (MPI_Abort). Without MPI: std::exit.
+[[noreturn]] void abort_all(int code);
+
 /// The linear solver of an MPI run (fem::SolveOptions::linear_solver): every process passes
 /// the same system; each owns a contiguous block of rows of the distributed matrix; CG with
 /// BoomerAMG (fem::amg_options) solves on all processes, and every process gets the whole
