@@ -357,37 +357,38 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   // of a fixed DOF becomes 0 added to entry (0, 0), which changes nothing); then, in triangle
   // order, the vertex areas and the fixed values moved to the right-hand side: the same
   // numbers as one thread computes.
-  const std::size_t nt = mesh.triangles.size();
+  // (On several processes, only this process's triangles: `mine`, in triangle order.)
+  std::vector<std::size_t> mine;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    if (share.computes(t)) mine.push_back(t);
+  const std::size_t nt = mine.size();
   const int nodes = mesh.order == 2 ? 6 : 3;
   const auto slots = static_cast<std::size_t>(nodes * nodes);
   Eigen::VectorXd area = Eigen::VectorXd::Zero(n);  // ∫φ_i
   std::vector<Triplet> trip(nt * slots);
   std::vector<std::array<double, 6>> integral(nt);
   std::vector<char> touches_fixed(nt, 0);
-  detail::for_each_index(nt, [&](std::size_t t) {
-    if (!share.computes(t)) {
-      std::fill_n(trip.begin() + static_cast<std::ptrdiff_t>(t * slots), slots, Triplet(0, 0, 0.0));
-      integral[t].fill(0.0);
-      return;
-    }
+  detail::for_each_index(nt, [&](std::size_t k) {
     LocalSystem local;
-    local_system(mesh, t, local);
+    local_system(mesh, mine[k], local);
     for (int i = 0; i < local.nodes; ++i) {
-      integral[t][i] = local.integral[i];
+      integral[k][i] = local.integral[i];
       const Eigen::Index ri = index[local.dof[i]];
-      if (ri < 0) touches_fixed[t] = 1;
+      if (ri < 0) touches_fixed[k] = 1;
       for (int j = 0; j < local.nodes; ++j) {
         const Eigen::Index cj = index[local.dof[j]];
-        trip[t * slots + static_cast<std::size_t>(i * local.nodes + j)] =
+        trip[k * slots + static_cast<std::size_t>(i * local.nodes + j)] =
             ri >= 0 && cj >= 0 ? Triplet(ri, cj, local.stiffness[i][j] + problem.c * local.mass[i][j]) : Triplet(0, 0, 0.0);
       }
     }
   });
+  mine = {};
   LocalSystem local;
-  for (std::size_t t = 0; t < nt; ++t) {
+  for (std::size_t k = 0, t = 0; k < nt; ++k, ++t) {
+    while (!share.computes(t)) ++t;
     const auto& c = mesh.triangles[t];
-    for (int i = 0; i < nodes; ++i) area[i < 3 ? c[i] : mesh.edge_nodes[t][i - 3]] += integral[t][i];
-    if (!touches_fixed[t]) continue;
+    for (int i = 0; i < nodes; ++i) area[i < 3 ? c[i] : mesh.edge_nodes[t][i - 3]] += integral[k][i];
+    if (!touches_fixed[k]) continue;
     local_system(mesh, t, local);
     for (int i = 0; i < local.nodes; ++i) {
       const Eigen::Index ri = index[local.dof[i]];
