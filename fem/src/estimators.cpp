@@ -92,22 +92,38 @@ Evaluated evaluate(const ElementPoint& p, const Eigen::VectorXd& u) {
 }
 
 // Each triangle's geometry and the (constant) gradient of u_h on it.
-struct TriangleFields {
-  std::vector<TriangleGeometry> geo;
-  std::vector<Vec3> grad;
+// Each needed triangle's geometry and the (constant) gradient of u_h on it, stored for those
+// triangles only (on several processes a small part of the mesh).
+class TriangleFields {
+ public:
+  TriangleFields(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const std::vector<char>& triangles) {
+    const std::size_t nt = mesh.triangles.size();
+    std::size_t count = nt;
+    if (!triangles.empty()) {
+      slot_.assign(nt, -1);
+      count = 0;
+      for (std::size_t t = 0; t < nt; ++t)
+        if (triangles[t]) slot_[t] = static_cast<std::int32_t>(count++);
+    }
+    geo_.resize(count);
+    grad_.resize(count);
+    detail::for_each_index(nt, [&](std::size_t t) {
+      if (!among(triangles, t)) return;
+      const auto& c = mesh.triangles[t];
+      const std::size_t k = at(t);
+      geo_[k] = triangle_geometry(mesh.points[c[0]], mesh.points[c[1]], mesh.points[c[2]]);
+      grad_[k] = gradient(geo_[k], c, u);
+    });
+  }
+  const TriangleGeometry& geo(std::size_t t) const { return geo_[at(t)]; }
+  const Vec3& grad(std::size_t t) const { return grad_[at(t)]; }
+
+ private:
+  std::size_t at(std::size_t t) const { return slot_.empty() ? t : static_cast<std::size_t>(slot_[t]); }
+  std::vector<std::int32_t> slot_;  // triangle -> its place (empty: all triangles, in order)
+  std::vector<TriangleGeometry> geo_;
+  std::vector<Vec3> grad_;
 };
-TriangleFields triangle_fields(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const std::vector<char>& triangles) {
-  TriangleFields f;
-  f.geo.resize(mesh.triangles.size());
-  f.grad.resize(mesh.triangles.size());
-  detail::for_each_index(mesh.triangles.size(), [&](std::size_t i) {
-    if (!among(triangles, i)) return;
-    const auto& t = mesh.triangles[i];
-    f.geo[i] = triangle_geometry(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]);
-    f.grad[i] = gradient(f.geo[i], t, u);
-  });
-  return f;
-}
 
 // The reference derivatives of the six P2 basis functions (corners, then the nodes of edges
 // 0-1, 1-2, 2-0; as in element_point) in ξ = (λ1, λ2), λ0 = 1 - ξ1 - ξ2: the first ones at λ
@@ -369,7 +385,7 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
   const std::size_t nt = mesh.triangles.size();
   const auto& rule = triangle_quadrature();
   const std::vector<char> needed = needed_triangles(mesh, share, 2);
-  const auto [geo, grad] = triangle_fields(mesh, u, needed);
+  const TriangleFields fields(mesh, u, needed);
   std::vector<double> h(nt), eta2(nt, 0.0), geometric(nt, 0.0), delta(nt, 0.0);
   for (std::size_t i = 0; i < nt; ++i) {
     if (!share.computes(i)) continue;
@@ -387,7 +403,7 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
       const Vec3 lifted = mesh.lift(x);
       const double uh = q.barycentric[0] * u[t[0]] + q.barycentric[1] * u[t[1]] + q.barycentric[2] * u[t[2]];
       const double r = (problem.source ? problem.source(lifted) : 0.0) - problem.c * uh;
-      r2 += q.weight * geo[i].area * r * r;
+      r2 += q.weight * fields.geo(i).area * r * r;
       if (mesh.projection) delta[i] = std::max(delta[i], distance(x, lifted));
     }
     eta2[i] += h[i] * h[i] * r2;
@@ -406,11 +422,11 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
     const double len = distance(pa, pb);
     // Outward conormals: the edge direction turned in each triangle's plane.
     const Vec3 dir = (pb - pa) * (1.0 / len);
-    const Vec3 ni = cross(dir, geo[i].normal), nj = cross(dir * -1.0, geo[j].normal);
-    const double jump = dot(grad[i], ni) + dot(grad[j], nj);
+    const Vec3 ni = cross(dir, fields.geo(i).normal), nj = cross(dir * -1.0, fields.geo(j).normal);
+    const double jump = dot(fields.grad(i), ni) + dot(fields.grad(j), nj);
     edge_terms[n][0] = 0.5 * len * len * jump * jump;  // J constant on e
     // The sagitta of an arc through the edge whose ends turn by the normals' angle.
-    const double theta = std::acos(std::clamp(dot(geo[i].normal, geo[j].normal), -1.0, 1.0));
+    const double theta = std::acos(std::clamp(dot(fields.geo(i).normal, fields.geo(j).normal), -1.0, 1.0));
     edge_terms[n][1] = len * theta / 8.0;
   });
   for (std::size_t n = 0; n < edges.size(); ++n) {
@@ -431,14 +447,14 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
       const auto i = static_cast<std::size_t>(e.triangle);
       if (!share.computes(i)) continue;
       const double len = distance(pa, pb);
-      const Vec3 n = cross((pb - pa) * (1.0 / len), geo[i].normal);
-      const double misfit = (problem.neumann_flux ? problem.neumann_flux(mid) : 0.0) - dot(grad[i], n);
+      const Vec3 n = cross((pb - pa) * (1.0 / len), fields.geo(i).normal);
+      const double misfit = (problem.neumann_flux ? problem.neumann_flux(mid) : 0.0) - dot(fields.grad(i), n);
       eta2[i] += len * len * misfit * misfit;
     }
   }
   for (std::size_t i = 0; i < nt; ++i) {
     if (!share.computes(i)) continue;
-    geometric[i] = delta[i] / h[i] * std::sqrt(geo[i].area) * norm(grad[i]);
+    geometric[i] = delta[i] / h[i] * std::sqrt(fields.geo(i).area) * norm(fields.grad(i));
     eta2[i] += geometric[i] * geometric[i];
   }
   return finish(std::move(eta2), std::move(geometric), share);
@@ -492,13 +508,13 @@ Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const W
   std::vector<Vec3> recovered(mesh.num_dofs());
   std::vector<double> weight(mesh.num_dofs(), 0.0);
   const std::vector<char> around = needed_triangles(mesh, share, 1);  // (all on one process)
-  const auto [geo, grad] = triangle_fields(mesh, u, around);
+  const TriangleFields fields(mesh, u, around);
   for (std::size_t i = 0; i < nt; ++i) {
     if (!among(around, i)) continue;
     const auto& t = mesh.triangles[i];
     for (std::int32_t v : t) {
-      recovered[v] += geo[i].area * grad[i];
-      weight[v] += geo[i].area;
+      recovered[v] += fields.geo(i).area * fields.grad(i);
+      weight[v] += fields.geo(i).area;
     }
   }
   for (std::size_t v = 0; v < recovered.size(); ++v) {
@@ -511,8 +527,8 @@ Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const W
     const auto& t = mesh.triangles[i];
     for (const auto& q : rule) {
       const Vec3 g = at(q.barycentric, recovered[t[0]], recovered[t[1]], recovered[t[2]]);
-      const Vec3 d = tangential(g, geo[i].normal) - grad[i];
-      eta2[i] += q.weight * geo[i].area * dot(d, d);
+      const Vec3 d = tangential(g, fields.geo(i).normal) - fields.grad(i);
+      eta2[i] += q.weight * fields.geo(i).area * dot(d, d);
     }
   }
   return finish(std::move(eta2), std::vector<double>(nt, 0.0), share);
