@@ -1,7 +1,8 @@
 // Uses every installed rgbmesh module once: vtk_io writes the icosahedron refined once and reads
 // it back, fem solves the sphere-peak problem on it, adapt runs two adaptive cycles, and fit
 // moves a shrunken icosahedron's control points onto the unit sphere. Prints one line per step
-// for the install test, and exits non-zero when a result is not what it must be.
+// for the install test, and exits non-zero when a result is not what it must be. Where the
+// installation has rgbmesh::parallel, it partitions the adapted mesh too.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,10 @@
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/shapes.hpp"
 #include "rgbmesh/vtk_io.hpp"
+#if defined(CONSUMER_HAS_PARALLEL)
+#include "rgbmesh/parallel/mpi.hpp"
+#include "rgbmesh/parallel/partition.hpp"
+#endif
 
 using namespace rgbmesh;
 
@@ -73,6 +78,18 @@ int main(int argc, char** argv) {
   std::printf("fit: %zu targets, RMS %.3g -> %.3g of the diagonal\n", targets.size(), start, end);
   if (!(end < 0.01 && end < 0.2 * start)) return 1;
 
+#if defined(CONSUMER_HAS_PARALLEL)
+  // parallel: the adapted mesh's triangles in three parts, all of them used, none too heavy.
+  const fem::SurfaceMesh adapted = fem::build_surface_mesh(mesh);
+  const std::vector<std::int32_t> parts = parallel::triangle_parts(mesh, adapted, 0, 3);
+  std::vector<std::size_t> count(3, 0);
+  for (const std::int32_t p : parts) ++count[static_cast<std::size_t>(p)];
+  const double mean = static_cast<double>(parts.size()) / 3;
+  std::printf("parallel: %zu triangles in parts of %zu, %zu, %zu (MPI %s)\n", parts.size(), count[0], count[1], count[2],
+              parallel::mpi_available() ? "available" : "not built");
+  if (*std::min_element(count.begin(), count.end()) == 0 || *std::max_element(count.begin(), count.end()) > 1.5 * mean)
+    return 1;
+#endif
   std::printf("checked handles: %d\n", RGBMESH_CHECKED_HANDLES);
   return 0;
 }
