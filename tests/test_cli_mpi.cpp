@@ -131,6 +131,23 @@ TEST_F(Mpi, AMovingPeakWithCoarseningIsTheSerialRun) {
   expect_same_runs("adapt --problem moving-peak --steps 6 --min-level 1", "step_006");
 }
 
+TEST_F(Mpi, QuadraticElementsAreTheSerialRunToo) {
+  // P2: the curved elements' matrices, residuals and edge jumps computed in parts.
+  const std::string args = "adapt --order 2 --min-level 1 --cycles 7";
+  ASSERT_EQ(run(args + " --out " + path("serial")).code, 0);
+  const RunResult many = run_on(3, args + " --out " + path("p3"));
+  ASSERT_EQ(many.code, 0) << many.err;
+  const std::vector<Cycle> a = cycles_of(report_of(path("serial"))), b = cycles_of(report_of(path("p3")));
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_GE(a.size(), 6u);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].dofs, b[i].dofs) << "cycle " << i;
+    EXPECT_NEAR(a[i].estimate, b[i].estimate, 1e-7 * a[i].estimate) << "cycle " << i;
+    EXPECT_NEAR(a[i].error_h1, b[i].error_h1, 1e-7 * a[i].error_h1) << "cycle " << i;
+    EXPECT_GE(b[i].bytes_sent, 16.0 * static_cast<double>(b[i].triangles)) << "cycle " << i;
+  }
+}
+
 TEST_F(Mpi, AProcessFailingAloneEndsTheRunWithItsError) {
   // Process 1 is given an output folder that does not exist (its piece cannot be written), while
   // the others wait for it in the next cycle's collective operations: the run must end, with
