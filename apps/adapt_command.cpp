@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cctype>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -60,7 +61,9 @@ std::string cycles_json(const std::vector<adapt::CycleReport>& reports, bool dyn
         .add("estimate_seconds", r.estimate_seconds)
         .add("error_seconds", r.error_seconds)
         .add("adapt_seconds", r.adapt_seconds)
+        .add("assembly_seconds", r.assembly_seconds)
         .add("partition_seconds", r.partition_seconds)
+        .add("output_seconds", r.output_seconds)
         .add("bytes_sent", static_cast<std::uint64_t>(r.bytes_sent))
         .add("bytes_sent_largest", static_cast<std::uint64_t>(r.bytes_sent_largest))
         .add("marked", static_cast<std::uint64_t>(r.marked))
@@ -292,7 +295,9 @@ std::vector<adapt::CycleReport> cycles_from(const JsonValue& list, const fs::pat
     // Reports written before these fields existed have none.
     for (auto [key, field] : {std::pair{"mesh_seconds", &r.mesh_seconds}, std::pair{"estimate_seconds", &r.estimate_seconds},
                               std::pair{"error_seconds", &r.error_seconds},
-                              std::pair{"partition_seconds", &r.partition_seconds}})
+                              std::pair{"partition_seconds", &r.partition_seconds},
+                              std::pair{"assembly_seconds", &r.assembly_seconds},
+                              std::pair{"output_seconds", &r.output_seconds}})
       if (c.find(key)) *field = real(c, key, file);
     r.marked = static_cast<std::size_t>(count(c, "marked", file));
     r.splits = static_cast<std::size_t>(count(c, "splits", file));
@@ -596,6 +601,7 @@ int run_adapt(const AdaptArgs& args) {
             << (s.moving ? " step   time" : "cycle")
             << "  triangles      dofs    estimate    error_L2    error_H1  seconds\n";
   auto on_cycle = [&](const adapt::CycleState& c) {
+    const auto t_output = std::chrono::steady_clock::now();
     const auto& r = c.report;
     const std::string file = cycle_file(s.moving, r.cycle);
     const bool pieces = a.processes > 1 && a.order == 1 && c.solved && !c.solved->triangle_part.empty();
@@ -622,6 +628,8 @@ int run_adapt(const AdaptArgs& args) {
     series.emplace_back(s.moving ? r.time : r.cycle, series_file(s.moving, r.cycle, a.order, pieces));
     if (a.writes) write_pvd(dir / "solution.pvd", series);  // after every cycle: usable while running
     progress.cycles.push_back(r);
+    progress.cycles.back().output_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_output).count();
     write_report(report_json("running", "", ""));
     std::cout << number(r.cycle, "%5.0f") << (s.moving ? number(r.time, "%7.3f") : "")
               << number(static_cast<double>(r.triangles), "%11.0f") << number(static_cast<double>(r.dofs), "%10.0f")
@@ -651,6 +659,9 @@ int run_adapt(const AdaptArgs& args) {
     run.start = prior->done.start;
     run.target_estimate = prior->done.target_estimate;
   }
+  // (The times of writing each cycle are the tool's own: measured above.)
+  for (std::size_t i = 0; i < run.cycles.size() && i < progress.cycles.size(); ++i)
+    run.cycles[i].output_seconds = progress.cycles[i].output_seconds;
   progress = run;
   const std::string message = stop_message(run.stopped, s, a, run);
   write_report(report_json("finished", adapt::to_string(run.stopped), message));

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # The adaptive loop on 1, 2 and 4 MPI processes (issue 13), in one script so that the figures
-# compare: for the last cycle of each run, its time and the shares of building the finite-element
-# mesh, partitioning its triangles, assembly + solve, estimate, errors and the rest (adaptation,
-# output); the solver's iterations; the largest peak memory of a process; and the bytes the
-# processes sent during the cycle (the report's bytes_sent: every message PETSc, hypre and
-# rgbmesh hand to MPI, counted through its profiling interface), per process on average and the
-# most by one.
+# compare. For the last cycle of each run: its time (without writing the files) and the shares
+# of building the finite-element mesh, partitioning its triangles, assembly, solve, estimate,
+# errors and adaptation (the rest: marking, refinement, solution transfer), and writing the
+# files as a share of the same time; the solver's iterations; the largest peak memory of a
+# process; and the bytes the processes sent during the cycle (the report's bytes_sent: every
+# message PETSc, hypre and rgbmesh hand to MPI, counted through its profiling interface), per
+# process on average and the most by one. Each process of a run shares the machine's cores.
 # Usage: bench/mpi_cycles.sh [BUILD_DIR] [adapt options...]   (default: --strategy uniform --max-dofs 700000)
 set -euo pipefail
 build=${1:-build}
@@ -16,8 +17,8 @@ tool="$build/bin/rgbmesh"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-printf "%3s %9s %7s %6s %6s %6s %6s %6s %6s %4s %10s %12s %12s\n" P unknowns cycle_s mesh parts solve estim errors rest \
-  its "peak_MB/pr" "sent_MB/pr" "sent_MB_max"
+printf "%3s %9s %7s %5s %5s %5s %5s %5s %5s %5s %6s %4s %10s %11s %11s\n" P unknowns cycle_s mesh parts assem solve \
+  estim errs adapt output its "peak_MB/pr" "sent_MB/pr" "sent_MB_max"
 for p in 1 2 4; do
   out="$work/p$p"
   mpirun --oversubscribe -np "$p" \
@@ -28,11 +29,13 @@ for p in 1 2 4; do
 import json, sys
 c = json.load(open(sys.argv[1]))["cycles"][-1]
 s = c["seconds"]
-keys = ("mesh_seconds", "partition_seconds", "solve_seconds", "estimate_seconds", "error_seconds")
-parts = [c.get(k, 0.0) for k in keys]
+assembly = c.get("assembly_seconds", 0.0)
+parts = [c.get("mesh_seconds", 0.0), c.get("partition_seconds", 0.0), assembly, c["solve_seconds"] - assembly,
+         c.get("estimate_seconds", 0.0), c.get("error_seconds", 0.0)]
 p = int(sys.argv[2])
-print("%3s %9d %7.2f %5.0f%% %5.0f%% %5.0f%% %5.0f%% %5.0f%% %5.0f%% %4d %10.0f %12.2f %12.2f" % (
-    p, c["dofs"], s, *(100 * x / s for x in parts), 100 * (s - sum(parts)) / s, c["solver_iterations"],
-    int(sys.argv[3]) / 1024, c.get("bytes_sent", 0) / p / 1e6, c.get("bytes_sent_largest", 0) / 1e6))
+shares = [100 * x / s for x in parts] + [100 * (s - sum(parts)) / s, 100 * c.get("output_seconds", 0.0) / s]
+print("%3s %9d %7.2f" % (p, c["dofs"], s) + "".join(" %4.0f%%" % x for x in shares[:-1]) + " %5.0f%%" % shares[-1] +
+      " %4d %10.0f %11.2f %11.2f" % (c["solver_iterations"], int(sys.argv[3]) / 1024, c.get("bytes_sent", 0) / p / 1e6,
+                                     c.get("bytes_sent_largest", 0) / 1e6))
 PY
 done

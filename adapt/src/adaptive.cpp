@@ -134,6 +134,7 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   c.report.dofs = c.fe.num_dofs();
   c.report.estimate = c.estimate.total;
   c.report.solve_seconds = c.solution.assembly_seconds + c.solution.solve_seconds;
+  c.report.assembly_seconds = c.solution.assembly_seconds;
   c.report.solver = fem::to_string(c.solution.solver);
   c.report.solver_iterations = c.solution.iterations;
   if (problem.exact) {

@@ -116,10 +116,14 @@ struct CycleReport {
   double seconds = 0;        ///< the whole cycle
   double mesh_seconds = 0;   ///< the finite-element mesh (limit positions, P2 edge nodes)
   double solve_seconds = 0;  ///< assembly + solve
+  double assembly_seconds = 0;  ///< of solve_seconds, the assembly
   double estimate_seconds = 0;
   double error_seconds = 0;  ///< the errors against the exact solution, where it is known
   double adapt_seconds = 0;  ///< marking + mesh update + solution transfer
   double partition_seconds = 0;  ///< with AdaptOptions::partition: the triangles' parts
+  /// Writing the cycle's files, for the caller that writes them (the tool sets it in its
+  /// report); not part of `seconds`.
+  double output_seconds = 0;
   /// With AdaptOptions::bytes_sent: the bytes the processes sent during the cycle, in all and
   /// the most by one of them.
   std::uint64_t bytes_sent = 0, bytes_sent_largest = 0;
