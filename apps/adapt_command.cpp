@@ -597,7 +597,8 @@ int run_adapt(const AdaptArgs& args) {
               << prior->done.cycles.back().cycle << "\n";
   std::cout << "rgbmesh adapt: problem " << s.problem << ", " << a.strategy
             << (s.options.strategy == adapt::Strategy::adaptive ? " (" + s.marking + ")" : std::string())
-            << ", geometry " << s.geometry << (a.order == 2 ? ", P2 elements" : "") << ", mesh " << s.mesh_name << "\n"
+            << ", geometry " << s.geometry << (a.order == 2 ? ", P2 elements" : "") << ", mesh " << s.mesh_name
+            << (a.processes > 1 ? ", on " + std::to_string(a.processes) + " processes" : std::string()) << "\n"
             << (s.moving ? " step   time" : "cycle")
             << "  triangles      dofs    estimate    error_L2    error_H1  seconds\n";
   auto on_cycle = [&](const adapt::CycleState& c) {
@@ -665,6 +666,12 @@ int run_adapt(const AdaptArgs& args) {
   progress = run;
   const std::string message = stop_message(run.stopped, s, a, run);
   write_report(report_json("finished", adapt::to_string(run.stopped), message));
+  if (a.processes > 1) {
+    double sent = 0;
+    for (const auto& r : run.cycles) sent += static_cast<double>(r.bytes_sent);
+    std::cout << "processes: " << a.processes << ", " << number(sent / 1e6, "%.1f")
+              << " MB sent between them in all (bytes_sent in the report, per cycle)\n";
+  }
   std::cout << "stopped: " << message << "\n"
             << "wrote " << series.size() << " files and " << (dir / "solution.pvd").string()
             << " (open the .pvd in ParaView: color by 'solution', 'error_indicator' or 'level')\n";
