@@ -1,0 +1,26 @@
+// rgbmesh::parallel::distribute (adaptive.hpp): the hooks of adapt::AdaptOptions for a run on
+// all processes.
+
+#include "rgbmesh/parallel/adaptive.hpp"
+
+#include "rgbmesh/parallel/mpi.hpp"
+#include "rgbmesh/parallel/partition.hpp"
+
+namespace rgbmesh::parallel {
+
+void distribute(adapt::AdaptOptions& options) {
+  const int parts = processes();
+  if (parts <= 1) return;
+  const int floor = options.min_level;
+  options.partition = [floor, parts](const RgbMesh& mesh, const fem::SurfaceMesh& fe) {
+    return triangle_parts(mesh, fe, floor, parts);
+  };
+  options.part = rank();
+  options.sum_over_parts = sum;
+  options.gather_over_parts = gather;
+  options.bytes_sent = bytes_sent_since_last;
+  options.solve.linear_solver = distributed_amg();
+  options.solve.shared_solver = shared_amg();
+}
+
+}  // namespace rgbmesh::parallel
