@@ -146,18 +146,7 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   if (a.order != 1 && a.order != 2) throw InputError("--order " + std::to_string(a.order) + ": 1 or 2");
   o.order = a.order;
   o.min_level = a.min_level;
-  o.solve.linear_solver = a.linear_solver;
-  o.solve.shared_solver = a.shared_solver;
-  o.bytes_sent = a.bytes_sent;
-  if (a.part_triangles) {
-    const int floor = a.min_level, parts = a.processes;
-    o.partition = [f = a.part_triangles, floor, parts](const RgbMesh& m, const fem::SurfaceMesh& fe) {
-      return f(m, fe, floor, parts);
-    };
-    o.part = a.rank;
-    o.sum_over_parts = a.sum;
-    o.gather_over_parts = a.gather;
-  }
+  if (a.distribute) a.distribute(o);  // after the floor: the processes share the units above it
   s.estimator = a.estimator;
   o.estimator = choose<adapt::EstimatorKind>(
       "--estimator", s.estimator, {{"residual", adapt::EstimatorKind::residual}, {"zz", adapt::EstimatorKind::zz}});

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "rgbmesh/adapt/adaptive.hpp"
 #include "rgbmesh/fem/solver.hpp"
 #include "rgbmesh/vtk_io.hpp"
 
@@ -43,19 +44,11 @@ struct AdaptArgs {
   std::string memory_limit;     // the global --memory-limit ("" for the default)
   std::string resume;           // --resume DIR: continue the run in DIR; empty: a new run
   // Several processes (mpirun): whether this one writes the files and the report (rank 0),
-  // the solver of the linear systems on all processes, and how many there are.
+  // how many there are, and what makes the adaptive loop run on all of them (given the
+  // options with the floor set: rgbmesh::parallel::distribute). Empty on one process.
   bool writes = true;
-  fem::LinearSolver linear_solver;
-  fem::SharedLinearSolver shared_solver;  // each process assembling its own triangles
   int processes = 1, rank = 0;
-  // Each triangle's process (per FE triangle, for the pieces of the output): (mesh, FE mesh,
-  // floor level, processes). Empty on one process.
-  std::function<std::vector<std::int32_t>(const RgbMesh&, const fem::SurfaceMesh&, int, int)> part_triangles;
-  // The sum and gather across processes (each computes its own triangles' estimates and errors) and the
-  // bytes the processes sent in each cycle (adapt::AdaptOptions::sum_over_parts, bytes_sent).
-  std::function<void(double*, std::size_t)> sum;
-  std::function<void(double*, std::size_t, const std::vector<std::int32_t>&)> gather;
-  std::function<std::array<std::uint64_t, 2>()> bytes_sent;
+  std::function<void(adapt::AdaptOptions&)> distribute;
 };
 
 // Checks the arguments against each other and the mesh, runs, writes everything; returns the

@@ -2,7 +2,7 @@
 
 #include "processes.hpp"
 #include "rgbmesh/parallel/mpi.hpp"
-#include "rgbmesh/parallel/partition.hpp"
+#include "rgbmesh/parallel/adaptive.hpp"
 
 namespace rgbmesh::cli {
 
@@ -22,14 +22,9 @@ Processes start_processes(int* argc, char*** argv) {
 void distribute(AdaptArgs& args, const Processes& processes) {
   if (processes.count <= 1) return;
   args.writes = processes.rank == 0;
-  args.linear_solver = parallel::distributed_amg();
-  args.shared_solver = parallel::shared_amg();
   args.processes = processes.count;
   args.rank = processes.rank;
-  args.part_triangles = parallel::triangle_parts;
-  args.sum = parallel::sum;
-  args.gather = parallel::gather;
-  args.bytes_sent = parallel::bytes_sent_since_last;
+  args.distribute = parallel::distribute;
 }
 
 int finish(const Processes& processes, int code, const std::string& message) {
