@@ -8,13 +8,17 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
 #include "rgbmesh/adapt/adaptive.hpp"
+#include "rgbmesh/parallel/local_view.hpp"
 #include "rgbmesh/parallel/partition.hpp"
 #include "rgbmesh/refinement.hpp"
+#include "rgbmesh/rgb_state.hpp"
 #include "rgbmesh/shapes.hpp"
 #include "test_meshes.hpp"
 
@@ -164,6 +168,98 @@ TEST(Partition, UnitsFinerWhereTheMeshIsHeavyBalanceAMovingPeaksWake) {
     }
     std::printf("%zu triangles, %d parts: %zu units, imbalance %.3f (macro triangles only: %.3f)\n", m.num_triangles(),
                 parts, u.level.size(), p.imbalance, partition(macro, parts).imbalance);
+  }
+}
+
+// What a process of a distributed mesh would hold: for each part of an adaptive mesh, the
+// mesh coarsened to the floor away from the part and one ghost layer. Its own triangles are
+// exactly the whole mesh's (the same corners, the same control points), the view is valid,
+// and it is a fraction of the whole: the memory model of the distributed mesh.
+// The corners of the kept triangles.
+std::vector<char> kept_vertex_of(const RgbMesh& m, const std::vector<char>& keep) {
+  std::vector<char> out(static_cast<std::size_t>(m.vertex_slots()), 0);
+  for (const TriangleHandle t : m.triangles())
+    if (keep[static_cast<std::size_t>(t.idx)])
+      for (const VertexHandle v : m.triangle_vertices(t)) out[static_cast<std::size_t>(v.idx)] = 1;
+  return out;
+}
+
+TEST(LocalView, KeepsAPartsTrianglesExactlyAndLittleElse) {
+  RgbMesh whole = icosahedron_mesh();
+  adapt::run_cycles(whole, fem::sphere_peak(), above_level_2());
+  whole.compute_limits();
+  const std::size_t n = whole.num_triangles();
+  ASSERT_GT(n, 20000u);
+  for (int parts : {2, 4, 16}) {
+    const Units u = units(whole, 2, parts);
+    const Partition p = partition(u, parts);
+    double largest = 0;
+    for (int q = 0; q < parts; ++q) {
+      std::vector<char> keep(static_cast<std::size_t>(whole.triangle_slots()), 0);
+      std::size_t own = 0;
+      for (const TriangleHandle t : whole.triangles()) {
+        const bool mine = p.part_of[static_cast<std::size_t>(u.of_triangle[t.idx])] == q;
+        keep[static_cast<std::size_t>(t.idx)] = mine;
+        own += mine;
+      }
+      const RgbMesh view = local_view(whole, keep, 2);
+      ASSERT_EQ(view.validate(), "") << parts << " parts, part " << q;
+      // The view's triangles by their corners (vertices keep their handles in the copy).
+      std::set<std::array<std::int32_t, 3>> in_view;
+      for (const TriangleHandle t : view.triangles()) {
+        std::array<std::int32_t, 3> c{};
+        const auto v = view.triangle_vertices(t);
+        for (int k = 0; k < 3; ++k) c[k] = v[k].idx;
+        std::sort(c.begin(), c.end());
+        in_view.insert(c);
+      }
+      std::size_t missing = 0, moved = 0;
+      for (const TriangleHandle t : whole.triangles()) {
+        if (!keep[static_cast<std::size_t>(t.idx)]) continue;
+        std::array<std::int32_t, 3> c{};
+        const auto v = whole.triangle_vertices(t);
+        for (int k = 0; k < 3; ++k) {
+          c[k] = v[k].idx;
+          moved += !(view.control_point(v[k]) == whole.control_point(v[k]));
+        }
+        std::sort(c.begin(), c.end());
+        missing += in_view.count(c) == 0;
+      }
+      EXPECT_EQ(missing, 0u) << parts << " parts, part " << q;
+      EXPECT_EQ(moved, 0u) << parts << " parts, part " << q;
+      if (parts == 4) {
+        // Migrated: the view's RGB state rebuilt from its base on another process (positions
+        // computed anew by the Loop stencils). The kept vertices come back at the whole mesh's
+        // control points and limit positions.
+        const MeshSnapshot snap = view.snapshot();
+        RestoreExpectations expected;
+        expected.triangles = snap.triangles;  // the trapezoids' diagonals
+        RestoredMesh moved_to = restore_state(save_state(view, snap), expected);
+        moved_to.mesh.compute_limits();
+        double control = 0, limit = 0;
+        std::size_t compared = 0;
+        const std::vector<char> kept = kept_vertex_of(whole, keep);
+        for (std::size_t i = 0; i < snap.vertex_handle.size(); ++i) {
+          const VertexHandle v = snap.vertex_handle[i], w = moved_to.vertex[i];
+          if (!kept[static_cast<std::size_t>(v.idx)]) continue;
+          ++compared;
+          control = std::max(control, norm(moved_to.mesh.control_point(w) - whole.control_point(v)));
+          limit = std::max(limit, norm(moved_to.mesh.limit_position(w) - whole.limit_position(v)));
+        }
+        EXPECT_GT(compared, own / 3) << "part " << q;
+        EXPECT_LE(control, 1e-14) << "part " << q;
+        EXPECT_LE(limit, 1e-14) << "part " << q;
+        std::printf("part %d migrated: %zu kept vertices, control points within %.1e, limits within %.1e\n", q, compared,
+                    control, limit);
+      }
+      const double share = static_cast<double>(view.num_triangles()) / static_cast<double>(n);
+      largest = std::max(largest, share);
+      std::printf("%zu triangles, %d parts: part %d owns %zu, its view holds %zu (%.3f of the mesh, %.2f x its own)\n", n,
+                  parts, q, own, view.num_triangles(), share,
+                  static_cast<double>(view.num_triangles()) / static_cast<double>(own));
+    }
+    // Each view holds little more than its part: at most 1.5 / parts of the mesh.
+    EXPECT_LT(largest, 1.5 / parts) << parts << " parts";
   }
 }
 
