@@ -222,15 +222,19 @@ std::string cycle_file(bool moving, int cycle) {
 
 // The file of a cycle that the .pvd lists: the cycle's .vtp, or for P2 its quadratic
 // triangles (cycle_NNN_p2.vtu), which ParaView draws curved.
+// On several processes, the summary of the processes' pieces (cycle_NNN.pvtp, cycle_NNN_p2.pvtu).
 std::string series_file(bool moving, int cycle, int order, bool pieces = false) {
-  if (order == 2) return (moving ? "step_" : "cycle_") + number(cycle, "%03.0f") + "_p2.vtu";
-  if (pieces) return (moving ? "step_" : "cycle_") + number(cycle, "%03.0f") + ".pvtp";
+  const std::string stem = (moving ? "step_" : "cycle_") + number(cycle, "%03.0f");
+  if (order == 2) return stem + (pieces ? "_p2.pvtu" : "_p2.vtu");
+  if (pieces) return stem + ".pvtp";
   return cycle_file(moving, cycle);
 }
 
-// A process's piece of a cycle (runs on several processes): cycle_NNN_rK.vtp.
-std::string piece_file(bool moving, int cycle, int rank) {
-  return (moving ? "step_" : "cycle_") + number(cycle, "%03.0f") + "_r" + std::to_string(rank) + ".vtp";
+// A process's piece of a cycle (runs on several processes): cycle_NNN_rK.vtp, or for P2
+// cycle_NNN_p2_rK.vtu.
+std::string piece_file(bool moving, int cycle, int rank, int order = 1) {
+  return (moving ? "step_" : "cycle_") + number(cycle, "%03.0f") + (order == 2 ? "_p2_r" : "_r") + std::to_string(rank) +
+         (order == 2 ? ".vtu" : ".vtp");
 }
 
 // A run folder read back for --resume: the settings and cycles of its report, the last
@@ -542,7 +546,12 @@ int run_adapt(const AdaptArgs& args) {
   std::vector<std::string> resumed;
   if (prior) {
     progress = prior->done;
-    for (const auto& r : progress.cycles) series.emplace_back(s.moving ? r.time : r.cycle, series_file(s.moving, r.cycle, a.order));
+    for (const auto& r : progress.cycles) {
+      // The earlier run's pieces' summary where it was run on several processes.
+      const std::string summary = series_file(s.moving, r.cycle, a.order, true);
+      const bool in_pieces = fs::exists(dir / summary);
+      series.emplace_back(s.moving ? r.time : r.cycle, in_pieces ? summary : series_file(s.moving, r.cycle, a.order));
+    }
     resumed = prior->resumed;
     resumed.push_back(a.command_line);
   }
@@ -594,12 +603,12 @@ int run_adapt(const AdaptArgs& args) {
     const auto t_output = std::chrono::steady_clock::now();
     const auto& r = c.report;
     const std::string file = cycle_file(s.moving, r.cycle);
-    const bool pieces = a.processes > 1 && a.order == 1 && c.solved && !c.solved->triangle_part.empty();
+    const bool pieces = a.processes > 1 && c.solved && !c.solved->triangle_part.empty();
     const MeshSnapshot snapshot = adapt::snapshot(c);
     // The whole mesh with its RGB state (what --resume reads), by rank 0; on several
     // processes also each process's piece and the summary that joins them for ParaView.
     if (a.writes) write_mesh(dir / file, snapshot, output_options((dir / file).string(), a.compression));
-    if (pieces) {
+    if (pieces && a.order == 1) {
       const std::string mine = piece_file(s.moving, r.cycle, a.rank);
       const MeshSnapshot piece = snapshot_piece(snapshot, c.solved->triangle_part, a.rank);
       write_mesh(dir / mine, piece, output_options((dir / mine).string(), a.compression));
@@ -609,7 +618,19 @@ int run_adapt(const AdaptArgs& args) {
         write_pvtp(dir / series_file(s.moving, r.cycle, 1, true), snapshot, all);
       }
     }
-    if (a.order == 2 && a.writes) {
+    if (a.order == 2 && pieces) {
+      // P2 on several processes: each process its piece, rank 0 the summary.
+      const adapt::QuadraticSnapshot q = adapt::quadratic_snapshot(c);
+      const adapt::QuadraticSnapshot piece = adapt::quadratic_piece(q, c.solved->triangle_part, a.rank);
+      const std::string mine = piece_file(s.moving, r.cycle, a.rank, 2);
+      write_quadratic_triangles(dir / mine, piece.points, piece.cells, piece.point_data, piece.cell_data,
+                                output_options((dir / mine).string(), a.compression));
+      if (a.writes) {
+        std::vector<std::string> all;
+        for (int k = 0; k < a.processes; ++k) all.push_back(piece_file(s.moving, r.cycle, k, 2));
+        write_quadratic_pvtu(dir / series_file(s.moving, r.cycle, 2, true), q.point_data, q.cell_data, all);
+      }
+    } else if (a.order == 2 && a.writes) {
       const std::string p2 = series_file(s.moving, r.cycle, 2);
       const adapt::QuadraticSnapshot q = adapt::quadratic_snapshot(c);
       write_quadratic_triangles(dir / p2, q.points, q.cells, q.point_data, q.cell_data,

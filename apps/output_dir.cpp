@@ -49,11 +49,17 @@ bool is_run_output(const std::string& name) {
     if (name == f) return true;
   }
   for (const char* prefix : {"cycle_", "step_"}) {
-    if (is_numbered(name, prefix) || is_numbered(name, prefix, "_p2.vtu") || is_numbered(name, prefix, ".pvtp"))
+    if (is_numbered(name, prefix) || is_numbered(name, prefix, "_p2.vtu") || is_numbered(name, prefix, ".pvtp") ||
+        is_numbered(name, prefix, "_p2.pvtu"))
       return true;
-    // A process's piece of a cycle: prefix + digits + "_r" + digits + ".vtp".
+    // A process's piece of a cycle: prefix + digits + "_r" + digits + ".vtp", or for P2
+    // prefix + digits + "_p2_r" + digits + ".vtu".
     const auto r = name.rfind("_r");
     if (r != std::string::npos && is_numbered(name.substr(0, r) + ".vtp", prefix) && is_numbered(name.substr(r), "_r"))
+      return true;
+    const auto r2 = name.rfind("_p2_r");
+    if (r2 != std::string::npos && is_numbered(name.substr(0, r2) + ".vtp", prefix) &&
+        is_numbered(name.substr(r2 + 3), "_r", ".vtu"))
       return true;
   }
   return false;

@@ -14,7 +14,12 @@
 
 #include <set>
 
+#include <vtkCellType.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
 #include <vtkXMLPPolyDataReader.h>
+#include <vtkXMLPUnstructuredGridReader.h>
+#include <vtkXMLUnstructuredGridReader.h>
 
 #include "cli_fixture.hpp"
 #include "cli_reports.hpp"
@@ -146,6 +151,30 @@ TEST_F(Mpi, QuadraticElementsAreTheSerialRunToo) {
     EXPECT_NEAR(a[i].error_h1, b[i].error_h1, 1e-7 * a[i].error_h1) << "cycle " << i;
     EXPECT_GE(b[i].bytes_sent, 16.0 * static_cast<double>(b[i].triangles)) << "cycle " << i;
   }
+  // The output: each process's piece of curved triangles and the summary that joins them,
+  // which the series lists: the serial run's cells, quadratic, each with its process.
+  const std::string last = "cycle_006_p2";
+  EXPECT_NE(read_text(path("p3") + "/solution.pvd").find(last + ".pvtu"), std::string::npos);
+  auto whole = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+  whole->SetFileName((path("serial") + "/" + last + ".vtu").c_str());
+  whole->Update();
+  auto joined = vtkSmartPointer<vtkXMLPUnstructuredGridReader>::New();
+  joined->SetFileName((path("p3") + "/" + last + ".pvtu").c_str());
+  joined->Update();
+  vtkUnstructuredGrid* grid = joined->GetOutput();
+  ASSERT_GT(whole->GetOutput()->GetNumberOfCells(), 0);
+  EXPECT_EQ(grid->GetNumberOfCells(), whole->GetOutput()->GetNumberOfCells());
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) ASSERT_EQ(grid->GetCellType(c), VTK_QUADRATIC_TRIANGLE);
+  vtkDataArray* owner = grid->GetCellData()->GetArray("rank");
+  ASSERT_NE(owner, nullptr);
+  std::set<int> ranks;
+  for (vtkIdType c = 0; c < owner->GetNumberOfTuples(); ++c) ranks.insert(static_cast<int>(owner->GetTuple1(c)));
+  EXPECT_EQ(ranks.size(), 3u);
+  ASSERT_NE(grid->GetPointData()->GetArray("solution"), nullptr);
+  // A later run on fewer processes leaves no piece of the third.
+  ASSERT_EQ(run_on(2, args + " --out " + path("p3")).code, 0);
+  EXPECT_TRUE(fs::exists(path("p3") + "/" + last + "_r1.vtu"));
+  EXPECT_FALSE(fs::exists(path("p3") + "/" + last + "_r2.vtu"));
 }
 
 TEST_F(Mpi, AProcessFailingAloneEndsTheRunWithItsError) {

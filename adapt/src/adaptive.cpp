@@ -550,7 +550,46 @@ QuadraticSnapshot quadratic_snapshot(const CycleState& s) {
   out.cell_data.push_back(std::move(eta));
   out.cell_data.push_back(std::move(marked));
   out.cell_data.push_back(std::move(level));
+  if (s.solved && !s.solved->triangle_part.empty())
+    out.cell_data.push_back({"rank", 1, std::vector<double>(s.solved->triangle_part.begin(), s.solved->triangle_part.end()), false});
   return out;
+}
+
+QuadraticSnapshot quadratic_piece(const QuadraticSnapshot& whole, const std::vector<std::int32_t>& part, std::int32_t which) {
+  if (part.size() != whole.cells.size()) throw std::invalid_argument("quadratic_piece: one part per cell needed");
+  QuadraticSnapshot piece;
+  std::vector<std::int32_t> point_of(whole.points.size(), -1);
+  std::vector<std::size_t> points, cells;
+  for (std::size_t c = 0; c < whole.cells.size(); ++c) {
+    if (part[c] != which) continue;
+    cells.push_back(c);
+    std::array<std::int32_t, 6> nodes{};
+    for (int k = 0; k < 6; ++k) {
+      const auto p = static_cast<std::size_t>(whole.cells[c][k]);
+      if (point_of[p] < 0) {
+        point_of[p] = static_cast<std::int32_t>(points.size());
+        points.push_back(p);
+      }
+      nodes[k] = point_of[p];
+    }
+    piece.cells.push_back(nodes);
+  }
+  for (const std::size_t p : points) piece.points.push_back(whole.points[p]);
+  const auto restrict = [](const std::vector<NamedArray>& from, const std::vector<std::size_t>& rows) {
+    std::vector<NamedArray> to;
+    for (const NamedArray& a : from) {
+      NamedArray b{a.name, a.components, {}, false};
+      const auto k = static_cast<std::size_t>(a.components);
+      for (const std::size_t r : rows)
+        b.values.insert(b.values.end(), a.values.begin() + static_cast<std::ptrdiff_t>(r * k),
+                        a.values.begin() + static_cast<std::ptrdiff_t>((r + 1) * k));
+      to.push_back(std::move(b));
+    }
+    return to;
+  };
+  piece.point_data = restrict(whole.point_data, points);
+  piece.cell_data = restrict(whole.cell_data, cells);
+  return piece;
 }
 
 }  // namespace rgbmesh::adapt

@@ -100,4 +100,31 @@ void write_pvtp(const std::filesystem::path& pvtp, const MeshSnapshot& like, con
   write_text_atomically(pvtp, xml);
 }
 
+void write_quadratic_pvtu(const std::filesystem::path& pvtu, const std::vector<NamedArray>& point_data,
+                          const std::vector<NamedArray>& cell_data, const std::vector<std::string>& pieces) {
+  // write_quadratic_triangles writes the points and every array as Float64.
+  const auto float64 = [](const std::vector<NamedArray>& arrays) {
+    std::string xml;
+    for (const NamedArray& a : arrays)
+      xml += "      <PDataArray type=\"" + std::string(detail::type_name(detail::XmlType::float64)) + "\" Name=\"" +
+             detail::xml_attribute(a.name) + "\" NumberOfComponents=\"" + std::to_string(a.components) + "\"/>\n";
+    return xml;
+  };
+  std::string xml =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+      "  <PUnstructuredGrid GhostLevel=\"0\">\n"
+      "    <PPointData>\n" + float64(point_data) + "    </PPointData>\n"
+      "    <PCellData>\n" + float64(cell_data) + "    </PCellData>\n"
+      "    <PPoints>\n"
+      "      <PDataArray type=\"" + std::string(detail::type_name(detail::XmlType::float64)) +
+      "\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"
+      "    </PPoints>\n";
+  for (const std::string& piece : pieces) xml += "    <Piece Source=\"" + detail::xml_attribute(piece) + "\"/>\n";
+  xml +=
+      "  </PUnstructuredGrid>\n"
+      "</VTKFile>\n";
+  write_text_atomically(pvtu, xml);
+}
+
 }  // namespace rgbmesh

@@ -183,6 +183,12 @@ MeshSnapshot snapshot_piece(const MeshSnapshot& whole, const std::vector<std::in
 /// piece) are written with, so that ParaView and VTK's vtkXMLPPolyDataReader open the pieces
 /// as one data set. Written atomically.
 void write_pvtp(const std::filesystem::path& pvtp, const MeshSnapshot& like, const std::vector<std::string>& pieces);
+/// The summary file (.pvtu) of quadratic triangles written as pieces (write_quadratic_triangles,
+/// .vtu files relative to the summary's folder), with the point and cell arrays the pieces
+/// have (names and components of point_data and cell_data; their values are not read), so
+/// that ParaView and VTK's vtkXMLPUnstructuredGridReader open them as one data set.
+void write_quadratic_pvtu(const std::filesystem::path& pvtu, const std::vector<NamedArray>& point_data,
+                          const std::vector<NamedArray>& cell_data, const std::vector<std::string>& pieces);
 
 /// A ParaView collection (.pvd) of a time series: one DataSet per (time, file relative to the
 /// .pvd's directory). Written atomically.

@@ -218,6 +218,9 @@ struct QuadraticSnapshot {
   std::vector<NamedArray> point_data, cell_data;
 };
 QuadraticSnapshot quadratic_snapshot(const CycleState& state);
+/// One process's piece of it (runs on several processes): the cells whose `part` is `which`,
+/// the nodes they use (in their order), and every array restricted alike.
+QuadraticSnapshot quadratic_piece(const QuadraticSnapshot& whole, const std::vector<std::int32_t>& part, std::int32_t which);
 
 /// Marks triangles (per FE triangle) by the chosen strategy (target: for equidistribution).
 /// Dörfler and fixed-fraction marking also mark every indicator within a relative 1e-6 of the
