@@ -304,7 +304,8 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
     return value;
   };
   Eigen::VectorXd b = shared_load_vector(mesh, problem, share);
-  if (!b.allFinite())
+  // (Decided together: every process refuses, not only the one whose triangles it is.)
+  if (total_of(b.allFinite() ? 0.0 : 1.0) > 0)
     throw InputError("problem '" + problem.name + "': the source or flux is not finite somewhere on the mesh");
   std::vector<char> fixed = dirichlet_dofs(mesh, problem);
   Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
