@@ -56,3 +56,80 @@ RgbMesh local_view(const RgbMesh& mesh, const std::vector<char>& keep, int floor
 }
 
 }  // namespace rgbmesh::parallel
+
+namespace rgbmesh::parallel {
+
+VertexKey child_key(VertexKey a, VertexKey b) {
+  if (a > b) std::swap(a, b);
+  VertexKey h = a * 0x9E3779B97F4A7C15ull + (b ^ 0xD1B54A32D192ED03ull);
+  h ^= h >> 31;
+  h *= 0xBF58476D1CE4E5B9ull;
+  h ^= h >> 29;
+  h *= 0x94D049BB133111EBull;
+  h ^= h >> 32;
+  return h | (VertexKey{1} << 63);
+}
+
+std::unordered_set<std::int32_t> vertex_slots_alive(const RgbMesh& mesh) {
+  std::unordered_set<std::int32_t> s;
+  for (const VertexHandle v : mesh.vertices()) s.insert(v.idx);
+  return s;
+}
+
+VertexKeys vertex_keys(const RgbMesh& view, const std::unordered_set<std::int32_t>& start) {
+  VertexKeys k;
+  std::vector<VertexHandle> inserted;
+  for (const VertexHandle v : view.vertices()) {
+    if (start.count(v.idx)) {
+      k.of_slot[v.idx] = static_cast<VertexKey>(v.idx);
+      k.vertex[static_cast<VertexKey>(v.idx)] = v;
+    } else {
+      inserted.push_back(v);
+    }
+  }
+  // Parents first: they are of lower level.
+  std::sort(inserted.begin(), inserted.end(), [&view](VertexHandle a, VertexHandle b) { return view.level(a) < view.level(b); });
+  for (const VertexHandle v : inserted) {
+    const auto& p = view.parents(v);
+    const VertexKey a = k.of_slot.at(p[0].idx), b = k.of_slot.at(p[1].idx), key = child_key(a, b);
+    k.of_slot[v.idx] = key;
+    k.vertex[key] = v;
+    k.parents[key] = {a, b};
+  }
+  return k;
+}
+
+std::unordered_set<VertexKey> key_region(const std::unordered_set<VertexKey>& start, const VertexKeys& keys) {
+  std::unordered_set<VertexKey> r = start;
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (const auto& [key, p] : keys.parents)
+      if (!r.count(key) && r.count(p[0]) && r.count(p[1])) grew = r.insert(key).second || grew;
+  }
+  return r;
+}
+
+std::size_t make_splits(RgbMesh& view, const std::unordered_set<std::int32_t>& start,
+                        const std::unordered_set<VertexKey>& fine,
+                        const std::map<VertexKey, std::array<VertexKey, 2>>& splits) {
+  std::size_t made = 0;
+  // A split may make another possible (its parent inserted, its edge made green): again until
+  // none is.
+  for (bool again = true; again;) {
+    again = false;
+    const VertexKeys k = vertex_keys(view, start);
+    const std::unordered_set<VertexKey> region = key_region(fine, k);
+    for (const auto& [key, p] : splits) {
+      if (k.vertex.count(key) || !region.count(p[0]) || !region.count(p[1])) continue;
+      const EdgeHandle e = view.find_edge(k.vertex.at(p[0]), k.vertex.at(p[1]));
+      if (!e.valid() || view.is_red(e)) continue;
+      view.split_edge(e);
+      ++made;
+      again = true;
+      break;  // the keys and handles change with every split
+    }
+  }
+  return made;
+}
+
+}  // namespace rgbmesh::parallel

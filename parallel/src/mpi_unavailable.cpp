@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "rgbmesh/parallel/local_view.hpp"
 #include "rgbmesh/parallel/mpi.hpp"
 
 namespace rgbmesh::parallel {
@@ -32,5 +33,9 @@ void sum(double*, std::size_t) {}
 void gather(double*, std::size_t, const std::vector<std::int32_t>&) {}
 std::uint64_t bytes_sent() { return 0; }
 std::array<std::uint64_t, 2> bytes_sent_since_last() { return {0, 0}; }
+
+Reconciled reconcile_splits(RgbMesh&, const std::unordered_set<std::int32_t>&, const std::unordered_set<VertexKey>&) {
+  return {};
+}
 
 }  // namespace rgbmesh::parallel
