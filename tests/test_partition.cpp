@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "rgbmesh/adapt/adaptive.hpp"
@@ -169,6 +170,45 @@ TEST(Partition, UnitsFinerWhereTheMeshIsHeavyBalanceAMovingPeaksWake) {
     std::printf("%zu triangles, %d parts: %zu units, imbalance %.3f (macro triangles only: %.3f)\n", m.num_triangles(),
                 parts, u.level.size(), p.imbalance, partition(macro, parts).imbalance);
   }
+}
+
+// Units as groups of triangle slots, whatever their numbering: per triangle slot, the smallest
+// slot of its unit and the unit's level.
+std::vector<std::array<std::int32_t, 2>> grouping(const Units& u) {
+  std::vector<std::int32_t> smallest(u.level.size(), std::numeric_limits<std::int32_t>::max());
+  for (std::size_t t = 0; t < u.of_triangle.size(); ++t)
+    if (u.of_triangle[t] >= 0)
+      smallest[static_cast<std::size_t>(u.of_triangle[t])] =
+          std::min(smallest[static_cast<std::size_t>(u.of_triangle[t])], static_cast<std::int32_t>(t));
+  std::vector<std::array<std::int32_t, 2>> out(u.of_triangle.size(), {-1, -1});
+  for (std::size_t t = 0; t < u.of_triangle.size(); ++t)
+    if (u.of_triangle[t] >= 0) {
+      const auto k = static_cast<std::size_t>(u.of_triangle[t]);
+      out[t] = {smallest[k], u.level[k]};
+    }
+  return out;
+}
+
+// The floor's uniform mesh kept between calls gives the units of a fresh computation (the same
+// groups of triangles at the same levels; the units' numbers follow the macro triangles' order,
+// which the kept mesh fixes), for the cycles of one run (the same floor vertices) and for
+// another mesh or floor (recomputed).
+TEST(Partition, TheFloorCacheGivesTheUnitsComputedAfresh) {
+  const std::shared_ptr<FloorCache> cache = make_floor_cache();
+  adapt::AdaptOptions o = above_level_2();
+  o.max_dofs = 3000;
+  std::size_t calls = 0;
+  RgbMesh peak = icosahedron_mesh();
+  adapt::run_cycles(peak, fem::sphere_peak(), o, [&](const adapt::CycleState& s) {
+    const Units cached = units(s.mesh, 2, 3, 0.1, cache.get()), fresh = units(s.mesh, 2, 3);
+    EXPECT_EQ(grouping(cached), grouping(fresh)) << "cycle " << s.report.cycle;
+    ++calls;
+  });
+  EXPECT_GT(calls, 3u);
+  RgbMesh other = icosahedron_mesh();
+  selective_refinement(other, UniformLevel(4));
+  EXPECT_EQ(grouping(units(other, 2, 3, 0.1, cache.get())), grouping(units(other, 2, 3)));
+  EXPECT_EQ(grouping(units(other, 3, 3, 0.1, cache.get())), grouping(units(other, 3, 3)));
 }
 
 // What a process of a distributed mesh would hold: for each part of an adaptive mesh, the

@@ -12,8 +12,9 @@ void distribute(adapt::AdaptOptions& options) {
   const int parts = processes();
   if (parts <= 1) return;
   const int floor = options.min_level;
-  options.partition = [floor, parts](const RgbMesh& mesh, const fem::SurfaceMesh& fe) {
-    return triangle_parts(mesh, fe, floor, parts);
+  // The floor's uniform mesh is kept from cycle to cycle (FloorCache).
+  options.partition = [floor, parts, cache = make_floor_cache()](const RgbMesh& mesh, const fem::SurfaceMesh& fe) {
+    return triangle_parts(mesh, fe, floor, parts, cache.get());
   };
   options.part = rank();
   options.sum_over_parts = sum;

@@ -3,6 +3,8 @@
 #include <metis.h>
 
 #include <algorithm>
+#include <memory>
+#include <optional>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -97,17 +99,62 @@ class MacroCells {
 
 namespace {
 
-// The macro triangles at `level`; a triangle coarser than the level gets -1 (its corners'
-// cells are macro vertices that no macro edge joins).
-MacroTriangles cells_at(const RgbMesh& mesh, int level) {
+// The uniform mesh of one level, small beside the mesh, with each of its vertices named by the
+// mesh's vertex slot (the same vertex: the same parents), or by a negative number of its own
+// where the mesh does not have that vertex (it is coarser there).
+struct UniformMesh {
+  int level = 0;
+  RgbMesh mesh;
+  std::vector<std::int32_t> slot;  // per vertex slot of `mesh`
+};
+
+// At the floor: a copy of the mesh coarsened to it (every triangle is at the floor or finer, so
+// the copy only loses vertices, and those it keeps keep their handles).
+UniformMesh uniform_at_floor(const RgbMesh& mesh, int level) {
+  UniformMesh u{level, mesh, {}};
+  selective_refinement(u.mesh, UniformLevel(level));
+  u.slot.resize(static_cast<std::size_t>(u.mesh.vertex_slots()), -1);
+  for (const VertexHandle v : u.mesh.vertices()) u.slot[static_cast<std::size_t>(v.idx)] = v.idx;
+  return u;
+}
+
+// One level down: the uniform mesh refined once (cheap: it is small), its new vertices found in
+// the mesh by their parents (`child`: the mesh's vertices by their parents' slots).
+UniformMesh uniform_below(const UniformMesh& above, const std::unordered_map<std::uint64_t, std::int32_t>& child,
+                          std::int32_t& next_missing) {
+  UniformMesh u{above.level + 1, above.mesh, {}};
+  selective_refinement(u.mesh, UniformLevel(u.level));
+  u.slot.assign(static_cast<std::size_t>(u.mesh.vertex_slots()), -1);
+  std::vector<VertexHandle> fresh;
+  for (const VertexHandle v : u.mesh.vertices()) {
+    // (Insertions keep the handles of the vertices that were there: the new ones are the
+    // level's own.)
+    if (u.mesh.level(v) < u.level) {
+      u.slot[static_cast<std::size_t>(v.idx)] = above.slot[static_cast<std::size_t>(v.idx)];
+    } else {
+      fresh.push_back(v);
+    }
+  }
+  for (const VertexHandle v : fresh) {
+    const auto& p = u.mesh.parents(v);
+    const std::int32_t a = u.slot[static_cast<std::size_t>(p[0].idx)], b = u.slot[static_cast<std::size_t>(p[1].idx)];
+    const auto it = a >= 0 && b >= 0 ? child.find(edge_key(a, b)) : child.end();
+    u.slot[static_cast<std::size_t>(v.idx)] = it != child.end() ? it->second : next_missing--;
+  }
+  return u;
+}
+
+// The macro triangles at the uniform mesh's level; a triangle coarser than the level gets -1
+// (its corners' cells are macro vertices that no macro edge joins).
+MacroTriangles cells_at(const RgbMesh& mesh, const UniformMesh& uniform) {
+  const int level = uniform.level;
   MacroTriangles m;
   m.level = level;
-  {
-    // The uniform level-`level` mesh: a copy coarsened to it (vertices keep their handles).
-    RgbMesh coarse = mesh;
-    selective_refinement(coarse, UniformLevel(level));
-    m.corners.reserve(coarse.num_triangles());
-    for (const TriangleHandle t : coarse.triangles()) m.corners.push_back(coarse.triangle_vertices(t));
+  m.corners.reserve(uniform.mesh.num_triangles());
+  for (const TriangleHandle t : uniform.mesh.triangles()) {
+    std::array<VertexHandle, 3> c = uniform.mesh.triangle_vertices(t);
+    for (VertexHandle& v : c) v = VertexHandle(uniform.slot[static_cast<std::size_t>(v.idx)]);
+    m.corners.push_back(c);
   }
   const MacroCells cells(m);
   m.across.assign(m.corners.size(), {-1, -1, -1});
@@ -184,14 +231,22 @@ Partition partition_graph(const std::vector<std::size_t>& weights, const std::ve
 
 }  // namespace
 
-MacroTriangles macro_triangles(const RgbMesh& mesh, int level) {
+namespace {
+
+void require_floor(const RgbMesh& mesh, int level) {
   for (const TriangleHandle t : mesh.triangles()) {
     if (mesh.level(t) < level)
       throw std::invalid_argument("macro_triangles: triangle " + std::to_string(t.idx) + " is at level " +
                                   std::to_string(mesh.level(t)) + ", below the macro level " + std::to_string(level) +
                                   " (refine to a floor first: adapt --min-level)");
   }
-  return cells_at(mesh, level);
+}
+
+}  // namespace
+
+MacroTriangles macro_triangles(const RgbMesh& mesh, int level) {
+  require_floor(mesh, level);
+  return cells_at(mesh, uniform_at_floor(mesh, level));
 }
 
 Partition partition(const MacroTriangles& macro, int parts) {
@@ -204,12 +259,58 @@ Partition partition(const MacroTriangles& macro, int parts) {
   return partition_graph(macro.triangles, xadj, adjncy, parts, "macro triangles");
 }
 
-Units units(const RgbMesh& mesh, int floor, int parts, double share) {
+namespace {
+
+// The floor's vertices as the cache compares them: slot, level and parents' slots, in slot order.
+std::vector<std::array<std::int32_t, 4>> floor_vertices(const RgbMesh& mesh, int floor) {
+  std::vector<std::array<std::int32_t, 4>> out;
+  for (const VertexHandle v : mesh.vertices())
+    if (mesh.level(v) <= floor) out.push_back({v.idx, mesh.level(v), mesh.parents(v)[0].idx, mesh.parents(v)[1].idx});
+  return out;
+}
+
+}  // namespace
+
+struct FloorCache {
+  int floor = -1;
+  std::vector<std::array<std::int32_t, 4>> vertices;
+  std::optional<UniformMesh> uniform;
+};
+
+std::shared_ptr<FloorCache> make_floor_cache() { return std::make_shared<FloorCache>(); }
+
+namespace {
+
+const UniformMesh& uniform_floor(const RgbMesh& mesh, int floor, FloorCache* cache, std::optional<UniformMesh>& own) {
+  if (cache == nullptr) {
+    own.emplace(uniform_at_floor(mesh, floor));
+    return *own;
+  }
+  std::vector<std::array<std::int32_t, 4>> vertices = floor_vertices(mesh, floor);
+  if (!cache->uniform || cache->floor != floor || cache->vertices != vertices) {
+    cache->uniform.emplace(uniform_at_floor(mesh, floor));
+    cache->floor = floor;
+    cache->vertices = std::move(vertices);
+  }
+  return *cache->uniform;
+}
+
+}  // namespace
+
+Units units(const RgbMesh& mesh, int floor, int parts, double share, FloorCache* cache) {
   if (!(share > 0)) throw std::invalid_argument("units: the share must be positive");
   Units u;
   const double limit = share * static_cast<double>(mesh.num_triangles()) / std::max(1, parts);
-  // Each triangle's cell at every level from the floor down to the finest (-1 where coarser).
-  std::vector<MacroTriangles> at{macro_triangles(mesh, floor)};
+  // Each triangle's cell at every level from the floor down to the finest (-1 where coarser),
+  // from the uniform meshes of those levels: the floor's coarsened from the mesh, each next one
+  // refined from the one above.
+  require_floor(mesh, floor);
+  std::optional<UniformMesh> own_floor;
+  std::vector<const UniformMesh*> uniform{&uniform_floor(mesh, floor, cache, own_floor)};
+  std::vector<std::unique_ptr<UniformMesh>> below;  // the levels under the floor, this call's
+  std::vector<MacroTriangles> at{cells_at(mesh, *uniform[0])};
+  std::unordered_map<std::uint64_t, std::int32_t> child;  // the mesh's vertices by their parents
+  std::int32_t next_missing = -2;
   const int finest = mesh.max_level();
   // Top-down: a unit heavier than the limit whose triangles are all finer than it splits into
   // the cells one level down that hold them.
@@ -233,7 +334,16 @@ Units units(const RgbMesh& mesh, int floor, int parts, double share) {
     for (const TriangleHandle t : p.triangles) split = split && mesh.level(t) > p.level;
     if (split) {
       const auto depth = static_cast<std::size_t>(p.level + 1 - floor);
-      if (at.size() <= depth) at.push_back(cells_at(mesh, p.level + 1));
+      if (at.size() <= depth) {
+        if (child.empty()) {
+          child.reserve(static_cast<std::size_t>(mesh.num_vertices()));
+          for (const VertexHandle v : mesh.vertices())
+            if (mesh.level(v) > 0) child[edge_key(mesh.parents(v)[0].idx, mesh.parents(v)[1].idx)] = v.idx;
+        }
+        below.push_back(std::make_unique<UniformMesh>(uniform_below(*uniform.back(), child, next_missing)));
+        uniform.push_back(below.back().get());
+        at.push_back(cells_at(mesh, *uniform.back()));
+      }
       std::vector<std::pair<std::int32_t, std::vector<TriangleHandle>>> children;
       for (const TriangleHandle t : p.triangles) {
         const std::int32_t c = at[depth].of_triangle[t.idx];
@@ -278,8 +388,9 @@ Partition partition(const Units& units, int parts) {
   return partition_graph(units.triangles, xadj, adjncy, parts, "units");
 }
 
-std::vector<std::int32_t> triangle_parts(const RgbMesh& mesh, const fem::SurfaceMesh& fe, int floor, int parts) {
-  const Units u = units(mesh, floor, parts);
+std::vector<std::int32_t> triangle_parts(const RgbMesh& mesh, const fem::SurfaceMesh& fe, int floor, int parts,
+                                         FloorCache* cache) {
+  const Units u = units(mesh, floor, parts, 0.1, cache);
   const Partition p = partition(u, std::min<int>(parts, static_cast<int>(u.level.size())));
   std::vector<std::int32_t> out(fe.triangle.size());
   for (std::size_t t = 0; t < fe.triangle.size(); ++t)

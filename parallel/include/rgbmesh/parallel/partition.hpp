@@ -13,6 +13,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "rgbmesh/fem/solver.hpp"
@@ -63,14 +64,21 @@ struct Units {
   std::vector<std::int32_t> of_triangle;              ///< per triangle slot: its unit (-1: free slot)
   std::vector<std::vector<std::int32_t>> neighbours;  ///< units sharing an edge of the mesh
 };
-Units units(const RgbMesh& mesh, int floor, int parts, double share = 0.1);
+/// What units() keeps between calls on the meshes of one run: the uniform mesh of the floor
+/// (whose making, a copy of the mesh coarsened to the floor, is most of units' time), used
+/// again while the mesh's vertices at or below the floor are the same (their slots, levels and
+/// parents: adaptive cycles never remove them). make_floor_cache() makes an empty one.
+struct FloorCache;
+std::shared_ptr<FloorCache> make_floor_cache();
+Units units(const RgbMesh& mesh, int floor, int parts, double share = 0.1, FloorCache* cache = nullptr);
 /// METIS's k-way partition of the units' graph, weighted by the triangles each holds.
 Partition partition(const Units& units, int parts);
 
 /// Each finite-element triangle's part among `parts` processes: the units above `floor`
 /// (units), partitioned by METIS (partition), read through fe.triangle. What a run on several
 /// processes writes as pieces, and what each process will own.
-std::vector<std::int32_t> triangle_parts(const RgbMesh& mesh, const fem::SurfaceMesh& fe, int floor, int parts);
+std::vector<std::int32_t> triangle_parts(const RgbMesh& mesh, const fem::SurfaceMesh& fe, int floor, int parts,
+                                         FloorCache* cache = nullptr);
 
 /// The rows of a symmetric sparse matrix (both triangles stored) in `parts` groups for the
 /// processes of a distributed solve: METIS's k-way partition of the matrix's graph (rows
