@@ -5,7 +5,8 @@
 # uniform level 5 (1.9 million vertices: peak memory per vertex) and coarsened back, and the
 # finite-element benchmark (assembly and solve, 10^4 to 10^6 unknowns, each solver), the fit,
 # and the output formats on 1.9 million vertices (bench_write: seconds against PLY, memory);
-# against deal.II where it is installed (bench_vs_dealii).
+# against deal.II where it is installed (bench_vs_dealii); the adaptive loop on 1, 2 and 4 MPI
+# processes (mpi_cycles.sh) and the partition among them (bench_partition).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh test
@@ -30,7 +31,10 @@ if cmake --build build --target bench_vs_dealii 2>/dev/null; then
 else
   echo "no deal.II (Debian: libdeal.ii-dev): bench_vs_dealii skipped"
 fi
-# The adaptive loop on 1, 2 and 4 MPI processes.
+# The adaptive loop on 1, 2 and 4 MPI processes, and its partition against building the FE mesh.
 echo
 echo "adaptive loop on 1, 2 and 4 processes:"
 bench/mpi_cycles.sh build
+if cmake --build build --target bench_partition 2>/dev/null; then
+  build/bin/bench_partition
+fi
