@@ -4,9 +4,11 @@
 /// run. Built with MPI and PETSc (Debian: libopenmpi-dev, libpetsc-real-dev); without them,
 /// every call says one process.
 ///
-/// The first step of issue 13 distributes the linear solve: every process holds the same mesh
-/// and adapts it alike (the marks come from the same indicators), assembles the same system,
-/// and owns a contiguous block of its rows for CG with BoomerAMG on all processes.
+/// So far (issue 13) every process holds the same mesh and adapts it alike (the marks come
+/// from the same indicators); the finite-element work is divided: each process assembles and
+/// estimates its own triangles (shared_amg, sum, gather; set up by distribute in adaptive.hpp),
+/// and the bytes it hands to MPI are counted (bytes_sent). The distributed mesh's pieces are in
+/// local_view.hpp.
 
 #include <array>
 #include <cstddef>
