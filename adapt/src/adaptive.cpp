@@ -557,38 +557,12 @@ QuadraticSnapshot quadratic_snapshot(const CycleState& s) {
 
 QuadraticSnapshot quadratic_piece(const QuadraticSnapshot& whole, const std::vector<std::int32_t>& part, std::int32_t which) {
   if (part.size() != whole.cells.size()) throw std::invalid_argument("quadratic_piece: one part per cell needed");
+  CellPiece<6> cells = cell_piece(whole.cells, whole.points.size(), part, which);
   QuadraticSnapshot piece;
-  std::vector<std::int32_t> point_of(whole.points.size(), -1);
-  std::vector<std::size_t> points, cells;
-  for (std::size_t c = 0; c < whole.cells.size(); ++c) {
-    if (part[c] != which) continue;
-    cells.push_back(c);
-    std::array<std::int32_t, 6> nodes{};
-    for (int k = 0; k < 6; ++k) {
-      const auto p = static_cast<std::size_t>(whole.cells[c][k]);
-      if (point_of[p] < 0) {
-        point_of[p] = static_cast<std::int32_t>(points.size());
-        points.push_back(p);
-      }
-      nodes[k] = point_of[p];
-    }
-    piece.cells.push_back(nodes);
-  }
-  for (const std::size_t p : points) piece.points.push_back(whole.points[p]);
-  const auto restrict = [](const std::vector<NamedArray>& from, const std::vector<std::size_t>& rows) {
-    std::vector<NamedArray> to;
-    for (const NamedArray& a : from) {
-      NamedArray b{a.name, a.components, {}, false};
-      const auto k = static_cast<std::size_t>(a.components);
-      for (const std::size_t r : rows)
-        b.values.insert(b.values.end(), a.values.begin() + static_cast<std::ptrdiff_t>(r * k),
-                        a.values.begin() + static_cast<std::ptrdiff_t>((r + 1) * k));
-      to.push_back(std::move(b));
-    }
-    return to;
-  };
-  piece.point_data = restrict(whole.point_data, points);
-  piece.cell_data = restrict(whole.cell_data, cells);
+  piece.cells = std::move(cells.cells);
+  for (const std::size_t p : cells.point_rows) piece.points.push_back(whole.points[p]);
+  piece.point_data = array_rows(whole.point_data, cells.point_rows);
+  piece.cell_data = array_rows(whole.cell_data, cells.cell_rows);
   return piece;
 }
 

@@ -20,8 +20,7 @@ void distribute(adapt::AdaptOptions& options) {
   options.sum_over_parts = sum;
   options.gather_over_parts = gather;
   options.bytes_sent = bytes_sent_since_last;
-  options.solve.linear_solver = distributed_amg();
-  options.solve.shared_solver = shared_amg();
+  options.solve.shared_solver = shared_amg();  // (the systems are always assembled in parts here)
 }
 
 }  // namespace rgbmesh::parallel

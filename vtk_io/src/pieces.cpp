@@ -12,59 +12,43 @@ namespace rgbmesh {
 MeshSnapshot snapshot_piece(const MeshSnapshot& whole, const std::vector<std::int32_t>& part, std::int32_t which) {
   if (part.size() != whole.triangles.size())
     throw std::invalid_argument("snapshot_piece: one part per cell needed");
+  CellPiece<3> cells = cell_piece(whole.triangles, whole.points.size(), part, which);
   MeshSnapshot piece;
-  std::vector<std::int32_t> point_of(whole.points.size(), -1);
-  std::vector<std::size_t> points, cells;
-  for (std::size_t c = 0; c < whole.triangles.size(); ++c) {
-    if (part[c] != which) continue;
-    cells.push_back(c);
-    std::array<std::int32_t, 3> t{};
-    for (int k = 0; k < 3; ++k) {
-      const auto p = static_cast<std::size_t>(whole.triangles[c][k]);
-      if (point_of[p] < 0) {
-        point_of[p] = static_cast<std::int32_t>(points.size());
-        points.push_back(p);
-      }
-      t[k] = point_of[p];
-    }
-    piece.triangles.push_back(t);
-  }
+  piece.triangles = std::move(cells.cells);
   const auto take = [](const auto& from, const std::vector<std::size_t>& rows, auto& to) {
     if (from.empty()) return;
     for (const std::size_t r : rows) to.push_back(from[r]);
   };
-  take(whole.points, points, piece.points);
-  take(whole.vertex_level, points, piece.vertex_level);
-  take(whole.vertex_handle, points, piece.vertex_handle);
-  take(whole.triangle_level, cells, piece.triangle_level);
-  take(whole.triangle_color, cells, piece.triangle_color);
-  take(whole.triangle_handle, cells, piece.triangle_handle);
-  const auto take_arrays = [](const std::vector<NamedArray>& from, const std::vector<std::size_t>& rows,
-                              std::vector<NamedArray>& to) {
-    for (const NamedArray& a : from) {
-      NamedArray b{a.name, a.components, {}, a.same_as_points};
-      if (!a.same_as_points) {
-        const auto k = static_cast<std::size_t>(a.components);
-        for (const std::size_t r : rows)
-          b.values.insert(b.values.end(), a.values.begin() + static_cast<std::ptrdiff_t>(r * k),
-                          a.values.begin() + static_cast<std::ptrdiff_t>((r + 1) * k));
-      }
-      to.push_back(std::move(b));
-    }
-  };
-  take_arrays(whole.point_data, points, piece.point_data);
-  take_arrays(whole.cell_data, cells, piece.cell_data);
+  take(whole.points, cells.point_rows, piece.points);
+  take(whole.vertex_level, cells.point_rows, piece.vertex_level);
+  take(whole.vertex_handle, cells.point_rows, piece.vertex_handle);
+  take(whole.triangle_level, cells.cell_rows, piece.triangle_level);
+  take(whole.triangle_color, cells.cell_rows, piece.triangle_color);
+  take(whole.triangle_handle, cells.cell_rows, piece.triangle_handle);
+  piece.point_data = array_rows(whole.point_data, cells.point_rows);
+  piece.cell_data = array_rows(whole.cell_data, cells.cell_rows);
   return piece;
 }
 
 namespace {
 
-std::string declarations(const std::vector<detail::XmlArray>& arrays) {
-  std::string xml;
-  for (const detail::XmlArray& a : arrays)
-    xml += "      <PDataArray type=\"" + std::string(detail::type_name(a.type)) + "\" Name=\"" + detail::xml_attribute(a.name) +
-           "\" NumberOfComponents=\"" + std::to_string(a.components) + "\"/>\n";
-  return xml;
+// One array's declaration in a summary file.
+std::string declaration(const std::string& name, detail::XmlType type, int components) {
+  return "      <PDataArray type=\"" + std::string(detail::type_name(type)) + "\" Name=\"" + detail::xml_attribute(name) +
+         "\" NumberOfComponents=\"" + std::to_string(components) + "\"/>\n";
+}
+
+// A summary file of pieces: `kind` is PPolyData or PUnstructuredGrid; the point and cell
+// arrays' declarations, the points' type, and the pieces (relative to the summary's folder).
+void write_summary(const std::filesystem::path& path, const char* kind, const std::string& point_arrays,
+                   const std::string& cell_arrays, detail::XmlType points, const std::vector<std::string>& pieces) {
+  std::string xml = "<?xml version=\"1.0\"?>\n<VTKFile type=\"" + std::string(kind) +
+                    "\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <" + kind +
+                    " GhostLevel=\"0\">\n    <PPointData>\n" + point_arrays + "    </PPointData>\n    <PCellData>\n" +
+                    cell_arrays + "    </PCellData>\n    <PPoints>\n" + declaration("Points", points, 3) + "    </PPoints>\n";
+  for (const std::string& piece : pieces) xml += "    <Piece Source=\"" + detail::xml_attribute(piece) + "\"/>\n";
+  xml += "  </" + std::string(kind) + ">\n</VTKFile>\n";
+  write_text_atomically(path, xml);
 }
 
 }  // namespace
@@ -83,48 +67,24 @@ void write_pvtp(const std::filesystem::path& pvtp, const MeshSnapshot& like, con
   for (const NamedArray& a : like.cell_data)
     stand_in.cell_data.push_back({a.name, a.components, std::vector<double>(static_cast<std::size_t>(a.components)), false});
   const detail::XmlDataSet d = detail::snapshot_data_set(stand_in, false);
-  std::string xml =
-      "<?xml version=\"1.0\"?>\n"
-      "<VTKFile type=\"PPolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-      "  <PPolyData GhostLevel=\"0\">\n"
-      "    <PPointData>\n" + declarations(d.point_data) + "    </PPointData>\n"
-      "    <PCellData>\n" + declarations(d.cell_data) + "    </PCellData>\n"
-      "    <PPoints>\n"
-      "      <PDataArray type=\"" + std::string(detail::type_name(d.coordinates.type)) +
-      "\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"
-      "    </PPoints>\n";
-  for (const std::string& piece : pieces) xml += "    <Piece Source=\"" + detail::xml_attribute(piece) + "\"/>\n";
-  xml +=
-      "  </PPolyData>\n"
-      "</VTKFile>\n";
-  write_text_atomically(pvtp, xml);
+  const auto declarations = [](const std::vector<detail::XmlArray>& arrays) {
+    std::string xml;
+    for (const detail::XmlArray& a : arrays) xml += declaration(a.name, a.type, a.components);
+    return xml;
+  };
+  write_summary(pvtp, "PPolyData", declarations(d.point_data), declarations(d.cell_data), d.coordinates.type, pieces);
 }
 
 void write_quadratic_pvtu(const std::filesystem::path& pvtu, const std::vector<NamedArray>& point_data,
                           const std::vector<NamedArray>& cell_data, const std::vector<std::string>& pieces) {
   // write_quadratic_triangles writes the points and every array as Float64.
-  const auto float64 = [](const std::vector<NamedArray>& arrays) {
+  const auto declarations = [](const std::vector<NamedArray>& arrays) {
     std::string xml;
-    for (const NamedArray& a : arrays)
-      xml += "      <PDataArray type=\"" + std::string(detail::type_name(detail::XmlType::float64)) + "\" Name=\"" +
-             detail::xml_attribute(a.name) + "\" NumberOfComponents=\"" + std::to_string(a.components) + "\"/>\n";
+    for (const NamedArray& a : arrays) xml += declaration(a.name, detail::XmlType::float64, a.components);
     return xml;
   };
-  std::string xml =
-      "<?xml version=\"1.0\"?>\n"
-      "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-      "  <PUnstructuredGrid GhostLevel=\"0\">\n"
-      "    <PPointData>\n" + float64(point_data) + "    </PPointData>\n"
-      "    <PCellData>\n" + float64(cell_data) + "    </PCellData>\n"
-      "    <PPoints>\n"
-      "      <PDataArray type=\"" + std::string(detail::type_name(detail::XmlType::float64)) +
-      "\" Name=\"Points\" NumberOfComponents=\"3\"/>\n"
-      "    </PPoints>\n";
-  for (const std::string& piece : pieces) xml += "    <Piece Source=\"" + detail::xml_attribute(piece) + "\"/>\n";
-  xml +=
-      "  </PUnstructuredGrid>\n"
-      "</VTKFile>\n";
-  write_text_atomically(pvtu, xml);
+  write_summary(pvtu, "PUnstructuredGrid", declarations(point_data), declarations(cell_data), detail::XmlType::float64,
+                pieces);
 }
 
 }  // namespace rgbmesh

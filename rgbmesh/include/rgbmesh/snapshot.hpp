@@ -3,6 +3,7 @@
 // solvers consume. Vertices and triangles are renumbered 0..n-1 (dead slots skipped).
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -41,6 +42,52 @@ struct RgbState {
   // {-1, -1} for a base vertex.
   std::vector<std::array<std::int32_t, 2>> parents;
 };
+
+// One process's piece of a data set split among processes: the cells whose part is `which`,
+// renumbered over the points they use (in the order they first use them), with the rows of
+// the kept cells and points in the whole data set.
+template <std::size_t N>
+struct CellPiece {
+  std::vector<std::array<std::int32_t, N>> cells;
+  std::vector<std::size_t> cell_rows, point_rows;
+};
+template <std::size_t N>
+CellPiece<N> cell_piece(const std::vector<std::array<std::int32_t, N>>& cells, std::size_t points,
+                        const std::vector<std::int32_t>& part, std::int32_t which) {
+  CellPiece<N> piece;
+  std::vector<std::int32_t> point_of(points, -1);
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    if (part[c] != which) continue;
+    piece.cell_rows.push_back(c);
+    std::array<std::int32_t, N> renumbered{};
+    for (std::size_t k = 0; k < N; ++k) {
+      const auto p = static_cast<std::size_t>(cells[c][k]);
+      if (point_of[p] < 0) {
+        point_of[p] = static_cast<std::int32_t>(piece.point_rows.size());
+        piece.point_rows.push_back(p);
+      }
+      renumbered[k] = point_of[p];
+    }
+    piece.cells.push_back(renumbered);
+  }
+  return piece;
+}
+
+// The given rows of each array (a same_as_points array stays one, without values).
+inline std::vector<NamedArray> array_rows(const std::vector<NamedArray>& arrays, const std::vector<std::size_t>& rows) {
+  std::vector<NamedArray> out;
+  for (const NamedArray& a : arrays) {
+    NamedArray b{a.name, a.components, {}, a.same_as_points};
+    if (!a.same_as_points) {
+      const auto k = static_cast<std::size_t>(a.components);
+      for (const std::size_t r : rows)
+        b.values.insert(b.values.end(), a.values.begin() + static_cast<std::ptrdiff_t>(r * k),
+                        a.values.begin() + static_cast<std::ptrdiff_t>((r + 1) * k));
+    }
+    out.push_back(std::move(b));
+  }
+  return out;
+}
 
 struct MeshSnapshot {
   std::vector<Vec3> points;
