@@ -11,6 +11,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "rgbmesh/canonical.hpp"
 #include "rgbmesh/adapt/adaptive.hpp"
 #include "rgbmesh/parallel/local_view.hpp"
 #include "rgbmesh/parallel/partition.hpp"
@@ -30,6 +31,7 @@ inline void refine_marked(RgbMesh& m, const std::set<std::array<std::int32_t, 3>
     if (marked.count(c)) values[static_cast<std::size_t>(t.idx)] = 1.0;
   }
   selective_refinement(m, FieldCriterion(std::move(values), 0.5, {}, 0.0));
+  canonical_diagonals(m);  // as adapt does after each adaptation
 }
 
 // The triangles with all three corners in a region, by their corners' keys.

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "rgbmesh/adapt/solution_transfer.hpp"
+#include "rgbmesh/canonical.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/rgb_state.hpp"
@@ -227,6 +228,10 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
     r = selective_refinement(mesh, FieldCriterion(std::move(triangle_values), 0.5, std::move(vertex_values), threshold),
                              ro);
   }
+  // The trapezoids' diagonals chosen by the vertices' names, not by the order of the splits:
+  // the mesh is then a function of its vertices, the same however (and on however many
+  // processes) they were inserted.
+  canonical_diagonals(mesh);
   report.memory_limit_reached = r.stopped_at_memory_limit;
   report.marked = static_cast<std::size_t>(std::count(marked.begin(), marked.end(), 1));
   report.splits += r.splits;

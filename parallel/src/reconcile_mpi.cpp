@@ -6,6 +6,7 @@
 #include <map>
 #include <vector>
 
+#include "rgbmesh/canonical.hpp"
 #include "rgbmesh/parallel/local_view.hpp"
 #include "rgbmesh/parallel/mpi.hpp"
 
@@ -43,6 +44,7 @@ Reconciled reconcile_splits(RgbMesh& view, const std::unordered_set<std::int32_t
     MPI_Allreduce(&here, &everywhere, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, PETSC_COMM_WORLD);
     if (everywhere == 0) break;
   }
+  canonical_diagonals(view);  // the diagonals by names, as the whole mesh's (canonical.hpp)
   return out;
 }
 
