@@ -146,7 +146,6 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   if (a.order != 1 && a.order != 2) throw InputError("--order " + std::to_string(a.order) + ": 1 or 2");
   o.order = a.order;
   o.min_level = a.min_level;
-  if (a.distribute) a.distribute(o);  // after the floor: the processes share the units above it
   s.estimator = a.estimator;
   o.estimator = choose<adapt::EstimatorKind>(
       "--estimator", s.estimator, {{"residual", adapt::EstimatorKind::residual}, {"zz", adapt::EstimatorKind::zz}});
@@ -514,6 +513,10 @@ int run_adapt(const AdaptArgs& args) {
     if (a.mesh.empty()) selective_refinement(mesh, UniformLevel(1));  // 42 vertices to start from
   }
   s.options.resumable = true;  // every cycle's file can be resumed from, exactly
+  // Several processes: they share the units above the floor; a new run of a stationary problem
+  // without coarsening holds the mesh itself distributed (each process its part: its cycles
+  // are written as pieces only), any other run the whole mesh on every process.
+  if (a.distribute) a.distribute(s.options, !prior && !s.moving);
   if (prior) {
     const int next = prior->done.cycles.back().cycle + 1;
     if (s.moving) {
@@ -607,7 +610,9 @@ int run_adapt(const AdaptArgs& args) {
     const MeshSnapshot snapshot = adapt::snapshot(c);
     // The whole mesh with its RGB state (what --resume reads), by rank 0; on several
     // processes also each process's piece and the summary that joins them for ParaView.
-    if (a.writes) write_mesh(dir / file, snapshot, output_options((dir / file).string(), a.compression));
+    // (A distributed mesh: no process has the whole, only pieces are written.)
+    if (a.writes && !s.options.distributed_mesh)
+      write_mesh(dir / file, snapshot, output_options((dir / file).string(), a.compression));
     if (pieces && a.order == 1) {
       const std::string mine = piece_file(s.moving, r.cycle, a.rank);
       const MeshSnapshot piece = snapshot_piece(snapshot, c.solved->triangle_part, a.rank);

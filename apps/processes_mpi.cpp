@@ -3,6 +3,7 @@
 #include "processes.hpp"
 #include "rgbmesh/parallel/mpi.hpp"
 #include "rgbmesh/parallel/adaptive.hpp"
+#include "rgbmesh/parallel/distributed_mesh.hpp"
 
 namespace rgbmesh::cli {
 
@@ -24,7 +25,16 @@ void distribute(AdaptArgs& args, const Processes& processes) {
   args.writes = processes.rank == 0;
   args.processes = processes.count;
   args.rank = processes.rank;
-  args.distribute = parallel::distribute;
+  args.distribute = [](adapt::AdaptOptions& o, bool may_distribute_mesh) {
+    adapt::AdaptOptions probe = o;
+    probe.resumable = false;  // a distributed mesh's cycles are pieces, not resumable files
+    if (may_distribute_mesh && parallel::mesh_can_be_distributed(probe)) {
+      o.resumable = false;
+      parallel::distribute_mesh(o);
+    } else {
+      parallel::distribute(o);
+    }
+  };
 }
 
 int finish(const Processes& processes, int code, const std::string& message) {

@@ -2,8 +2,10 @@
 // What the CLI tests read from an adapt run: the report's cycles, and a cycle file's triangles
 // by their corners' positions (to compare meshes without their numbering).
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -63,5 +65,55 @@ inline std::set<std::set<std::array<double, 3>>> triangles_in(const vtkSmartPoin
   return out;
 }
 inline std::set<std::set<std::array<double, 3>>> triangles_of(const std::string& file) { return triangles_in(read_vtp(file)); }
+
+/// The triangles of `b` that `a` does not have and those of `a` that `b` does not have, a
+/// corner of one matching a point of the other within `tolerance` in each coordinate (the
+/// processes of a distributed mesh compute some limit positions in another order: the last
+/// bit may differ). Two counts, both 0 for the same triangles.
+inline std::array<std::size_t, 2> triangles_differing(const vtkSmartPointer<vtkPolyData>& a,
+                                                      const vtkSmartPointer<vtkPolyData>& b, double tolerance = 1e-12) {
+  // a's points on a grid of cells of side 1e-6: a point of b is looked for in its cell and the
+  // neighbouring ones.
+  const double cell = 1e-6;
+  const auto key = [cell](const double* p, int dx, int dy, int dz) {
+    return std::array<long long, 3>{static_cast<long long>(std::floor(p[0] / cell)) + dx,
+                                    static_cast<long long>(std::floor(p[1] / cell)) + dy,
+                                    static_cast<long long>(std::floor(p[2] / cell)) + dz};
+  };
+  std::map<std::array<long long, 3>, std::vector<vtkIdType>> grid;
+  for (vtkIdType i = 0; i < a->GetNumberOfPoints(); ++i) grid[key(a->GetPoint(i), 0, 0, 0)].push_back(i);
+  const auto match = [&](const double* p) -> vtkIdType {
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find(key(p, dx, dy, dz));
+          if (it == grid.end()) continue;
+          for (const vtkIdType i : it->second) {
+            double q[3];
+            a->GetPoint(i, q);
+            if (std::abs(q[0] - p[0]) <= tolerance && std::abs(q[1] - p[1]) <= tolerance && std::abs(q[2] - p[2]) <= tolerance)
+              return i;
+          }
+        }
+    return -1;
+  };
+  const auto cells_of = [](const vtkSmartPointer<vtkPolyData>& pd, const auto& id_of) {
+    std::set<std::array<vtkIdType, 3>> out;
+    auto ids = vtkSmartPointer<vtkIdList>::New();
+    for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c) {
+      pd->GetCellPoints(c, ids);
+      std::array<vtkIdType, 3> t{id_of(ids->GetId(0)), id_of(ids->GetId(1)), id_of(ids->GetId(2))};
+      std::sort(t.begin(), t.end());
+      out.insert(t);
+    }
+    return out;
+  };
+  const auto in_a = cells_of(a, [](vtkIdType i) { return i; });
+  const auto in_b = cells_of(b, [&](vtkIdType i) { return match(b->GetPoint(i)); });
+  std::array<std::size_t, 2> differ{0, 0};
+  for (const auto& t : in_b) differ[0] += (t[0] < 0 || !in_a.count(t)) ? 1 : 0;
+  for (const auto& t : in_a) differ[1] += in_b.count(t) ? 0 : 1;
+  return differ;
+}
 
 }  // namespace rgbmesh::testing

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 
 #include "rgbmesh/adapt/solution_transfer.hpp"
 #include "rgbmesh/canonical.hpp"
@@ -27,6 +30,10 @@ struct SolvedCycle {
   fem::Estimate estimate;
   CycleReport report;
   std::vector<std::int32_t> triangle_part;  ///< with AdaptOptions::partition
+  /// A distributed mesh: the whole mesh's vertices, edges and triangles (each counted by the
+  /// lowest part holding it), and whether its unknowns passed max_dofs (then not solved).
+  std::size_t vertices = 0, edges = 0;
+  bool over_max_dofs = false;
 };
 
 // Rebuilds the mesh from its RGB state with the points in an order that depends on the mesh
@@ -101,8 +108,58 @@ std::vector<VertexHandle> rebuild_canonically(RgbMesh& mesh) {
   return moved;
 }
 
+// A distributed mesh's counts (SolvedCycle::vertices, edges; the report's triangles and
+// unknowns): each process counts the vertices, edges and triangles of its own triangles whose
+// lowest part is its own, and the counts are added up.
+void count_over_parts(SolvedCycle& c, const AdaptOptions& options) {
+  const fem::SurfaceMesh& fe = c.fe;
+  const std::vector<std::int32_t>& part = c.triangle_part;
+  const std::int32_t me = options.part;
+  std::vector<std::int32_t> lowest(fe.vertex.size(), std::numeric_limits<std::int32_t>::max());
+  std::unordered_map<std::uint64_t, std::int32_t> edge_lowest;  // by the corners' DOFs, of own triangles' edges
+  double counts[3] = {0, 0, 0};  // vertices, edges, triangles
+  for (std::size_t t = 0; t < fe.triangles.size(); ++t) {
+    if (part[t] < 0) continue;
+    for (const std::int32_t v : fe.triangles[t]) lowest[static_cast<std::size_t>(v)] = std::min(lowest[static_cast<std::size_t>(v)], part[t]);
+  }
+  const auto key = [](std::int32_t a, std::int32_t b) {
+    if (a > b) std::swap(a, b);
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+  };
+  for (std::size_t t = 0; t < fe.triangles.size(); ++t) {
+    if (part[t] < 0) continue;
+    const auto& v = fe.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      auto [it, fresh] = edge_lowest.try_emplace(key(v[k], v[(k + 1) % 3]), part[t]);
+      if (!fresh) it->second = std::min(it->second, part[t]);
+    }
+  }
+  for (std::size_t t = 0; t < fe.triangles.size(); ++t) {
+    if (part[t] != me) continue;
+    counts[2] += 1;
+    const auto& v = fe.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      if (lowest[static_cast<std::size_t>(v[k])] == me) {
+        counts[0] += 1;
+        lowest[static_cast<std::size_t>(v[k])] = -1;  // counted once
+      }
+      auto it = edge_lowest.find(key(v[k], v[(k + 1) % 3]));
+      if (it->second == me) {
+        counts[1] += 1;
+        it->second = -1;
+      }
+    }
+  }
+  options.sum_over_parts(counts, 3);
+  c.vertices = static_cast<std::size_t>(counts[0]);
+  c.edges = static_cast<std::size_t>(counts[1]);
+  c.report.triangles = static_cast<std::size_t>(counts[2]);
+  c.report.dofs = options.order == 2 ? c.vertices + c.edges : c.vertices;
+}
+
 SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
-                               SolutionTransfer& transfer) {
+                               SolutionTransfer& transfer, bool check_max_dofs = false) {
+  if (options.prepare_mesh) options.prepare_mesh(mesh);
   if (options.resumable) transfer.rebuilt(rebuild_canonically(mesh));
   SolvedCycle c;
   const auto t_mesh = std::chrono::steady_clock::now();
@@ -122,6 +179,13 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
       share.gather = options.gather_over_parts;
     }
   }
+  if (options.distributed_mesh) {
+    count_over_parts(c, options);
+    if (check_max_dofs && c.report.dofs > options.max_dofs) {
+      c.over_max_dofs = true;
+      return c;
+    }
+  }
   fem::SolveOptions so = options.solve;
   const Eigen::VectorXd guess = transfer.on(c.fe);
   if (guess.size() > 0) so.initial_guess = &guess;
@@ -131,8 +195,17 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   c.estimate = options.estimator == EstimatorKind::residual ? fem::residual_estimator(c.fe, problem, c.solution.u, share)
                                                             : fem::zz_estimator(c.fe, c.solution.u, share);
   c.report.estimate_seconds = seconds_since(t0);
-  c.report.triangles = c.fe.triangles.size();
-  c.report.dofs = c.fe.num_dofs();
+  if (options.distributed_mesh) {
+    // Each process has its own triangles' indicators: the total over all.
+    double squares = 0;
+    for (std::size_t t = 0; t < c.fe.triangles.size(); ++t)
+      if (share.computes(t)) squares += c.estimate.eta[t] * c.estimate.eta[t];
+    options.sum_over_parts(&squares, 1);
+    c.estimate.total = std::sqrt(squares);
+  } else {
+    c.report.triangles = c.fe.triangles.size();
+    c.report.dofs = c.fe.num_dofs();
+  }
   c.report.estimate = c.estimate.total;
   c.report.solve_seconds = c.solution.assembly_seconds + c.solution.solve_seconds;
   c.report.assembly_seconds = c.solution.assembly_seconds;
@@ -186,9 +259,13 @@ std::size_t unknowns(const RgbMesh& mesh, int order) {
 // The unknowns after one more uniform level: every green edge of the finest level gains a
 // vertex (V' = V + E) and splits in two while every triangle gains three edges (E' = 2E + 3T).
 // Exact for a uniform mesh; for a selectively refined one, a lower bound.
-std::size_t unknowns_after_uniform_level(const RgbMesh& mesh, int order) {
-  const std::size_t v = mesh.num_vertices() + mesh.num_edges();
-  return order == 2 ? v + 2 * mesh.num_edges() + 3 * mesh.num_triangles() : v;
+// (A distributed mesh: the whole mesh's counts, from the solved cycle.)
+std::size_t unknowns_after_uniform_level(const RgbMesh& mesh, const SolvedCycle& c, const AdaptOptions& options) {
+  const bool whole = options.distributed_mesh;
+  const std::size_t vertices = whole ? c.vertices : mesh.num_vertices(), edges = whole ? c.edges : mesh.num_edges(),
+                    triangles = whole ? c.report.triangles : mesh.num_triangles();
+  const std::size_t v = vertices + edges;
+  return options.order == 2 ? v + 2 * edges + 3 * triangles : v;
 }
 
 // Marks, then refines and coarsens the mesh through the queues; returns the marks per FE
@@ -200,11 +277,28 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
   ro.max_level = options.max_level;
   if (options.memory_headroom) ro.max_mesh_bytes = mesh.memory_bytes() + options.memory_headroom();
   RefinementResult r;
-  if (options.strategy == Strategy::uniform) {
+  // A distributed mesh: this process's own triangles, marked against thresholds found with
+  // the other processes.
+  std::vector<char> own;
+  if (options.distributed_mesh) {
+    own.resize(c.fe.triangles.size());
+    for (std::size_t i = 0; i < own.size(); ++i) own[i] = c.triangle_part[i] == options.part ? 1 : 0;
+  }
+  if (options.strategy == Strategy::uniform && options.distributed_mesh) {
+    // Its own triangles one level up: the next uniform level once every process has its own
+    // and the interfaces' splits.
+    marked = own;
+    std::vector<double> triangle_values(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
+    for (std::size_t i = 0; i < marked.size(); ++i)
+      if (marked[i] && mesh.level(c.fe.triangle[i]) < options.max_level) triangle_values[c.fe.triangle[i].idx] = 1.0;
+    r = selective_refinement(mesh, FieldCriterion(std::move(triangle_values), 0.5, {}, 0.0), ro);
+  } else if (options.strategy == Strategy::uniform) {
     std::fill(marked.begin(), marked.end(), 1);
     r = selective_refinement(mesh, UniformLevel(std::min(mesh.max_level() + 1, options.max_level)), ro);
   } else {
-    marked = mark(c.estimate.eta, options.marking, options.theta, options.target_estimate);
+    marked = options.distributed_mesh
+                 ? mark_shared(c.estimate.eta, own, options.marking, options.theta, options.target_estimate, options.sum_over_parts)
+                 : mark(c.estimate.eta, options.marking, options.theta, options.target_estimate);
     std::vector<double> triangle_values(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
     for (std::size_t i = 0; i < marked.size(); ++i) {
       if (marked[i]) triangle_values[c.fe.triangle[i].idx] = 1.0;
@@ -232,10 +326,16 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
   // the mesh is then a function of its vertices, the same however (and on however many
   // processes) they were inserted.
   canonical_diagonals(mesh);
+  if (options.after_adaptation) options.after_adaptation(mesh);
   report.memory_limit_reached = r.stopped_at_memory_limit;
-  report.marked = static_cast<std::size_t>(std::count(marked.begin(), marked.end(), 1));
-  report.splits += r.splits;
-  report.removals += r.removals;
+  double counts[3] = {static_cast<double>(std::count(marked.begin(), marked.end(), 1)), static_cast<double>(r.splits),
+                      static_cast<double>(r.removals)};
+  // (A distributed mesh: over all processes; a split that processes on both sides of an
+  // interface make counts on each.)
+  if (options.distributed_mesh) options.sum_over_parts(counts, 3);
+  report.marked = static_cast<std::size_t>(counts[0]);
+  report.splits += static_cast<std::size_t>(counts[1]);
+  report.removals += static_cast<std::size_t>(counts[2]);
   report.adapt_seconds += seconds_since(t0);
   return marked;
 }
@@ -305,6 +405,57 @@ std::vector<char> mark(const std::vector<double>& eta, Marking marking, double t
   return marked;
 }
 
+std::vector<char> mark_shared(const std::vector<double>& eta, const std::vector<char>& own, Marking marking,
+                              double theta, double target, const std::function<void(double*, std::size_t)>& sum) {
+  if (own.size() != eta.size()) throw std::invalid_argument("mark_shared: one flag per indicator is needed");
+  std::vector<char> marked(eta.size(), 0);
+  double totals[2] = {0, 0};  // own triangles, Σ η²
+  for (std::size_t i = 0; i < eta.size(); ++i)
+    if (own[i]) {
+      totals[0] += 1;
+      totals[1] += eta[i] * eta[i];
+    }
+  sum(totals, 2);
+  const double n = totals[0];
+  if (n == 0) return marked;
+  if (marking == Marking::equidistribution) {
+    const double limit = target / std::sqrt(n);
+    for (std::size_t i = 0; i < eta.size(); ++i) marked[i] = own[i] && eta[i] > limit ? 1 : 0;
+    return marked;
+  }
+  // mark() marks the largest indicators down to the k-th, k the fewest whose squares reach
+  // θ Σ η² (Dörfler) or ceil(θ n) (fixed fraction): the k-th is the largest x for which the
+  // indicators at least x reach that. Found by bisection on x's bits (non-negative doubles
+  // order as their bit patterns), each step one sum over the processes.
+  const bool dorfler = marking == Marking::dorfler;
+  const double goal = dorfler ? theta * totals[1] : std::ceil(theta * n);
+  if (!(goal > 0)) return marked;
+  const auto reaches = [&](double x) {
+    double s = 0;
+    for (std::size_t i = 0; i < eta.size(); ++i)
+      if (own[i] && eta[i] >= x) s += dorfler ? eta[i] * eta[i] : 1.0;
+    sum(&s, 1);
+    return s >= goal;
+  };
+  const auto as_double = [](std::uint64_t bits) {
+    double x = 0;
+    std::memcpy(&x, &bits, sizeof x);
+    return x;
+  };
+  std::uint64_t lo = 0, hi = 0x7FF0000000000000ull;  // 0 and +infinity
+  if (reaches(as_double(lo))) {
+    while (hi - lo > 1) {
+      const std::uint64_t mid = lo + (hi - lo) / 2;
+      (reaches(as_double(mid)) ? lo : hi) = mid;
+    }
+  }
+  // (Where even every indicator does not reach the goal, mark() marks them all: x = 0.)
+  // The ties that mark() adds: every indicator within a relative 1e-6 of the k-th.
+  const double cutoff = as_double(lo) * (1 - 1e-6);
+  for (std::size_t i = 0; i < eta.size(); ++i) marked[i] = own[i] && eta[i] >= cutoff ? 1 : 0;
+  return marked;
+}
+
 double refinement_threshold(const std::vector<double>& eta, const std::vector<char>& marked, Marking marking,
                             double target) {
   if (eta.empty()) return 0;
@@ -333,7 +484,11 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
       run.stopped = StopReason::memory;
       break;
     }
-    SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer);
+    SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer, cycle > std::max(0, options.first_cycle - 1));
+    if (c.over_max_dofs) {  // a distributed mesh knows its size once its parts are decided
+      run.stopped = StopReason::max_dofs;
+      break;
+    }
     solved_dofs = c.fe.num_dofs();
     c.report.cycle = cycle;
     const SolvedMesh solved = replay ? SolvedMesh{} : describe(mesh, c, options.resumable);
@@ -342,7 +497,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
       run.stopped = StopReason::cycles;
     else if (c.estimate.total <= options.target_estimate)
       run.stopped = StopReason::target_error;
-    else if (options.strategy == Strategy::uniform && unknowns_after_uniform_level(mesh, options.order) > options.max_dofs)
+    else if (options.strategy == Strategy::uniform && unknowns_after_uniform_level(mesh, c, options) > options.max_dofs)
       run.stopped = StopReason::max_dofs;  // predicted: the next mesh is never built
     else
       last = false;
@@ -362,7 +517,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
       run.stopped = StopReason::memory;
       break;
     }
-    if (unknowns(mesh, options.order) > options.max_dofs) {
+    if (!options.distributed_mesh && unknowns(mesh, options.order) > options.max_dofs) {
       run.stopped = StopReason::max_dofs;
       break;
     }
@@ -372,6 +527,8 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
 
 AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& problem_at,
                      const AdaptOptions& options, const DynamicOptions& dynamic, const CycleCallback& on_step) {
+  if (options.distributed_mesh)
+    throw std::invalid_argument("run_dynamic: not on a distributed mesh yet (coarsening is decided on the whole mesh)");
   refine_to_floor(mesh, options);
   AdaptRun run;
   const bool resuming = dynamic.first_step > 0;

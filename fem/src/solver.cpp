@@ -441,7 +441,7 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   if (shared) {
     const Eigen::VectorXd guess = free_guess();
     a.makeCompressed();
-    LinearSolution s = options.shared_solver(a, rhs, row_parts(mesh, share.part, index, nf),
+    LinearSolution s = options.shared_solver(a, rhs, row_parts(mesh, share.part, index, nf), index,
                                              guess.size() > 0 ? &guess : nullptr, options.cg_tolerance);
     x = std::move(s.x);
     sol.iterations = s.iterations;

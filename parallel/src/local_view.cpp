@@ -28,6 +28,12 @@ class AwayFromKept final : public LodCriterion {
 }  // namespace
 
 RgbMesh local_view(const RgbMesh& mesh, const std::vector<char>& keep, int floor, int ghost_layers) {
+  RgbMesh view = mesh;
+  coarsen_away(view, keep, floor, ghost_layers);
+  return view;
+}
+
+std::size_t coarsen_away(RgbMesh& mesh, const std::vector<char>& keep, int floor, int ghost_layers) {
   if (keep.size() != static_cast<std::size_t>(mesh.triangle_slots()))
     throw std::invalid_argument("local_view: one flag per triangle slot is needed");
   if (ghost_layers < 0) throw std::invalid_argument("local_view: the ghost layers must be 0 or more");
@@ -47,12 +53,11 @@ RgbMesh local_view(const RgbMesh& mesh, const std::vector<char>& keep, int floor
     }
     kept_vertex = std::move(next);
   }
-  RgbMesh view = mesh;
   // A removal can make a coarser vertex removable: again until nothing more goes.
   const AwayFromKept criterion(kept_vertex, floor);
-  while (selective_refinement(view, criterion).removals > 0) {
-  }
-  return view;
+  std::size_t removed = 0;
+  for (std::size_t round = 1; round > 0; removed += round) round = selective_refinement(mesh, criterion).removals;
+  return removed;
 }
 
 }  // namespace rgbmesh::parallel

@@ -148,7 +148,8 @@ Entries exchange(std::vector<Entries>& outgoing, int me) {
 }
 
 fem::LinearSolution solve_shared(const fem::SparseMatrix& a, const Eigen::VectorXd& b,
-                                 const std::vector<std::int32_t>& row_part, const Eigen::VectorXd* guess,
+                                 const std::vector<std::int32_t>& row_part, const std::vector<Eigen::Index>&,
+                                 const Eigen::VectorXd* guess,
                                  double tolerance) {
   if (!started) throw std::logic_error("shared amg: parallel::initialize was not called");
   const int p = processes(), r = rank();

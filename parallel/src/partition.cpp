@@ -3,14 +3,17 @@
 #include <metis.h>
 
 #include <algorithm>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <numeric>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
+#include "rgbmesh/canonical.hpp"
 #include "rgbmesh/refinement.hpp"
 
 namespace rgbmesh::parallel {
@@ -151,7 +154,20 @@ MacroTriangles cells_at(const RgbMesh& mesh, const UniformMesh& uniform) {
   MacroTriangles m;
   m.level = level;
   m.corners.reserve(uniform.mesh.num_triangles());
+  // The cells in an order that depends on the uniform mesh alone (its triangles by their
+  // corners' names), not on the slots a copy of the mesh gave them: processes holding other
+  // pieces of one mesh number the cells alike (shared_units).
+  const std::vector<VertexName> name = vertex_names(uniform.mesh);
+  std::vector<std::pair<std::array<VertexName, 3>, TriangleHandle>> sorted;
+  sorted.reserve(uniform.mesh.num_triangles());
   for (const TriangleHandle t : uniform.mesh.triangles()) {
+    const auto c = uniform.mesh.triangle_vertices(t);
+    std::array<VertexName, 3> key{name[c[0].idx], name[c[1].idx], name[c[2].idx]};
+    std::sort(key.begin(), key.end());
+    sorted.emplace_back(key, t);
+  }
+  std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [key, t] : sorted) {
     std::array<VertexHandle, 3> c = uniform.mesh.triangle_vertices(t);
     for (VertexHandle& v : c) v = VertexHandle(uniform.slot[static_cast<std::size_t>(v.idx)]);
     m.corners.push_back(c);
@@ -377,6 +393,177 @@ Units units(const RgbMesh& mesh, int floor, int parts, double share, FloorCache*
     u.neighbours[a] = std::move(next[a]);
   }
   return u;
+}
+
+namespace {
+
+// A view's triangles placed in the cells of the uniform meshes from the floor down, the levels
+// made as they are asked for (the floor's from the cache).
+class CellLevels {
+ public:
+  CellLevels(const RgbMesh& mesh, int floor, FloorCache* cache) : mesh_(mesh), floor_(floor) {
+    require_floor(mesh, floor);
+    uniform_.push_back(&uniform_floor(mesh, floor, cache, own_floor_));
+    at_.push_back(cells_at(mesh, *uniform_[0]));
+  }
+  // The cells of `level` (at or below the floor).
+  const MacroTriangles& at(int level) {
+    while (static_cast<int>(at_.size()) <= level - floor_) {
+      if (child_.empty()) {
+        child_.reserve(static_cast<std::size_t>(mesh_.num_vertices()));
+        for (const VertexHandle v : mesh_.vertices())
+          if (mesh_.level(v) > 0) child_[edge_key(mesh_.parents(v)[0].idx, mesh_.parents(v)[1].idx)] = v.idx;
+      }
+      below_.push_back(std::make_unique<UniformMesh>(uniform_below(*uniform_.back(), child_, next_missing_)));
+      uniform_.push_back(below_.back().get());
+      at_.push_back(cells_at(mesh_, *uniform_.back()));
+    }
+    return at_[static_cast<std::size_t>(level - floor_)];
+  }
+
+ private:
+  const RgbMesh& mesh_;
+  int floor_;
+  std::optional<UniformMesh> own_floor_;
+  std::vector<const UniformMesh*> uniform_;
+  std::vector<std::unique_ptr<UniformMesh>> below_;
+  std::deque<MacroTriangles> at_;  // (a deque: the levels handed out stay where they are)
+  std::unordered_map<std::uint64_t, std::int32_t> child_;
+  std::int32_t next_missing_ = -2;
+};
+
+std::uint64_t cell_key(int level, std::int32_t cell) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(level)) << 32) | static_cast<std::uint32_t>(cell);
+}
+
+// Each triangle's unit: down from its floor cell through the split cells.
+std::vector<std::int32_t> walk_to_units(const RgbMesh& view, int floor, CellLevels& cells,
+                                        const std::unordered_map<std::uint64_t, std::int32_t>& unit_of_cell,
+                                        const std::unordered_set<std::uint64_t>& split) {
+  std::vector<std::int32_t> out(static_cast<std::size_t>(view.triangle_slots()), -1);
+  for (const TriangleHandle t : view.triangles()) {
+    for (int level = floor;; ++level) {
+      if (view.level(t) < level) break;  // coarser than the cells here: no unit
+      const std::int32_t c = cells.at(level).of_triangle[static_cast<std::size_t>(t.idx)];
+      if (c < 0) break;
+      const std::uint64_t key = cell_key(level, c);
+      if (const auto it = unit_of_cell.find(key); it != unit_of_cell.end()) {
+        out[static_cast<std::size_t>(t.idx)] = it->second;
+        break;
+      }
+      if (!split.count(key)) break;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Units shared_units(const RgbMesh& view, int floor, int parts, const std::vector<char>& counted, const Collectives& all,
+                   FloorCache* cache, double share) {
+  if (!(share > 0)) throw std::invalid_argument("shared_units: the share must be positive");
+  if (counted.size() != static_cast<std::size_t>(view.triangle_slots()))
+    throw std::invalid_argument("shared_units: one flag per triangle slot is needed");
+  CellLevels cells(view, floor, cache);
+  std::vector<TriangleHandle> mine;
+  std::uint64_t finest_here = 0;
+  for (const TriangleHandle t : view.triangles())
+    if (counted[static_cast<std::size_t>(t.idx)]) {
+      mine.push_back(t);
+      finest_here = std::max<std::uint64_t>(finest_here, static_cast<std::uint64_t>(view.level(t)));
+    }
+  std::uint64_t total = mine.size();
+  all.sum(&total, 1);
+  const std::vector<std::uint64_t> finest_each = all.all_gather({finest_here});
+  const int finest = static_cast<int>(*std::max_element(finest_each.begin(), finest_each.end()));
+  const double limit = share * static_cast<double>(total) / std::max(1, parts);
+  // Level by level from the floor: the cells still to decide, the same list on every process;
+  // a cell heavier than the limit whose triangles are all finer than it divides into the cells
+  // one level down that hold them (as in units()).
+  Units u;
+  std::unordered_map<std::uint64_t, std::int32_t> unit_of_cell;
+  std::unordered_set<std::uint64_t> split;
+  std::vector<std::int32_t> pending(cells.at(floor).corners.size());
+  std::iota(pending.begin(), pending.end(), 0);
+  for (int level = floor; !pending.empty(); ++level) {
+    const MacroTriangles& here = cells.at(level);
+    std::vector<std::int32_t> position(here.corners.size(), -1);
+    for (std::size_t k = 0; k < pending.size(); ++k) position[static_cast<std::size_t>(pending[k])] = static_cast<std::int32_t>(k);
+    // Per pending cell: its triangles, and those not finer than it.
+    std::vector<std::uint64_t> count(2 * pending.size(), 0);
+    for (const TriangleHandle t : mine) {
+      if (view.level(t) < level) continue;  // in a cell decided above
+      const std::int32_t c = here.of_triangle[static_cast<std::size_t>(t.idx)];
+      if (c < 0 || position[static_cast<std::size_t>(c)] < 0) continue;
+      const auto k = static_cast<std::size_t>(position[static_cast<std::size_t>(c)]);
+      ++count[2 * k];
+      if (view.level(t) <= level) ++count[2 * k + 1];
+    }
+    all.sum(count.data(), count.size());
+    std::vector<std::uint64_t> next_here;
+    for (std::size_t k = 0; k < pending.size(); ++k) {
+      const std::uint64_t key = cell_key(level, pending[k]);
+      const bool divide = static_cast<double>(count[2 * k]) > limit && level < finest && count[2 * k + 1] == 0;
+      if (!divide) {
+        unit_of_cell[key] = static_cast<std::int32_t>(u.level.size());
+        u.level.push_back(level);
+        u.cell.push_back(pending[k]);
+        u.triangles.push_back(count[2 * k]);
+        continue;
+      }
+      split.insert(key);
+      u.split.emplace_back(level, pending[k]);
+    }
+    if (u.split.empty() || u.split.back().first != level) break;
+    // The cells one level down that hold triangles of the divided cells, from every process.
+    const MacroTriangles& below = cells.at(level + 1);
+    for (const TriangleHandle t : mine) {
+      const std::int32_t c = here.of_triangle[static_cast<std::size_t>(t.idx)];
+      if (view.level(t) <= level || c < 0 || !split.count(cell_key(level, c))) continue;
+      next_here.push_back(static_cast<std::uint64_t>(below.of_triangle[static_cast<std::size_t>(t.idx)]));
+    }
+    std::sort(next_here.begin(), next_here.end());
+    next_here.erase(std::unique(next_here.begin(), next_here.end()), next_here.end());
+    std::vector<std::uint64_t> next = all.all_gather(next_here);
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+    pending.assign(next.begin(), next.end());
+  }
+  u.of_triangle = walk_to_units(view, floor, cells, unit_of_cell, split);
+  // Neighbours: across the edges of the counted triangles (their neighbours are exact too),
+  // from every process.
+  std::vector<std::uint64_t> pairs;
+  for (const TriangleHandle t : mine) {
+    const std::int32_t a = u.of_triangle[static_cast<std::size_t>(t.idx)];
+    for (const EdgeHandle e : view.triangle_edges(t)) {
+      if (view.is_boundary(e)) continue;
+      const std::int32_t b = u.of_triangle[static_cast<std::size_t>(view.other_triangle(e, t).idx)];
+      if (a >= 0 && b >= 0 && a != b) pairs.push_back(edge_key(a, b));
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  u.neighbours.assign(u.level.size(), {});
+  for (const std::uint64_t pair : all.all_gather(pairs)) {
+    const auto a = static_cast<std::int32_t>(pair >> 32), b = static_cast<std::int32_t>(pair & 0xffffffffu);
+    u.neighbours[static_cast<std::size_t>(a)].push_back(b);
+    u.neighbours[static_cast<std::size_t>(b)].push_back(a);
+  }
+  for (auto& n : u.neighbours) {
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+  }
+  return u;
+}
+
+std::vector<std::int32_t> locate_units(const RgbMesh& view, int floor, const Units& units, FloorCache* cache) {
+  CellLevels cells(view, floor, cache);
+  std::unordered_map<std::uint64_t, std::int32_t> unit_of_cell;
+  for (std::size_t k = 0; k < units.level.size(); ++k)
+    unit_of_cell[cell_key(units.level[k], units.cell[k])] = static_cast<std::int32_t>(k);
+  std::unordered_set<std::uint64_t> split;
+  for (const auto& [level, cell] : units.split) split.insert(cell_key(level, cell));
+  return walk_to_units(view, floor, cells, unit_of_cell, split);
 }
 
 Partition partition(const Units& units, int parts) {

@@ -64,6 +64,17 @@ struct AdaptOptions {
   /// bytes all processes sent since the previous call, in all and the most by one process
   /// (CycleReport::bytes_sent, bytes_sent_largest).
   std::function<std::array<std::uint64_t, 2>()> bytes_sent;
+  /// A distributed mesh (rgbmesh::parallel::distribute_mesh): the mesh passed to run_cycles
+  /// is this process's view of the whole (its part exact, the rest coarser), partition gives
+  /// the parts of the view's triangles (-1 where it is coarser than the whole mesh), and the
+  /// counts, the total estimate and the marks are the whole mesh's (sums over the parts; each
+  /// process marks its own triangles against thresholds found together). prepare_mesh is
+  /// called at the start of every cycle, before the finite-element mesh is built (the parts
+  /// are decided anew and the view brought to its new part), after_adaptation after every
+  /// adaptation (the splits of the other processes that reach this one's part). Adaptive and
+  /// uniform refinement of run_cycles; no coarsening yet.
+  bool distributed_mesh = false;
+  std::function<void(RgbMesh&)> prepare_mesh, after_adaptation;
   /// Memory: when set, returns the bytes still free under the caller's ceiling. A cycle whose
   /// mesh would need more (kSolveBytesPerDof per new unknown, the refinement's arrays) is not
   /// run: the run stops with StopReason::memory, its results so far intact.
@@ -227,6 +238,14 @@ QuadraticSnapshot quadratic_piece(const QuadraticSnapshot& whole, const std::vec
 /// last one they mark (ties that only rounding separates), so that marks do not depend on the
 /// solver's last digits (e.g. on the number of processes).
 std::vector<char> mark(const std::vector<double>& eta, Marking marking, double theta, double target = 0);
+
+/// mark() on a mesh whose triangles are divided among processes: each passes the indicators
+/// of the triangles it holds, `own` flags those that are its own, and `sum` adds over the
+/// processes. Every process then marks those of its own triangles that mark() would mark
+/// among all processes' own triangles (the thresholds are searched together: Dörfler's and
+/// the fixed fraction's by bisection on the indicator's value, about 64 sums of two numbers).
+std::vector<char> mark_shared(const std::vector<double>& eta, const std::vector<char>& own, Marking marking,
+                              double theta, double target, const std::function<void(double*, std::size_t)>& sum);
 
 /// The refinement threshold of a marking: the smallest marked indicator (the equidistribution
 /// limit target / sqrt(N) for that marking; 0 if nothing is marked).

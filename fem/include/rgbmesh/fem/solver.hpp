@@ -62,11 +62,14 @@ using LinearSolver = std::function<LinearSolution(const SparseMatrix& a, const E
 /// The solver of a system shared among processes (SolveOptions::share): each process passes
 /// the contributions of its own triangles, a and b (the system is their sum over the
 /// processes; rows that other processes own included), and row_part[i], the process owning
-/// row i (the same on every process). Returns the whole solution on every process and the
+/// row i (the same on every process); row_of_dof[d] is the row of the mesh's DOF d (-1 for a
+/// fixed one), for a solver that names rows by the DOFs' points (a distributed mesh, whose
+/// processes number their DOFs differently). Returns the whole solution on every process (a
+/// distributed mesh: at the DOFs of the process's own triangles and their neighbours) and the
 /// relative residual of the summed system. Throws std::runtime_error when it fails.
-using SharedLinearSolver =
-    std::function<LinearSolution(const SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<std::int32_t>& row_part,
-                                 const Eigen::VectorXd* guess, double tolerance)>;
+using SharedLinearSolver = std::function<LinearSolution(
+    const SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<std::int32_t>& row_part,
+    const std::vector<Eigen::Index>& row_of_dof, const Eigen::VectorXd* guess, double tolerance)>;
 
 struct SolveOptions {
   SolverKind solver = SolverKind::automatic;

@@ -22,6 +22,9 @@ namespace rgbmesh::parallel {
 /// conformity and the RGB rules need between them and the floor. Its size against the whole
 /// mesh's is the memory a process needs when the mesh is distributed.
 RgbMesh local_view(const RgbMesh& mesh, const std::vector<char>& keep, int floor, int ghost_layers = 1);
+/// The same in place: `view` coarsened away from its kept triangles and their ghost layers.
+/// Returns the vertices removed.
+std::size_t coarsen_away(RgbMesh& view, const std::vector<char>& keep, int floor, int ghost_layers = 1);
 
 /// A vertex's name across the processes' views: a vertex of the start mesh (the one the views
 /// were made from, whose vertices keep their slots in every view) by its slot, a vertex

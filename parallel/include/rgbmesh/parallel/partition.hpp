@@ -13,6 +13,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -63,6 +64,8 @@ struct Units {
   std::vector<std::size_t> triangles;                 ///< per unit: the mesh's triangles inside it
   std::vector<std::int32_t> of_triangle;              ///< per triangle slot: its unit (-1: free slot)
   std::vector<std::vector<std::int32_t>> neighbours;  ///< units sharing an edge of the mesh
+  /// shared_units: the cells (level, cell) divided into units below them.
+  std::vector<std::pair<int, std::int32_t>> split;
 };
 /// What units() keeps between calls on the meshes of one run: the uniform mesh of the floor
 /// (whose making, a copy of the mesh coarsened to the floor, is most of units' time), used
@@ -73,6 +76,27 @@ std::shared_ptr<FloorCache> make_floor_cache();
 Units units(const RgbMesh& mesh, int floor, int parts, double share = 0.1, FloorCache* cache = nullptr);
 /// METIS's k-way partition of the units' graph, weighted by the triangles each holds.
 Partition partition(const Units& units, int parts);
+
+/// Collective operations among the processes of a run, for what every process computes from
+/// its own share of a mesh (distributed_mesh.hpp); each is called by every process alike.
+struct Collectives {
+  std::function<void(std::uint64_t* values, std::size_t count)> sum;  ///< added over the processes, in place
+  /// Every process's vector, concatenated in rank order.
+  std::function<std::vector<std::uint64_t>(const std::vector<std::uint64_t>&)> all_gather;
+};
+
+/// The units of a mesh held in pieces (each process a view of it: its own triangles, flagged
+/// per triangle slot in `counted`, exact, the rest of its view coarser): the units that units()
+/// gives the whole mesh, agreed by all processes from their counted triangles. The cells are
+/// numbered by their corners' names, the same on every process; the split cells are listed
+/// (Units::split) so that locate_units can place triangles in them. of_triangle, per slot of
+/// this view: its unit, -1 for a triangle coarser than the unit its place belongs to (only
+/// away from the counted triangles and their neighbours).
+Units shared_units(const RgbMesh& view, int floor, int parts, const std::vector<char>& counted, const Collectives& all,
+                   FloorCache* cache = nullptr, double share = 0.1);
+/// Each triangle's unit (per triangle slot, -1 as above) in a view of the same mesh, later
+/// refined or holding other pieces: the units found by shared_units on an earlier view.
+std::vector<std::int32_t> locate_units(const RgbMesh& view, int floor, const Units& units, FloorCache* cache = nullptr);
 
 /// Each finite-element triangle's part among `parts` processes: the units above `floor`
 /// (units), partitioned by METIS (partition), read through fe.triangle. What a run on several

@@ -1,0 +1,140 @@
+// The collective operations of the distributed mesh over MPI, and its system's solve with
+// PETSc (collectives.hpp).
+
+#include <mpi.h>
+#include <petscksp.h>
+
+#include <Eigen/SparseCore>
+
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+
+#include "collectives.hpp"
+#include "rgbmesh/fem/petsc_cg_amg.hpp"
+#include "rgbmesh/parallel/mpi.hpp"
+
+namespace rgbmesh::parallel::detail {
+
+namespace {
+
+std::vector<int> displacements(const std::vector<int>& counts) {
+  std::vector<int> d(counts.size(), 0);
+  for (std::size_t q = 1; q < counts.size(); ++q) d[q] = d[q - 1] + counts[q - 1];
+  return d;
+}
+
+int as_count(std::size_t n) {
+  if (n > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw std::runtime_error("distributed mesh: a message of more than 2^31 numbers");
+  return static_cast<int>(n);
+}
+
+template <class T>
+std::vector<std::vector<T>> exchange(const std::vector<std::vector<T>>& to, MPI_Datatype type) {
+  const int p = processes();
+  if (static_cast<int>(to.size()) != p) throw std::logic_error("all_to_all: one vector per process is needed");
+  std::vector<int> send(static_cast<std::size_t>(p)), receive(static_cast<std::size_t>(p));
+  std::vector<T> out;
+  for (int q = 0; q < p; ++q) {
+    send[static_cast<std::size_t>(q)] = as_count(to[static_cast<std::size_t>(q)].size());
+    out.insert(out.end(), to[static_cast<std::size_t>(q)].begin(), to[static_cast<std::size_t>(q)].end());
+  }
+  MPI_Alltoall(send.data(), 1, MPI_INT, receive.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+  const std::vector<int> sd = displacements(send), rd = displacements(receive);
+  std::vector<T> in(static_cast<std::size_t>(rd.back() + receive.back()));
+  MPI_Alltoallv(out.data(), send.data(), sd.data(), type, in.data(), receive.data(), rd.data(), type, PETSC_COMM_WORLD);
+  std::vector<std::vector<T>> from(static_cast<std::size_t>(p));
+  for (int q = 0; q < p; ++q)
+    from[static_cast<std::size_t>(q)].assign(in.begin() + rd[static_cast<std::size_t>(q)],
+                                             in.begin() + rd[static_cast<std::size_t>(q)] + receive[static_cast<std::size_t>(q)]);
+  return from;
+}
+
+}  // namespace
+
+void sum(std::uint64_t* values, std::size_t count) {
+  MPI_Allreduce(MPI_IN_PLACE, values, as_count(count), MPI_UINT64_T, MPI_SUM, PETSC_COMM_WORLD);
+}
+
+std::vector<std::uint64_t> all_gather(const std::vector<std::uint64_t>& mine) {
+  const int p = processes();
+  std::vector<int> counts(static_cast<std::size_t>(p));
+  const int count = as_count(mine.size());
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+  const std::vector<int> offsets = displacements(counts);
+  std::vector<std::uint64_t> all(static_cast<std::size_t>(offsets.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), count, MPI_UINT64_T, all.data(), counts.data(), offsets.data(), MPI_UINT64_T,
+                 PETSC_COMM_WORLD);
+  return all;
+}
+
+std::vector<std::vector<std::uint64_t>> all_to_all(const std::vector<std::vector<std::uint64_t>>& to) {
+  return exchange(to, MPI_UINT64_T);
+}
+
+std::vector<std::vector<double>> all_to_all(const std::vector<std::vector<double>>& to) { return exchange(to, MPI_DOUBLE); }
+
+OwnedRows solve_rows(std::vector<RowEntries>& to, std::int64_t first, std::int64_t count, std::int64_t total,
+                     const Eigen::VectorXd* guess, double tolerance) {
+  const int p = processes();
+  std::vector<std::vector<std::uint64_t>> index_to(static_cast<std::size_t>(p));
+  std::vector<std::vector<double>> value_to(static_cast<std::size_t>(p));
+  for (int q = 0; q < p; ++q) {
+    RowEntries& e = to[static_cast<std::size_t>(q)];
+    index_to[static_cast<std::size_t>(q)].assign(e.index.begin(), e.index.end());  // (two's complement: -1 survives)
+    value_to[static_cast<std::size_t>(q)] = std::move(e.value);
+    e = {};
+  }
+  const auto index_from = all_to_all(index_to);
+  index_to = {};
+  const auto value_from = all_to_all(value_to);
+  value_to = {};
+  // This process's rows: every process's contributions added in rank order.
+  std::vector<Eigen::Triplet<double, PetscInt>> entries;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(count);
+  for (int q = 0; q < p; ++q) {
+    const auto& index = index_from[static_cast<std::size_t>(q)];
+    const auto& value = value_from[static_cast<std::size_t>(q)];
+    for (std::size_t e = 0; e < value.size(); ++e) {
+      const auto row = static_cast<std::int64_t>(index[2 * e]) - first;
+      const auto column = static_cast<std::int64_t>(index[2 * e + 1]);
+      if (row < 0 || row >= count) throw std::logic_error("distributed mesh: an entry for a row of another process");
+      if (column < 0) {
+        rhs[row] += value[e];
+      } else {
+        entries.emplace_back(static_cast<PetscInt>(row), static_cast<PetscInt>(column), value[e]);
+      }
+    }
+  }
+  Eigen::SparseMatrix<double, Eigen::RowMajor, PetscInt> rows(static_cast<PetscInt>(count), static_cast<PetscInt>(total));
+  rows.setFromTriplets(entries.begin(), entries.end());
+  rows.makeCompressed();
+  entries = {};
+  OwnedRows out;
+  out.x = Eigen::VectorXd::Zero(count);
+  int any_guess = guess != nullptr && guess->size() == count && guess->any() ? 1 : 0;
+  MPI_Allreduce(MPI_IN_PLACE, &any_guess, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  if (guess != nullptr && guess->size() == count) out.x = *guess;
+  fem::petsc::Objects o;
+  const auto m = static_cast<PetscInt>(count), n = static_cast<PetscInt>(total);
+  const auto check = [](PetscErrorCode code, const char* what) { fem::petsc::check(code, "distributed mesh amg", what); };
+  check(MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, m, m, n, n, rows.outerIndexPtr(), rows.innerIndexPtr(), rows.valuePtr(), &o.a),
+        "creating the matrix");
+  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, n, rhs.data(), &o.b), "creating the right-hand side");
+  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, n, out.x.data(), &o.x), "creating the solution");
+  out.iterations = fem::petsc::solve_cg_amg(PETSC_COMM_WORLD, o, tolerance, any_guess != 0, "distributed mesh amg", "");
+  Vec residual = nullptr;
+  check(VecDuplicate(o.b, &residual), "creating the residual");
+  PetscReal rn = 0, bn = 0;
+  PetscErrorCode code = MatMult(o.a, o.x, residual);
+  if (code == 0) code = VecAYPX(residual, -1.0, o.b);
+  if (code == 0) code = VecNorm(residual, NORM_2, &rn);
+  if (code == 0) code = VecNorm(o.b, NORM_2, &bn);
+  VecDestroy(&residual);
+  check(code, "measuring the residual");
+  out.relative_residual = bn > 0 ? rn / bn : rn;
+  return out;
+}
+
+}  // namespace rgbmesh::parallel::detail

@@ -1,0 +1,522 @@
+// rgbmesh::parallel::distribute_mesh (distributed_mesh.hpp). Written against the collectives
+// of collectives.hpp, without MPI of its own.
+
+#include "rgbmesh/parallel/distributed_mesh.hpp"
+
+#include <algorithm>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "collectives.hpp"
+#include "rgbmesh/canonical.hpp"
+#include "rgbmesh/parallel/local_view.hpp"
+#include "rgbmesh/parallel/mpi.hpp"
+#include "rgbmesh/parallel/partition.hpp"
+
+namespace rgbmesh::parallel {
+
+namespace {
+
+// Two layers of neighbours around a part: the first layer's vertices then have their whole
+// stars, so their limit positions are the whole mesh's (the estimators read the first layer:
+// the neighbours across an edge, the triangles around a corner).
+constexpr int kGhostLayers = 2;
+
+// A P2 edge node's name: its edge's midpoint vertex's name with bit 62 flipped, so that it
+// differs from every vertex of the same finite-element mesh.
+VertexName edge_node_name(VertexName a, VertexName b) { return child_name(a, b) ^ (VertexName{1} << 62); }
+
+// A vertex handed to another process: its name, its parents' names, its level.
+struct Travelling {
+  VertexName name = 0, a = 0, b = 0;
+  std::uint64_t level = 0;
+};
+
+void append(std::vector<std::uint64_t>& out, const Travelling& t) { out.insert(out.end(), {t.name, t.a, t.b, t.level}); }
+std::vector<Travelling> unpack(const std::vector<std::uint64_t>& in) {
+  std::vector<Travelling> out;
+  for (std::size_t i = 0; i + 3 < in.size(); i += 4) out.push_back({in[i], in[i + 1], in[i + 2], in[i + 3]});
+  return out;
+}
+
+// The view's vertices by name, kept current while vertices are inserted (an insertion
+// observer, for as long as it lives); `inserted` lists the new ones.
+class Names {
+ public:
+  explicit Names(RgbMesh& view) : view_(view), name_(vertex_names(view)) {
+    for (const VertexHandle v : view.vertices()) at_[name_[static_cast<std::size_t>(v.idx)]] = v;
+    id_ = view.add_insertion_observer([this](VertexHandle v, VertexHandle a, VertexHandle b) {
+      if (name_.size() < static_cast<std::size_t>(view_.vertex_slots())) name_.resize(static_cast<std::size_t>(view_.vertex_slots()), 0);
+      const VertexName n = child_name(name_[static_cast<std::size_t>(a.idx)], name_[static_cast<std::size_t>(b.idx)]);
+      name_[static_cast<std::size_t>(v.idx)] = n;
+      at_[n] = v;
+      inserted.push_back(v);
+    });
+  }
+  ~Names() { view_.remove_observer(id_); }
+  Names(const Names&) = delete;
+  Names& operator=(const Names&) = delete;
+
+  VertexHandle find(VertexName n) const {
+    const auto it = at_.find(n);
+    return it == at_.end() || !view_.alive(it->second) ? VertexHandle() : it->second;
+  }
+  VertexName of(VertexHandle v) const { return name_[static_cast<std::size_t>(v.idx)]; }
+  Travelling travelling(VertexHandle v) const {
+    const auto& p = view_.parents(v);
+    return {of(v), of(p[0]), of(p[1]), static_cast<std::uint64_t>(view_.level(v))};
+  }
+  std::vector<VertexHandle> inserted;
+
+ private:
+  RgbMesh& view_;
+  std::vector<VertexName> name_;
+  std::unordered_map<VertexName, VertexHandle> at_;
+  int id_ = -1;
+};
+
+// Inserts the vertices, parents first, each with split_edge on the edge between its parents
+// (forced splits insert what the RGB rules need with it); again while any goes in. Returns
+// those whose parents' edge never appeared.
+std::vector<Travelling> insert(RgbMesh& view, const Names& names, std::vector<Travelling> items) {
+  std::sort(items.begin(), items.end(), [](const Travelling& x, const Travelling& y) { return x.level < y.level; });
+  for (bool progress = true; progress && !items.empty();) {
+    progress = false;
+    std::vector<Travelling> left;
+    for (const Travelling& t : items) {
+      if (names.find(t.name).valid()) continue;
+      const VertexHandle a = names.find(t.a), b = names.find(t.b);
+      const EdgeHandle e = a.valid() && b.valid() ? view.find_edge(a, b) : EdgeHandle();
+      if (!e.valid() || view.is_red(e)) {
+        left.push_back(t);
+        continue;
+      }
+      view.split_edge(e);
+      progress = true;
+    }
+    items = std::move(left);
+  }
+  return items;
+}
+
+// The corners of the triangles flagged, and of `layers` layers of triangles around them.
+std::vector<char> corners_and_layers(const RgbMesh& view, const std::vector<std::int32_t>& part, std::int32_t me, int layers) {
+  std::vector<char> in(static_cast<std::size_t>(view.vertex_slots()), 0);
+  for (const TriangleHandle t : view.triangles())
+    if (part[static_cast<std::size_t>(t.idx)] == me)
+      for (const VertexHandle v : view.triangle_vertices(t)) in[static_cast<std::size_t>(v.idx)] = 1;
+  for (int layer = 0; layer < layers; ++layer) {
+    std::vector<char> next = in;
+    for (const TriangleHandle t : view.triangles()) {
+      const auto c = view.triangle_vertices(t);
+      if (in[static_cast<std::size_t>(c[0].idx)] || in[static_cast<std::size_t>(c[1].idx)] || in[static_cast<std::size_t>(c[2].idx)])
+        for (const VertexHandle v : c) next[static_cast<std::size_t>(v.idx)] = 1;
+    }
+    in = std::move(next);
+  }
+  return in;
+}
+
+void add_unique(std::vector<std::int32_t>& set, std::int32_t x) {
+  if (std::find(set.begin(), set.end(), x) == set.end()) set.push_back(x);
+}
+
+class DistributedMesh {
+ public:
+  DistributedMesh(int floor, int parts, int me) : floor_(floor), parts_(parts), me_(me) {}
+
+  // ---- the start of a cycle: parts, migration, the view coarsened away from its part ----
+  void prepare(RgbMesh& view) {
+    std::vector<char> counted(static_cast<std::size_t>(view.triangle_slots()), 0);
+    if (whole_) {
+      // Every process holds the whole mesh: rank 0 counts it.
+      if (me_ == 0)
+        for (const TriangleHandle t : view.triangles()) counted[static_cast<std::size_t>(t.idx)] = 1;
+    } else {
+      const std::vector<std::int32_t> part = parts_of(view);
+      for (const TriangleHandle t : view.triangles()) counted[static_cast<std::size_t>(t.idx)] = part[static_cast<std::size_t>(t.idx)] == me_;
+    }
+    units_ = shared_units(view, floor_, parts_, counted, {detail::sum, detail::all_gather}, cache_.get());
+    unit_part_ = partition(units_, std::min<int>(parts_, static_cast<int>(units_.level.size()))).part_of;
+    if (!whole_) migrate(view, counted);
+    whole_ = false;
+    canonical_diagonals(view);
+    {
+      const std::vector<std::int32_t> part = parts_of(view);
+      std::vector<char> keep(part.size(), 0);
+      for (std::size_t t = 0; t < part.size(); ++t) keep[t] = part[t] == me_;
+      coarsen_away(view, keep, floor_, kGhostLayers);
+    }
+    // (By names: the slots may change before the cycle's mesh is numbered, when limit
+    // positions are computed with helper vertices that are taken out again.)
+    const std::vector<VertexName> name = vertex_names(view);
+    known_.clear();
+    region_.clear();
+    const std::vector<char> exact = corners_and_layers(view, parts_of(view), me_, kGhostLayers);
+    for (const VertexHandle v : view.vertices()) {
+      known_.insert(name[static_cast<std::size_t>(v.idx)]);
+      if (exact[static_cast<std::size_t>(v.idx)]) region_.insert(name[static_cast<std::size_t>(v.idx)]);
+    }
+  }
+
+  // ---- after an adaptation: the splits that reach other processes' parts, to a fixpoint ----
+  void reconcile(RgbMesh& view) {
+    Names names(view);
+    std::vector<VertexHandle> fresh;
+    for (const VertexHandle v : view.vertices())
+      if (!known_.count(names.of(v))) fresh.push_back(v);
+    for (;;) {
+      std::sort(fresh.begin(), fresh.end(), [&view](VertexHandle a, VertexHandle b) { return view.level(a) < view.level(b); });
+      // Only the splits inside the part and its ghost layers: those beyond, where the view is
+      // coarser than the whole mesh, may be forced splits the whole mesh does not need (its
+      // processes there make the ones it does).
+      std::vector<std::uint64_t> mine;
+      for (const VertexHandle v : fresh) {
+        if (!view.alive(v)) continue;
+        const Travelling t = names.travelling(v);
+        if (!region_.count(t.a) || !region_.count(t.b)) continue;
+        region_.insert(t.name);
+        append(mine, t);
+      }
+      std::uint64_t made = mine.size();
+      detail::sum(&made, 1);
+      if (made == 0) break;
+      std::vector<Travelling> wanted;
+      for (const Travelling& t : unpack(detail::all_gather(mine)))
+        if (region_.count(t.a) && region_.count(t.b) && !names.find(t.name).valid()) wanted.push_back(t);
+      names.inserted.clear();
+      insert(view, names, std::move(wanted));
+      fresh = names.inserted;
+    }
+    canonical_diagonals(view);
+  }
+
+  // ---- the finite-element mesh's parts, and its unknowns numbered across processes ----
+  std::vector<std::int32_t> number(const RgbMesh& view, const fem::SurfaceMesh& fe) {
+    const std::size_t nt = fe.triangles.size(), nd = fe.num_dofs(), nv = fe.vertex.size();
+    const std::vector<std::int32_t> part_of_slot = parts_of(view);
+    const std::vector<VertexName> names = vertex_names(view);
+    std::vector<std::int32_t> tp(nt);
+    for (std::size_t t = 0; t < nt; ++t) tp[t] = part_of_slot[static_cast<std::size_t>(fe.triangle[t].idx)];
+    dof_name_.assign(nd, 0);
+    for (std::size_t d = 0; d < nv; ++d) dof_name_[d] = names[static_cast<std::size_t>(fe.vertex[d].idx)];
+    const auto nodes_of = [&fe](std::size_t t) {
+      std::vector<std::int32_t> n(fe.triangles[t].begin(), fe.triangles[t].end());
+      if (fe.order == 2) n.insert(n.end(), fe.edge_nodes[t].begin(), fe.edge_nodes[t].end());
+      return n;
+    };
+    if (fe.order == 2)
+      for (std::size_t t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k)
+          dof_name_[static_cast<std::size_t>(fe.edge_nodes[t][k])] =
+              edge_node_name(dof_name_[static_cast<std::size_t>(fe.triangles[t][k])],
+                             dof_name_[static_cast<std::size_t>(fe.triangles[t][(k + 1) % 3])]);
+    // Each node's parts around it, and its owner: the lowest (exact for the own triangles'
+    // nodes, whose neighbours the view holds).
+    std::vector<std::vector<std::int32_t>> around(nd);
+    std::vector<char> own_node(nd, 0);
+    for (std::size_t t = 0; t < nt; ++t) {
+      if (tp[t] < 0) continue;
+      for (const std::int32_t d : nodes_of(t)) {
+        add_unique(around[static_cast<std::size_t>(d)], tp[t]);
+        if (tp[t] == me_) own_node[static_cast<std::size_t>(d)] = 1;
+      }
+    }
+    owner_.assign(nd, -1);
+    gid_.assign(nd, -1);
+    std::int64_t owned = 0;
+    for (std::size_t d = 0; d < nd; ++d) {
+      if (!own_node[d]) continue;
+      owner_[d] = *std::min_element(around[d].begin(), around[d].end());
+      if (owner_[d] == me_) gid_[d] = owned++;
+    }
+    const std::vector<std::uint64_t> counts = detail::all_gather({static_cast<std::uint64_t>(owned)});
+    first_ = 0;
+    total_ = 0;
+    for (int q = 0; q < parts_; ++q) {
+      if (q < me_) first_ += static_cast<std::int64_t>(counts[static_cast<std::size_t>(q)]);
+      total_ += static_cast<std::int64_t>(counts[static_cast<std::size_t>(q)]);
+    }
+    owned_ = owned;
+    dof_of_name_.clear();
+    for (std::size_t d = 0; d < nd; ++d) {
+      dof_of_name_[dof_name_[d]] = static_cast<std::int32_t>(d);
+      if (gid_[d] >= 0) gid_[d] += first_;
+    }
+    // The other nodes of the own triangles: their numbers from their owners.
+    std::vector<std::vector<std::uint64_t>> ask(static_cast<std::size_t>(parts_));
+    std::vector<std::vector<std::int32_t>> asked(static_cast<std::size_t>(parts_));
+    for (std::size_t d = 0; d < nd; ++d)
+      if (own_node[d] && owner_[d] != me_) {
+        ask[static_cast<std::size_t>(owner_[d])].push_back(dof_name_[d]);
+        asked[static_cast<std::size_t>(owner_[d])].push_back(static_cast<std::int32_t>(d));
+      }
+    const auto questions = detail::all_to_all(ask);
+    std::vector<std::vector<std::uint64_t>> answers(static_cast<std::size_t>(parts_));
+    for (int q = 0; q < parts_; ++q)
+      for (const std::uint64_t n : questions[static_cast<std::size_t>(q)])
+        answers[static_cast<std::size_t>(q)].push_back(static_cast<std::uint64_t>(gid_.at(static_cast<std::size_t>(dof(n)))));
+    const auto got = detail::all_to_all(answers);
+    for (int q = 0; q < parts_; ++q)
+      for (std::size_t i = 0; i < asked[static_cast<std::size_t>(q)].size(); ++i)
+        gid_[static_cast<std::size_t>(asked[static_cast<std::size_t>(q)][i])] =
+            static_cast<std::int64_t>(got[static_cast<std::size_t>(q)].at(i));
+    // Whose first ghost layer each own triangle is in: they receive its nodes' values.
+    push_.assign(static_cast<std::size_t>(parts_), {});
+    std::vector<std::vector<char>> pushed(static_cast<std::size_t>(parts_));
+    for (std::size_t t = 0; t < nt; ++t) {
+      if (tp[t] != me_) continue;
+      std::vector<std::int32_t> to;
+      for (const std::int32_t c : fe.triangles[t])
+        for (const std::int32_t q : around[static_cast<std::size_t>(c)])
+          if (q != me_) add_unique(to, q);
+      for (const std::int32_t q : to) {
+        auto& mark = pushed[static_cast<std::size_t>(q)];
+        if (mark.empty()) mark.assign(nd, 0);
+        for (const std::int32_t d : nodes_of(t))
+          if (!mark[static_cast<std::size_t>(d)]) {
+            mark[static_cast<std::size_t>(d)] = 1;
+            push_[static_cast<std::size_t>(q)].push_back(d);
+          }
+      }
+    }
+    return tp;
+  }
+
+  // ---- the system: own triangles' entries to the rows' owners; values back and around ----
+  fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<Eigen::Index>& row_of_dof,
+                            const Eigen::VectorXd* guess, double tolerance) const {
+    const std::size_t nd = row_of_dof.size();
+    if (nd != gid_.size()) throw std::logic_error("distributed mesh: the system is not the numbered mesh's");
+    std::vector<std::int32_t> dof_of_row(static_cast<std::size_t>(a.rows()), -1);
+    for (std::size_t d = 0; d < nd; ++d)
+      if (row_of_dof[d] >= 0) dof_of_row[static_cast<std::size_t>(row_of_dof[d])] = static_cast<std::int32_t>(d);
+    std::vector<detail::RowEntries> to(static_cast<std::size_t>(parts_));
+    for (Eigen::Index r = 0; r < a.outerSize(); ++r) {  // (symmetric: column r is row r)
+      const auto d = static_cast<std::size_t>(dof_of_row[static_cast<std::size_t>(r)]);
+      // (Stored zeros, which the assembly leaves where fixed values were, are no entries.)
+      bool any = b[r] != 0.0;
+      for (fem::SparseMatrix::InnerIterator it(a, r); it && !any; ++it) any = it.value() != 0.0;
+      if (!any) continue;
+      if (gid_[d] < 0) throw std::logic_error("distributed mesh: an entry at a node of no own triangle");
+      detail::RowEntries& e = to[static_cast<std::size_t>(owner_[d])];
+      for (fem::SparseMatrix::InnerIterator it(a, r); it; ++it)
+        if (it.value() != 0.0) e.add(gid_[d], gid_[static_cast<std::size_t>(dof_of_row[static_cast<std::size_t>(it.index())])], it.value());
+      if (b[r] != 0.0) e.add(gid_[d], -1, b[r]);
+    }
+    // The owner's fixed nodes (boundary values, the zero-mean problem's pinned vertex): rows
+    // of the identity, their values set by the caller.
+    Eigen::VectorXd start = Eigen::VectorXd::Zero(owned_);
+    for (std::size_t d = 0; d < nd; ++d) {
+      if (gid_[d] < 0 || owner_[d] != me_) continue;
+      if (row_of_dof[d] < 0) {
+        to[static_cast<std::size_t>(me_)].add(gid_[d], gid_[d], 1.0);
+      } else if (guess != nullptr && guess->size() == a.rows()) {
+        start[gid_[d] - first_] = (*guess)[row_of_dof[d]];
+      }
+    }
+    detail::OwnedRows solved = detail::solve_rows(to, first_, owned_, total_, &start, tolerance);
+    // The values at the own triangles' nodes: from their owners.
+    std::vector<double> value(nd, 0.0);
+    std::vector<char> known(nd, 0);
+    std::vector<std::vector<std::uint64_t>> ask(static_cast<std::size_t>(parts_));
+    std::vector<std::vector<std::int32_t>> asked(static_cast<std::size_t>(parts_));
+    for (std::size_t d = 0; d < nd; ++d) {
+      if (gid_[d] < 0) continue;
+      if (owner_[d] == me_) {
+        value[d] = solved.x[gid_[d] - first_];
+        known[d] = 1;
+      } else {
+        ask[static_cast<std::size_t>(owner_[d])].push_back(static_cast<std::uint64_t>(gid_[d]));
+        asked[static_cast<std::size_t>(owner_[d])].push_back(static_cast<std::int32_t>(d));
+      }
+    }
+    const auto questions = detail::all_to_all(ask);
+    std::vector<std::vector<double>> answers(static_cast<std::size_t>(parts_));
+    for (int q = 0; q < parts_; ++q)
+      for (const std::uint64_t g : questions[static_cast<std::size_t>(q)])
+        answers[static_cast<std::size_t>(q)].push_back(solved.x[static_cast<std::int64_t>(g) - first_]);
+    const auto got = detail::all_to_all(answers);
+    for (int q = 0; q < parts_; ++q)
+      for (std::size_t i = 0; i < asked[static_cast<std::size_t>(q)].size(); ++i) {
+        const auto d = static_cast<std::size_t>(asked[static_cast<std::size_t>(q)][i]);
+        value[d] = got[static_cast<std::size_t>(q)].at(i);
+        known[d] = 1;
+      }
+    // ... and at the first ghost layer's nodes: from the processes owning those triangles.
+    std::vector<std::vector<std::uint64_t>> names_to(static_cast<std::size_t>(parts_));
+    std::vector<std::vector<double>> values_to(static_cast<std::size_t>(parts_));
+    for (int q = 0; q < parts_; ++q)
+      for (const std::int32_t d : push_[static_cast<std::size_t>(q)]) {
+        names_to[static_cast<std::size_t>(q)].push_back(dof_name_[static_cast<std::size_t>(d)]);
+        values_to[static_cast<std::size_t>(q)].push_back(value[static_cast<std::size_t>(d)]);
+      }
+    const auto names_from = detail::all_to_all(names_to);
+    const auto values_from = detail::all_to_all(values_to);
+    for (int q = 0; q < parts_; ++q)
+      for (std::size_t i = 0; i < names_from[static_cast<std::size_t>(q)].size(); ++i) {
+        const std::int32_t d = dof(names_from[static_cast<std::size_t>(q)][i]);
+        if (d < 0 || known[static_cast<std::size_t>(d)]) continue;
+        value[static_cast<std::size_t>(d)] = values_from[static_cast<std::size_t>(q)][i];
+        known[static_cast<std::size_t>(d)] = 1;
+      }
+    fem::LinearSolution out;
+    out.x = Eigen::VectorXd::Zero(a.rows());
+    for (std::size_t d = 0; d < nd; ++d)
+      if (row_of_dof[d] >= 0) out.x[row_of_dof[d]] = value[d];
+    out.iterations = solved.iterations;
+    out.relative_residual = solved.relative_residual;
+    return out;
+  }
+
+ private:
+  std::int32_t dof(std::uint64_t name) const {
+    const auto it = dof_of_name_.find(name);
+    return it == dof_of_name_.end() ? -1 : it->second;
+  }
+
+  // Each triangle's part (per slot; -1 where the view is coarser than the whole mesh).
+  std::vector<std::int32_t> parts_of(const RgbMesh& view) const {
+    std::vector<std::int32_t> unit = locate_units(view, floor_, units_, cache_.get());
+    for (std::int32_t& u : unit) u = u >= 0 ? unit_part_[static_cast<std::size_t>(u)] : -1;
+    return unit;
+  }
+
+  // Sends each process the vertices of this process's own triangles (`counted`) that its new
+  // part or ghost layers hold, with their ancestors above the floor; inserts what it receives.
+  void migrate(RgbMesh& view, const std::vector<char>& counted) {
+    const std::vector<std::int32_t> part = parts_of(view);  // the new parts
+    // The parts around each vertex (its star), then around its neighbours too: a triangle is
+    // in q's ghost layers if q's part is within two rings of its corners.
+    std::vector<std::vector<std::int32_t>> around(static_cast<std::size_t>(view.vertex_slots()));
+    for (const TriangleHandle t : view.triangles()) {
+      const std::int32_t q = part[static_cast<std::size_t>(t.idx)];
+      if (q < 0) continue;
+      for (const VertexHandle v : view.triangle_vertices(t)) add_unique(around[static_cast<std::size_t>(v.idx)], q);
+    }
+    std::unordered_map<std::int32_t, std::vector<std::int32_t>> two_rings;
+    VertexStar star;
+    const auto within_two = [&](VertexHandle v) -> const std::vector<std::int32_t>& {
+      auto [it, fresh] = two_rings.try_emplace(v.idx);
+      if (fresh) {
+        it->second = around[static_cast<std::size_t>(v.idx)];
+        view.star(v, star);
+        for (const VertexHandle w : star.neighbors)
+          for (const std::int32_t q : around[static_cast<std::size_t>(w.idx)]) add_unique(it->second, q);
+      }
+      return it->second;
+    };
+    std::vector<std::vector<char>> sending(static_cast<std::size_t>(parts_));
+    for (const TriangleHandle t : view.triangles()) {
+      if (!counted[static_cast<std::size_t>(t.idx)]) continue;
+      const auto c = view.triangle_vertices(t);
+      std::vector<std::int32_t> to;
+      for (const VertexHandle v : c)
+        for (const std::int32_t q : within_two(v))
+          if (q != me_) add_unique(to, q);
+      for (const std::int32_t q : to) {
+        auto& s = sending[static_cast<std::size_t>(q)];
+        if (s.empty()) s.assign(static_cast<std::size_t>(view.vertex_slots()), 0);
+        for (const VertexHandle v : c) s[static_cast<std::size_t>(v.idx)] = 1;
+      }
+    }
+    const std::vector<VertexName> name = vertex_names(view);
+    std::vector<std::vector<std::uint64_t>> to(static_cast<std::size_t>(parts_));
+    for (int q = 0; q < parts_; ++q) {
+      auto& s = sending[static_cast<std::size_t>(q)];
+      if (s.empty()) continue;
+      // With their ancestors above the floor (every view has the floor's vertices).
+      std::vector<VertexHandle> stack;
+      for (const VertexHandle v : view.vertices())
+        if (s[static_cast<std::size_t>(v.idx)]) stack.push_back(v);
+      while (!stack.empty()) {
+        const VertexHandle v = stack.back();
+        stack.pop_back();
+        if (view.level(v) <= floor_) continue;
+        const auto& p = view.parents(v);
+        append(to[static_cast<std::size_t>(q)],
+               {name[static_cast<std::size_t>(v.idx)], name[static_cast<std::size_t>(p[0].idx)],
+                name[static_cast<std::size_t>(p[1].idx)], static_cast<std::uint64_t>(view.level(v))});
+        for (const VertexHandle u : p)
+          if (!s[static_cast<std::size_t>(u.idx)]) {
+            s[static_cast<std::size_t>(u.idx)] = 1;
+            stack.push_back(u);
+          }
+      }
+    }
+    const auto from = detail::all_to_all(to);
+    std::vector<Travelling> items;
+    for (int q = 0; q < parts_; ++q)
+      if (q != me_)
+        for (const Travelling& t : unpack(from[static_cast<std::size_t>(q)])) items.push_back(t);
+    std::unordered_set<VertexName> handed;
+    for (const Travelling& t : items) handed.insert(t.name);
+    Names names(view);
+    const std::vector<Travelling> left = insert(view, names, std::move(items));
+    if (!left.empty())
+      throw std::logic_error("distributed mesh: " + std::to_string(left.size()) +
+                             " vertices handed over could not be inserted (the first of level " +
+                             std::to_string(left.front().level) + ")");
+    // Where this view was coarser than the whole mesh around a vertex's parents, split_edge
+    // made forced splits the whole mesh has not made (it reached that vertex otherwise): out
+    // again, finest first, as far as they can go.
+    std::vector<VertexHandle> forced;
+    for (const VertexHandle v : names.inserted)
+      if (view.alive(v) && !handed.count(names.of(v))) forced.push_back(v);
+    std::sort(forced.begin(), forced.end(), [&view](VertexHandle a, VertexHandle b) { return view.level(a) > view.level(b); });
+    for (bool removed = true; removed;) {
+      removed = false;
+      for (const VertexHandle v : forced)
+        if (view.alive(v) && view.is_removable(v)) {
+          view.remove_vertex(v);
+          removed = true;
+        }
+    }
+  }
+
+  int floor_, parts_, me_;
+  std::shared_ptr<FloorCache> cache_ = make_floor_cache();
+  bool whole_ = true;  // every process holds the whole mesh (before the first cycle)
+  Units units_;
+  std::vector<std::int32_t> unit_part_;
+  std::unordered_set<VertexName> known_;    // its vertices
+  std::unordered_set<VertexName> region_;   // the part's and its ghost layers' vertices (and those between them)
+  // The numbered finite-element mesh.
+  std::vector<VertexName> dof_name_;
+  std::unordered_map<VertexName, std::int32_t> dof_of_name_;
+  std::vector<std::int64_t> gid_;
+  std::vector<std::int32_t> owner_;
+  std::int64_t first_ = 0, owned_ = 0, total_ = 0;
+  std::vector<std::vector<std::int32_t>> push_;
+};
+
+}  // namespace
+
+bool mesh_can_be_distributed(const adapt::AdaptOptions& options) {
+  return !(options.coarsen_below > 0) && !options.resumable;
+}
+
+void distribute_mesh(adapt::AdaptOptions& options) {
+  const int parts = processes();
+  if (parts <= 1) return;
+  if (!mesh_can_be_distributed(options))
+    throw std::invalid_argument("distribute_mesh: a run with coarsening or resumable files keeps the whole mesh (distribute)");
+  auto state = std::make_shared<DistributedMesh>(options.min_level, parts, rank());
+  options.distributed_mesh = true;
+  options.prepare_mesh = [state](RgbMesh& view) { state->prepare(view); };
+  options.after_adaptation = [state](RgbMesh& view) { state->reconcile(view); };
+  options.partition = [state](const RgbMesh& view, const fem::SurfaceMesh& fe) { return state->number(view, fe); };
+  options.part = rank();
+  options.sum_over_parts = sum;
+  // Each process keeps its own triangles' indicators: nothing to gather.
+  options.gather_over_parts = [](double*, std::size_t, const std::vector<std::int32_t>&) {};
+  options.bytes_sent = bytes_sent_since_last;
+  options.solve.shared_solver = [state](const fem::SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<std::int32_t>&,
+                                        const std::vector<Eigen::Index>& row_of_dof, const Eigen::VectorXd* guess,
+                                        double tolerance) { return state->solve(a, b, row_of_dof, guess, tolerance); };
+}
+
+}  // namespace rgbmesh::parallel
