@@ -63,6 +63,7 @@ std::string cycles_json(const std::vector<adapt::CycleReport>& reports, bool dyn
         .add("adapt_seconds", r.adapt_seconds)
         .add("assembly_seconds", r.assembly_seconds)
         .add("partition_seconds", r.partition_seconds)
+        .add("exchange_seconds", r.exchange_seconds)
         .add("output_seconds", r.output_seconds)
         .add("bytes_sent", static_cast<std::uint64_t>(r.bytes_sent))
         .add("bytes_sent_largest", static_cast<std::uint64_t>(r.bytes_sent_largest))
@@ -288,6 +289,7 @@ std::vector<adapt::CycleReport> cycles_from(const JsonValue& list, const fs::pat
     for (auto [key, field] : {std::pair{"mesh_seconds", &r.mesh_seconds}, std::pair{"estimate_seconds", &r.estimate_seconds},
                               std::pair{"error_seconds", &r.error_seconds},
                               std::pair{"partition_seconds", &r.partition_seconds},
+                              std::pair{"exchange_seconds", &r.exchange_seconds},
                               std::pair{"assembly_seconds", &r.assembly_seconds},
                               std::pair{"output_seconds", &r.output_seconds}})
       if (c.find(key)) *field = real(c, key, file);
@@ -364,6 +366,10 @@ PriorRun read_prior_run(const std::string& folder) {
     if (p.done.cycles[i].cycle != static_cast<int>(i))
       damaged(file, "its cycle " + std::to_string(i) + " is numbered " + std::to_string(p.done.cycles[i].cycle));
     const fs::path f = p.dir / cycle_file(p.moving, p.done.cycles[i].cycle);
+    if (!fs::is_regular_file(f, ec) && fs::is_regular_file(p.dir / series_file(p.moving, p.done.cycles[i].cycle, 1, true), ec))
+      throw InputError(folder + ": was run with the mesh distributed over processes: its cycles are pieces (" +
+                       series_file(p.moving, p.done.cycles[i].cycle, 1, true) +
+                       "), from which --resume cannot restore the mesh yet (run it again)");
     if (!fs::is_regular_file(f, ec)) throw InputError(f.string() + ": missing (the run's report lists it): cannot resume");
   }
   const adapt::CycleReport& last = p.done.cycles.back();

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The adaptive loop on 1, 2 and 4 MPI processes (issue 13), in one script so that the figures
 # compare. For the last cycle of each run: its time (without writing the files) and the shares
-# of building the finite-element mesh, partitioning its triangles, assembly, solve, estimate,
-# errors and adaptation (the rest: marking, refinement, solution transfer), and writing the
+# of building the finite-element mesh, partitioning its triangles (and numbering the unknowns),
+# the distributed mesh's exchanges (parts decided, views migrated, interface splits handed
+# over), assembly, solve, estimate, errors and adaptation (the rest: marking, refinement,
+# solution transfer), and writing the
 # files as a share of the same time; the solver's iterations; the largest peak memory of a
 # process; and the bytes the processes sent during the cycle (the report's bytes_sent: every
 # message PETSc, hypre and rgbmesh hand to MPI, counted through its profiling interface), per
@@ -17,8 +19,8 @@ tool="$build/bin/rgbmesh"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-printf "%3s %9s %7s %5s %5s %5s %5s %5s %5s %5s %6s %4s %10s %11s %11s\n" P unknowns cycle_s mesh parts assem solve \
-  estim errs adapt output its "peak_MB/pr" "sent_MB/pr" "sent_MB_max"
+printf "%3s %9s %7s %5s %5s %5s %5s %5s %5s %5s %5s %6s %4s %10s %11s %11s\n" P unknowns cycle_s mesh parts exch assem \
+  solve estim errs adapt output its "peak_MB/pr" "sent_MB/pr" "sent_MB_max"
 for p in 1 2 4; do
   out="$work/p$p"
   mpirun --oversubscribe -np "$p" \
@@ -30,7 +32,8 @@ import json, sys
 c = json.load(open(sys.argv[1]))["cycles"][-1]
 s = c["seconds"]
 assembly = c.get("assembly_seconds", 0.0)
-parts = [c.get("mesh_seconds", 0.0), c.get("partition_seconds", 0.0), assembly, c["solve_seconds"] - assembly,
+parts = [c.get("mesh_seconds", 0.0), c.get("partition_seconds", 0.0), c.get("exchange_seconds", 0.0), assembly,
+         c["solve_seconds"] - assembly,
          c.get("estimate_seconds", 0.0), c.get("error_seconds", 0.0)]
 p = int(sys.argv[2])
 shares = [100 * x / s for x in parts] + [100 * (s - sum(parts)) / s, 100 * c.get("output_seconds", 0.0) / s]

@@ -14,6 +14,9 @@
 #include <thread>
 #include <vector>
 
+#include <random>
+
+#include "rgbmesh/adapt/adaptive.hpp"
 #include "rgbmesh/fem/estimators.hpp"
 #include "rgbmesh/fem/problem.hpp"
 #include "rgbmesh/fem/solver.hpp"
@@ -159,6 +162,53 @@ TEST(WorkShare, NeumannEdgesAndTheLoopSurfaceAreSharedToo) {
     p.is_neumann = [](const Vec3& x) { return x.x > 0; };
     p.neumann_flux = [](const Vec3& x) { return x.y; };
     expect_shared_like_one(mesh, p, false);
+  }
+}
+
+// Marking on a distributed mesh (adapt::mark_shared): each process passes only its own
+// triangles' indicators; the union of what they mark is what mark() marks among all, also
+// with ties (equal indicators and ones that only rounding separates) at the threshold.
+TEST(WorkShare, MarksFoundTogetherAreTheMarksOfOneProcess) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> value(0.0, 1.0);
+  for (int processes : {1, 2, 3, 4}) {
+    for (int trial = 0; trial < 4; ++trial) {
+      const std::size_t n = 500 + 97 * static_cast<std::size_t>(trial);
+      std::vector<double> eta(n);
+      for (double& e : eta) e = std::pow(value(rng), 3);
+      for (std::size_t i = 0; i < n; i += 7) eta[i] = eta[i / 2];              // exact ties
+      for (std::size_t i = 3; i < n; i += 11) eta[i] = eta[i - 1] * (1 + 1e-9);  // rounding apart
+      const std::vector<std::int32_t> part = parts_of(n, processes);
+      for (const adapt::Marking marking :
+           {adapt::Marking::dorfler, adapt::Marking::fixed_fraction, adapt::Marking::equidistribution}) {
+        for (const double theta : {0.3, 0.5, 0.9}) {
+          const double target = 0.5 * std::sqrt(static_cast<double>(n)) * eta[n / 3];
+          const std::vector<char> whole = adapt::mark(eta, marking, theta, target);
+          const auto marks = on_processes<std::vector<char>>(processes, part, [&](const WorkShare& share) {
+            // Each process holds its own indicators only (the others' are not known to it).
+            std::vector<double> mine(n, 0.0);
+            std::vector<char> own(n, 0);
+            for (std::size_t t = 0; t < n; ++t)
+              if (share.computes(t)) {
+                mine[t] = eta[t];
+                own[t] = 1;
+              }
+            return adapt::mark_shared(mine, own, marking, theta, target, share.sum);
+          });
+          std::vector<char> joined(n, 0);
+          for (int q = 0; q < processes; ++q)
+            for (std::size_t t = 0; t < n; ++t) {
+              if (marks[static_cast<std::size_t>(q)][t]) {
+                EXPECT_EQ(part[t], q) << "a process marks only its own triangles";
+                joined[t] = 1;
+              }
+            }
+          EXPECT_EQ(joined, whole) << processes << " processes, marking " << static_cast<int>(marking) << ", theta "
+                                   << theta;
+          EXPECT_GT(std::count(whole.begin(), whole.end(), 1), 0);
+        }
+      }
+    }
   }
 }
 

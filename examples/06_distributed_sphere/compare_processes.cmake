@@ -7,8 +7,8 @@ execute_process(COMMAND "${MPIEXEC}" --oversubscribe -np 2 "${EXAMPLE}" --cycles
 if(NOT code_one EQUAL 0 OR NOT code_two EQUAL 0)
   message(FATAL_ERROR "exit codes ${code_one} (one process) and ${code_two} (two)")
 endif()
-# Rows: cycle, dofs, H1 error, estimate, triangles, balance, kB.
-set(_row "^ +([0-9]+) +([0-9]+) +([0-9.e+-]+) +([0-9.e+-]+) +([0-9]+) +([0-9.]+) +([0-9.]+)$")
+# Rows: cycle, dofs, H1 error, estimate, triangles, balance, held/own, kB.
+set(_row "^ +([0-9]+) +([0-9]+) +([0-9.e+-]+) +([0-9.e+-]+) +([0-9]+) +([0-9.]+) +([0-9.]+) +([0-9.]+)$")
 foreach(run one two)
   string(REPLACE "\n" ";" _lines "${${run}}")
   set(rows_${run})

@@ -77,36 +77,60 @@ std::vector<std::vector<double>> all_to_all(const std::vector<std::vector<double
 
 OwnedRows solve_rows(std::vector<RowEntries>& to, std::int64_t first, std::int64_t count, std::int64_t total,
                      const Eigen::VectorXd* guess, double tolerance) {
-  const int p = processes();
-  std::vector<std::vector<std::uint64_t>> index_to(static_cast<std::size_t>(p));
-  std::vector<std::vector<double>> value_to(static_cast<std::size_t>(p));
+  const int p = processes(), me = rank();
+  // The entries are a solve's largest transient: this process's own rows (most of them) go
+  // straight to the triplets, only the others' travel, and each buffer is freed once copied.
+  std::vector<int> send(static_cast<std::size_t>(p), 0), receive(static_cast<std::size_t>(p));
+  std::size_t entries_out = 0;
+  for (int q = 0; q < p; ++q)
+    if (q != me) {
+      send[static_cast<std::size_t>(q)] = as_count(to[static_cast<std::size_t>(q)].value.size());
+      entries_out += to[static_cast<std::size_t>(q)].value.size();
+    }
+  std::vector<std::int64_t> index_out;
+  std::vector<double> value_out;
+  index_out.reserve(2 * entries_out);
+  value_out.reserve(entries_out);
   for (int q = 0; q < p; ++q) {
+    if (q == me) continue;
     RowEntries& e = to[static_cast<std::size_t>(q)];
-    index_to[static_cast<std::size_t>(q)].assign(e.index.begin(), e.index.end());  // (two's complement: -1 survives)
-    value_to[static_cast<std::size_t>(q)] = std::move(e.value);
+    index_out.insert(index_out.end(), e.index.begin(), e.index.end());
+    value_out.insert(value_out.end(), e.value.begin(), e.value.end());
     e = {};
   }
-  const auto index_from = all_to_all(index_to);
-  index_to = {};
-  const auto value_from = all_to_all(value_to);
-  value_to = {};
-  // This process's rows: every process's contributions added in rank order.
+  MPI_Alltoall(send.data(), 1, MPI_INT, receive.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+  std::vector<int> send2(send), receive2(receive);
+  for (int& c : send2) c = as_count(2 * static_cast<std::size_t>(c));
+  for (int& c : receive2) c = as_count(2 * static_cast<std::size_t>(c));
+  const std::vector<int> sd = displacements(send), rd = displacements(receive), sd2 = displacements(send2),
+                         rd2 = displacements(receive2);
+  std::vector<std::int64_t> index_in(static_cast<std::size_t>(rd2.back() + receive2.back()));
+  MPI_Alltoallv(index_out.data(), send2.data(), sd2.data(), MPI_INT64_T, index_in.data(), receive2.data(), rd2.data(),
+                MPI_INT64_T, PETSC_COMM_WORLD);
+  index_out = {};
+  std::vector<double> value_in(static_cast<std::size_t>(rd.back() + receive.back()));
+  MPI_Alltoallv(value_out.data(), send.data(), sd.data(), MPI_DOUBLE, value_in.data(), receive.data(), rd.data(),
+                MPI_DOUBLE, PETSC_COMM_WORLD);
+  value_out = {};
+  // This process's rows: its own contributions, then the others' in rank order.
+  RowEntries& own = to[static_cast<std::size_t>(me)];
   std::vector<Eigen::Triplet<double, PetscInt>> entries;
+  entries.reserve(own.value.size() + value_in.size());
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(count);
-  for (int q = 0; q < p; ++q) {
-    const auto& index = index_from[static_cast<std::size_t>(q)];
-    const auto& value = value_from[static_cast<std::size_t>(q)];
-    for (std::size_t e = 0; e < value.size(); ++e) {
-      const auto row = static_cast<std::int64_t>(index[2 * e]) - first;
-      const auto column = static_cast<std::int64_t>(index[2 * e + 1]);
-      if (row < 0 || row >= count) throw std::logic_error("distributed mesh: an entry for a row of another process");
-      if (column < 0) {
-        rhs[row] += value[e];
-      } else {
-        entries.emplace_back(static_cast<PetscInt>(row), static_cast<PetscInt>(column), value[e]);
-      }
+  const auto add = [&](std::int64_t row, std::int64_t column, double value) {
+    row -= first;
+    if (row < 0 || row >= count) throw std::logic_error("distributed mesh: an entry for a row of another process");
+    if (column < 0) {
+      rhs[row] += value;
+    } else {
+      entries.emplace_back(static_cast<PetscInt>(row), static_cast<PetscInt>(column), value);
     }
-  }
+  };
+  for (std::size_t e = 0; e < own.value.size(); ++e) add(own.index[2 * e], own.index[2 * e + 1], own.value[e]);
+  own = {};
+  for (std::size_t e = 0; e < value_in.size(); ++e) add(index_in[2 * e], index_in[2 * e + 1], value_in[e]);
+  index_in = {};
+  value_in = {};
   Eigen::SparseMatrix<double, Eigen::RowMajor, PetscInt> rows(static_cast<PetscInt>(count), static_cast<PetscInt>(total));
   rows.setFromTriplets(entries.begin(), entries.end());
   rows.makeCompressed();

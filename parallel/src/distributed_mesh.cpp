@@ -295,6 +295,19 @@ class DistributedMesh {
     for (std::size_t d = 0; d < nd; ++d)
       if (row_of_dof[d] >= 0) dof_of_row[static_cast<std::size_t>(row_of_dof[d])] = static_cast<std::int32_t>(d);
     std::vector<detail::RowEntries> to(static_cast<std::size_t>(parts_));
+    {  // (reserved: the entries are the largest transient of a solve)
+      std::vector<std::size_t> entries(static_cast<std::size_t>(parts_), 0);
+      for (Eigen::Index r = 0; r < a.outerSize(); ++r) {
+        const std::int32_t d = dof_of_row[static_cast<std::size_t>(r)];
+        if (d >= 0 && owner_[static_cast<std::size_t>(d)] >= 0)
+          entries[static_cast<std::size_t>(owner_[static_cast<std::size_t>(d)])] +=
+              static_cast<std::size_t>(a.outerIndexPtr()[r + 1] - a.outerIndexPtr()[r]) + 1;
+      }
+      for (int q = 0; q < parts_; ++q) {
+        to[static_cast<std::size_t>(q)].index.reserve(2 * entries[static_cast<std::size_t>(q)]);
+        to[static_cast<std::size_t>(q)].value.reserve(entries[static_cast<std::size_t>(q)]);
+      }
+    }
     for (Eigen::Index r = 0; r < a.outerSize(); ++r) {  // (symmetric: column r is row r)
       const auto d = static_cast<std::size_t>(dof_of_row[static_cast<std::size_t>(r)]);
       // (Stored zeros, which the assembly leaves where fixed values were, are no entries.)

@@ -64,17 +64,6 @@ std::size_t coarsen_away(RgbMesh& mesh, const std::vector<char>& keep, int floor
 
 namespace rgbmesh::parallel {
 
-VertexKey child_key(VertexKey a, VertexKey b) {
-  if (a > b) std::swap(a, b);
-  VertexKey h = a * 0x9E3779B97F4A7C15ull + (b ^ 0xD1B54A32D192ED03ull);
-  h ^= h >> 31;
-  h *= 0xBF58476D1CE4E5B9ull;
-  h ^= h >> 29;
-  h *= 0x94D049BB133111EBull;
-  h ^= h >> 32;
-  return h | (VertexKey{1} << 63);
-}
-
 std::unordered_set<std::int32_t> vertex_slots_alive(const RgbMesh& mesh) {
   std::unordered_set<std::int32_t> s;
   for (const VertexHandle v : mesh.vertices()) s.insert(v.idx);

@@ -132,6 +132,9 @@ struct CycleReport {
   double error_seconds = 0;  ///< the errors against the exact solution, where it is known
   double adapt_seconds = 0;  ///< marking + mesh update + solution transfer
   double partition_seconds = 0;  ///< with AdaptOptions::partition: the triangles' parts
+  /// A distributed mesh: the parts decided and the views migrated (prepare_mesh), and the
+  /// interface splits exchanged after the adaptation (after_adaptation); not in adapt_seconds.
+  double exchange_seconds = 0;
   /// Writing the cycle's files, for the caller that writes them (the tool sets it in its
   /// report); not part of `seconds`.
   double output_seconds = 0;

@@ -14,7 +14,8 @@ namespace rgbmesh::parallel {
 /// BoomerAMG on all processes (shared_amg), every process receives the others' indicators and
 /// adapts the same mesh; the reports count the bytes sent (CycleReport::bytes_sent). The
 /// results are those of one process: the same meshes, estimates and errors within the solver's
-/// tolerance. On one process (or without MPI) the options are left as they are.
+/// tolerance. On one process (or without MPI) the options are left as they are. For runs that
+/// need not coarsen, distribute_mesh (distributed_mesh.hpp) divides the mesh itself too.
 void distribute(adapt::AdaptOptions& options);
 
 }  // namespace rgbmesh::parallel

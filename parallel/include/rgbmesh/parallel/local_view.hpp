@@ -10,6 +10,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "rgbmesh/canonical.hpp"
 #include "rgbmesh/mesh.hpp"
 
 namespace rgbmesh::parallel {
@@ -30,8 +31,10 @@ std::size_t coarsen_away(RgbMesh& view, const std::vector<char>& keep, int floor
 /// were made from, whose vertices keep their slots in every view) by its slot, a vertex
 /// inserted since by a 64-bit mix of its parents' keys (marked by the top bit), so that the
 /// name does not depend on which process inserted it or in which order.
-using VertexKey = std::uint64_t;
-VertexKey child_key(VertexKey a, VertexKey b);
+/// (The mix is canonical.hpp's child_name: keys and names differ only in the start vertices,
+/// named by slot here and by base index there.)
+using VertexKey = VertexName;
+inline VertexKey child_key(VertexKey a, VertexKey b) { return child_name(a, b); }
 
 /// The keys of a view's vertices; `start` lists the slots of its vertices that come from the
 /// start mesh (those alive before it was refined).

@@ -4,11 +4,11 @@
 /// run. Built with MPI and PETSc (Debian: libopenmpi-dev, libpetsc-real-dev); without them,
 /// every call says one process.
 ///
-/// So far (issue 13) every process holds the same mesh and adapts it alike (the marks come
-/// from the same indicators); the finite-element work is divided: each process assembles and
-/// estimates its own triangles (shared_amg, sum, gather; set up by distribute in adaptive.hpp),
-/// and the bytes it hands to MPI are counted (bytes_sent). The distributed mesh's pieces are in
-/// local_view.hpp.
+/// Two ways to run the adaptive loop on all processes: with the mesh itself distributed
+/// (distributed_mesh.hpp: each process its part and two ghost layers) or with the whole mesh
+/// on every process and the finite-element work divided (adaptive.hpp: each process assembles
+/// and estimates its own triangles through shared_amg, sum and gather). Either way the bytes
+/// each process hands to MPI are counted (bytes_sent).
 
 #include <array>
 #include <cstddef>
