@@ -155,10 +155,23 @@ class DistributedMesh {
     const std::vector<VertexName> name = vertex_names(view);
     known_.clear();
     region_.clear();
-    const std::vector<char> exact = corners_and_layers(view, parts_of(view), me_, kGhostLayers);
+    const std::vector<std::int32_t> part = parts_of(view);
+    const std::vector<char> exact = corners_and_layers(view, part, me_, kGhostLayers);
     for (const VertexHandle v : view.vertices()) {
       known_.insert(name[static_cast<std::size_t>(v.idx)]);
       if (exact[static_cast<std::size_t>(v.idx)]) region_.insert(name[static_cast<std::size_t>(v.idx)]);
+    }
+    // The neighbours: the processes owning triangles among this one's ghost layers. Whoever
+    // needs a split made here owns triangles within two layers of it, so the split's owner
+    // (whose part holds it) has them among its ghost layers and hands it on.
+    neighbours_.clear();
+    for (const TriangleHandle t : view.triangles()) {
+      const std::int32_t q = part[static_cast<std::size_t>(t.idx)];
+      if (q < 0 || q == me_) continue;
+      const auto c = view.triangle_vertices(t);
+      if (exact[static_cast<std::size_t>(c[0].idx)] || exact[static_cast<std::size_t>(c[1].idx)] ||
+          exact[static_cast<std::size_t>(c[2].idx)])
+        add_unique(neighbours_, q);
     }
   }
 
@@ -184,9 +197,14 @@ class DistributedMesh {
       std::uint64_t made = mine.size();
       detail::sum(&made, 1);
       if (made == 0) break;
+      // To the neighbours only.
+      std::vector<std::vector<std::uint64_t>> to(static_cast<std::size_t>(parts_));
+      for (const std::int32_t q : neighbours_) to[static_cast<std::size_t>(q)] = mine;
+      mine = {};
       std::vector<Travelling> wanted;
-      for (const Travelling& t : unpack(detail::all_gather(mine)))
-        if (region_.count(t.a) && region_.count(t.b) && !names.find(t.name).valid()) wanted.push_back(t);
+      for (const auto& from : detail::all_to_all(to))
+        for (const Travelling& t : unpack(from))
+          if (region_.count(t.a) && region_.count(t.b) && !names.find(t.name).valid()) wanted.push_back(t);
       names.inserted.clear();
       insert(view, names, std::move(wanted));
       fresh = names.inserted;
@@ -497,6 +515,7 @@ class DistributedMesh {
   std::vector<std::int32_t> unit_part_;
   std::unordered_set<VertexName> known_;    // its vertices
   std::unordered_set<VertexName> region_;   // the part's and its ghost layers' vertices (and those between them)
+  std::vector<std::int32_t> neighbours_;    // the processes owning some of its ghost layers
   // The numbered finite-element mesh.
   std::vector<VertexName> dof_name_;
   std::unordered_map<VertexName, std::int32_t> dof_of_name_;
