@@ -143,6 +143,27 @@ TEST_F(Mpi, AMovingPeakWithCoarseningIsTheSerialRun) {
   expect_same_runs("adapt --problem moving-peak --steps 6 --min-level 1", "step_006", true);
 }
 
+TEST_F(Mpi, MoreProcessesThanUnitsIsTheSerialRunToo) {
+  // Two triangles, all four vertices on the boundary, on three processes: one process owns
+  // nothing and its view has no free unknown, yet it takes part in every collective step
+  // (found: it skipped the solve and the others waited forever).
+  std::ofstream obj(path("diamond.obj"));
+  obj << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0.2\nf 1 2 3\nf 2 4 3\n";
+  obj.close();
+  const std::string args = "adapt --mesh " + path("diamond.obj") + " --cycles 8";
+  ASSERT_EQ(run(args + " --out " + path("serial")).code, 0);
+  const RunResult many = run_on(3, args + " --out " + path("p3"));
+  ASSERT_EQ(many.code, 0) << many.err;
+  const std::vector<Cycle> a = cycles_of(report_of(path("serial"))), b = cycles_of(report_of(path("p3")));
+  ASSERT_EQ(a.size(), 8u);
+  ASSERT_EQ(b.size(), a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].dofs, b[i].dofs) << "cycle " << i;
+    EXPECT_EQ(a[i].triangles, b[i].triangles) << "cycle " << i;
+    EXPECT_NEAR(a[i].estimate, b[i].estimate, 1e-7 * a[i].estimate) << "cycle " << i;
+  }
+}
+
 TEST_F(Mpi, QuadraticElementsAreTheSerialRunToo) {
   // P2: the curved elements' matrices, residuals and edge jumps computed in parts.
   const std::string args = "adapt --order 2 --min-level 1 --cycles 7";

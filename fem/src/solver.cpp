@@ -315,6 +315,8 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
     any_dirichlet = true;
     u[i] = problem.dirichlet ? problem.dirichlet(mesh.lift(mesh.points[i])) : 0.0;
   }
+  // (Decided together: on a distributed mesh each process sees the boundary of its own view.)
+  if (shared) any_dirichlet = total_of(any_dirichlet ? 1.0 : 0.0) > 0;
   double mean_load = 0;  // ∫f + ∫h, removed in the zero-mean case
   if (!any_dirichlet && problem.c == 0) {
     // Closed surface (or all Neumann) with c = 0: solutions differ by constants, and exist
@@ -342,7 +344,9 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!fixed[i]) index[i] = nf++;
   }
-  if (nf == 0) {
+  // (Decided together too: a process whose view has no free unknown still takes part in the
+  // others' solve.)
+  if ((shared ? total_of(static_cast<double>(nf)) : static_cast<double>(nf)) == 0) {
     // Every vertex is on the Dirichlet boundary (a coarse open mesh): the discrete solution is
     // the interpolant of the boundary data, and the estimators still say where to refine.
     sol.solver = options.solver == SolverKind::automatic ? SolverKind::ldlt : options.solver;
