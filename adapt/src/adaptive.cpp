@@ -8,7 +8,6 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 
 #include "rgbmesh/adapt/solution_transfer.hpp"
 #include "rgbmesh/canonical.hpp"
@@ -110,44 +109,36 @@ std::vector<VertexHandle> rebuild_canonically(RgbMesh& mesh) {
 
 // A distributed mesh's counts (SolvedCycle::vertices, edges; the report's triangles and
 // unknowns): each process counts the vertices, edges and triangles of its own triangles whose
-// lowest part is its own, and the counts are added up.
-void count_over_parts(SolvedCycle& c, const AdaptOptions& options) {
+// lowest part is its own, and the counts are added up. (The neighbours of own triangles are
+// exact in the view, so their parts are known.)
+void count_over_parts(SolvedCycle& c, const RgbMesh& mesh, const AdaptOptions& options) {
   const fem::SurfaceMesh& fe = c.fe;
   const std::vector<std::int32_t>& part = c.triangle_part;
   const std::int32_t me = options.part;
+  // Each triangle's part by slot, for the edges' neighbours (-1: none or unknown).
+  std::vector<std::int32_t> part_of_slot(static_cast<std::size_t>(mesh.triangle_slots()), -1);
+  for (std::size_t t = 0; t < fe.triangles.size(); ++t) part_of_slot[static_cast<std::size_t>(fe.triangle[t].idx)] = part[t];
   std::vector<std::int32_t> lowest(fe.vertex.size(), std::numeric_limits<std::int32_t>::max());
-  std::unordered_map<std::uint64_t, std::int32_t> edge_lowest;  // by the corners' DOFs, of own triangles' edges
-  double counts[3] = {0, 0, 0};  // vertices, edges, triangles
   for (std::size_t t = 0; t < fe.triangles.size(); ++t) {
     if (part[t] < 0) continue;
     for (const std::int32_t v : fe.triangles[t]) lowest[static_cast<std::size_t>(v)] = std::min(lowest[static_cast<std::size_t>(v)], part[t]);
   }
-  const auto key = [](std::int32_t a, std::int32_t b) {
-    if (a > b) std::swap(a, b);
-    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-  };
-  for (std::size_t t = 0; t < fe.triangles.size(); ++t) {
-    if (part[t] < 0) continue;
-    const auto& v = fe.triangles[t];
-    for (int k = 0; k < 3; ++k) {
-      auto [it, fresh] = edge_lowest.try_emplace(key(v[k], v[(k + 1) % 3]), part[t]);
-      if (!fresh) it->second = std::min(it->second, part[t]);
-    }
-  }
+  double counts[3] = {0, 0, 0};  // vertices, edges, triangles
   for (std::size_t t = 0; t < fe.triangles.size(); ++t) {
     if (part[t] != me) continue;
     counts[2] += 1;
-    const auto& v = fe.triangles[t];
-    for (int k = 0; k < 3; ++k) {
-      if (lowest[static_cast<std::size_t>(v[k])] == me) {
+    for (const std::int32_t v : fe.triangles[t])
+      if (lowest[static_cast<std::size_t>(v)] == me) {
         counts[0] += 1;
-        lowest[static_cast<std::size_t>(v[k])] = -1;  // counted once
+        lowest[static_cast<std::size_t>(v)] = -1;  // counted once
       }
-      auto it = edge_lowest.find(key(v[k], v[(k + 1) % 3]));
-      if (it->second == me) {
-        counts[1] += 1;
-        it->second = -1;
-      }
+    // An edge is counted by the lower part beside it; between two own triangles, from the one
+    // in the lower slot.
+    const TriangleHandle h = fe.triangle[t];
+    for (const EdgeHandle e : mesh.triangle_edges(h)) {
+      const TriangleHandle other = mesh.other_triangle(e, h);
+      const std::int32_t q = other.valid() ? part_of_slot[static_cast<std::size_t>(other.idx)] : -1;
+      if (q < 0 || q > me || (q == me && h.idx < other.idx)) counts[1] += 1;
     }
   }
   options.sum_over_parts(counts, 3);
@@ -184,7 +175,7 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
     }
   }
   if (options.distributed_mesh) {
-    count_over_parts(c, options);
+    count_over_parts(c, mesh, options);
     if (check_max_dofs && c.report.dofs > options.max_dofs) {
       c.over_max_dofs = true;
       return c;
