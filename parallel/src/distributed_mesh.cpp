@@ -419,7 +419,10 @@ class DistributedMesh {
   // Sends each process the vertices of this process's own triangles (`counted`) that its new
   // part or ghost layers hold, with their ancestors above the floor; inserts what it receives.
   void migrate(RgbMesh& view, const std::vector<char>& counted) {
-    const std::vector<std::int32_t> part = parts_of(view);  // the new parts
+    // The new parts, where shared_units just placed the view's triangles.
+    std::vector<std::int32_t> part(units_.of_triangle.size());
+    for (std::size_t t = 0; t < part.size(); ++t)
+      part[t] = units_.of_triangle[t] >= 0 ? unit_part_[static_cast<std::size_t>(units_.of_triangle[t])] : -1;
     // The parts around each vertex (its star), then around its neighbours too: a triangle is
     // in q's ghost layers if q's part is within two rings of its corners.
     std::vector<std::vector<std::int32_t>> around(static_cast<std::size_t>(view.vertex_slots()));
