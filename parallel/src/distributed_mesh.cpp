@@ -155,6 +155,7 @@ class DistributedMesh {
     const std::vector<VertexName> name = vertex_names(view);
     known_.clear();
     region_.clear();
+    known_.reserve(view.num_vertices());
     const std::vector<std::int32_t> part = parts_of(view);
     const std::vector<char> exact = corners_and_layers(view, part, me_, kGhostLayers);
     for (const VertexHandle v : view.vertices()) {
@@ -424,22 +425,38 @@ class DistributedMesh {
     for (std::size_t t = 0; t < part.size(); ++t)
       part[t] = units_.of_triangle[t] >= 0 ? unit_part_[static_cast<std::size_t>(units_.of_triangle[t])] : -1;
     // The parts around each vertex (its star), then around its neighbours too: a triangle is
-    // in q's ghost layers if q's part is within two rings of its corners.
-    std::vector<std::vector<std::int32_t>> around(static_cast<std::size_t>(view.vertex_slots()));
+    // in q's ghost layers if q's part is within two rings of its corners. Most vertices have
+    // only this process's part within two rings: flags first, the lists only near others.
+    const auto slots = static_cast<std::size_t>(view.vertex_slots());
+    std::vector<char> other_in_star(slots, 0), other_within_two(slots, 0);
+    for (const TriangleHandle t : view.triangles()) {
+      const std::int32_t q = part[static_cast<std::size_t>(t.idx)];
+      if (q >= 0 && q != me_)
+        for (const VertexHandle v : view.triangle_vertices(t)) other_in_star[static_cast<std::size_t>(v.idx)] = 1;
+    }
+    for (const TriangleHandle t : view.triangles()) {
+      const auto c = view.triangle_vertices(t);
+      if (other_in_star[static_cast<std::size_t>(c[0].idx)] || other_in_star[static_cast<std::size_t>(c[1].idx)] ||
+          other_in_star[static_cast<std::size_t>(c[2].idx)])
+        for (const VertexHandle v : c) other_within_two[static_cast<std::size_t>(v.idx)] = 1;
+    }
+    std::unordered_map<std::int32_t, std::vector<std::int32_t>> around;  // near other parts only
     for (const TriangleHandle t : view.triangles()) {
       const std::int32_t q = part[static_cast<std::size_t>(t.idx)];
       if (q < 0) continue;
-      for (const VertexHandle v : view.triangle_vertices(t)) add_unique(around[static_cast<std::size_t>(v.idx)], q);
+      for (const VertexHandle v : view.triangle_vertices(t))
+        if (other_within_two[static_cast<std::size_t>(v.idx)]) add_unique(around[v.idx], q);
     }
     std::unordered_map<std::int32_t, std::vector<std::int32_t>> two_rings;
     VertexStar star;
     const auto within_two = [&](VertexHandle v) -> const std::vector<std::int32_t>& {
       auto [it, fresh] = two_rings.try_emplace(v.idx);
       if (fresh) {
-        it->second = around[static_cast<std::size_t>(v.idx)];
+        it->second = around[v.idx];
         view.star(v, star);
         for (const VertexHandle w : star.neighbors)
-          for (const std::int32_t q : around[static_cast<std::size_t>(w.idx)]) add_unique(it->second, q);
+          if (const auto a = around.find(w.idx); a != around.end())
+            for (const std::int32_t q : a->second) add_unique(it->second, q);
       }
       return it->second;
     };
@@ -447,13 +464,16 @@ class DistributedMesh {
     for (const TriangleHandle t : view.triangles()) {
       if (!counted[static_cast<std::size_t>(t.idx)]) continue;
       const auto c = view.triangle_vertices(t);
+      if (!other_within_two[static_cast<std::size_t>(c[0].idx)] && !other_within_two[static_cast<std::size_t>(c[1].idx)] &&
+          !other_within_two[static_cast<std::size_t>(c[2].idx)])
+        continue;  // only this process's part within two rings of it
       std::vector<std::int32_t> to;
       for (const VertexHandle v : c)
         for (const std::int32_t q : within_two(v))
           if (q != me_) add_unique(to, q);
       for (const std::int32_t q : to) {
         auto& s = sending[static_cast<std::size_t>(q)];
-        if (s.empty()) s.assign(static_cast<std::size_t>(view.vertex_slots()), 0);
+        if (s.empty()) s.assign(slots, 0);
         for (const VertexHandle v : c) s[static_cast<std::size_t>(v.idx)] = 1;
       }
     }
