@@ -1,0 +1,80 @@
+"""The Python package rgbmesh (issue 14), first slice: a mesh from numpy arrays with the files'
+validation, arrays out, uniform refinement; the same mesh and positions as the rgbmesh tool
+gives for the same input and stages."""
+
+import os
+import subprocess
+
+import numpy as np
+import pytest
+import rgbmesh
+
+vtk = pytest.importorskip("vtk")
+from vtk.util.numpy_support import vtk_to_numpy  # noqa: E402
+
+
+def icosahedron():
+    t = (1 + 5 ** 0.5) / 2
+    points = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
+                       [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]], float)
+    triangles = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
+                          [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
+                          [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]])
+    return points, triangles
+
+
+def test_uniform_refinement_counts_and_invariants():
+    points, triangles = icosahedron()
+    mesh = rgbmesh.Mesh.from_arrays(points, triangles)
+    assert (mesh.num_vertices, mesh.num_triangles) == (12, 20)
+    inserted = mesh.refine_uniform(3)
+    # Each level adds a vertex per edge and splits each triangle in four.
+    assert (mesh.num_vertices, mesh.num_triangles, inserted) == (642, 1280, 630)
+    assert mesh.validate() == ""
+    levels = mesh.vertex_levels()
+    assert levels.shape == (642,) and levels.max() == 3 and (levels == 0).sum() == 12
+    tri = mesh.triangles()
+    assert tri.shape == (1280, 3) and tri.min() == 0 and tri.max() == 641
+    # Coarsening back to level 0 gives the base mesh's control points again.
+    mesh.refine_uniform(0)
+    assert np.array_equal(mesh.control_points(), points)
+
+
+def test_the_same_limit_positions_as_the_tool(tmp_path):
+    points, triangles = icosahedron()
+    base = tmp_path / "ico.obj"
+    with open(base, "w") as f:
+        for p in points:
+            f.write("v %.17g %.17g %.17g\n" % tuple(p))
+        for t in triangles:
+            f.write("f %d %d %d\n" % tuple(t + 1))
+    out = tmp_path / "refined.vtp"
+    subprocess.run([os.environ["RGBMESH_CLI"], "refine", str(base), str(out), "--uniform", "2", "--limit"], check=True,
+                   capture_output=True)
+    reader = vtk.vtkXMLPolyDataReader()
+    reader.SetFileName(str(out))
+    reader.Update()
+    data = reader.GetOutput()
+    tool_points = vtk_to_numpy(data.GetPoints().GetData())
+    tool_triangles = vtk_to_numpy(data.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    mesh = rgbmesh.Mesh.from_arrays(points, triangles)
+    mesh.refine_uniform(2)
+    mine = mesh.limit_positions()
+    # The same triangles by their corners' positions, the positions to the last digits.
+    assert mine.shape == tool_points.shape
+    key = lambda p: tuple(np.round(p, 12))
+    index = {key(p): i for i, p in enumerate(tool_points)}
+    mapped = np.array([index[key(p)] for p in mine])
+    assert np.abs(tool_points[mapped] - mine).max() < 1e-15
+    assert {tuple(sorted(mapped[t])) for t in mesh.triangles()} == {tuple(sorted(t)) for t in tool_triangles}
+
+
+@pytest.mark.parametrize("points, triangles, message", [
+    (np.zeros((3, 3)), np.array([[0, 1, 5]]), "vertex index 5, out of range"),
+    (np.zeros((3, 2)), np.array([[0, 1, 2]]), "points: an (n, 3) array is needed"),
+    (np.array([[0, 0, 0], [1, 0, np.nan], [0, 1, 0]]), np.array([[0, 1, 2]]), "point 1 is not finite"),
+])
+def test_bad_input_is_a_value_error_naming_the_element(points, triangles, message):
+    with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        rgbmesh.Mesh.from_arrays(points, triangles)
+    assert issubclass(rgbmesh.InputError, ValueError)
