@@ -3,8 +3,11 @@
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
+#include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "bindings.hpp"
@@ -72,6 +75,94 @@ py::array_t<double> points_of(const MeshSnapshot& s) {
   });
 }
 
+// Refinement options that let Ctrl-C through: every 65,536 operations the progress report
+// takes the GIL back and asks Python for pending signals; a KeyboardInterrupt then unwinds
+// from between two operations, leaving a valid mesh.
+RefinementOptions interruptible(int max_level) {
+  RefinementOptions o;
+  o.max_level = max_level;
+  o.progress = [](std::uint64_t, std::size_t) {
+    py::gil_scoped_acquire acquire;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  };
+  return o;
+}
+
+py::dict result_of(const RefinementResult& r) {
+  py::dict d;
+  d["splits"] = r.splits;
+  d["removals"] = r.removals;
+  return d;
+}
+
+// Refinement by the built-in criteria, in the order given by the tool's stages.
+py::dict refine(RgbMesh& mesh, std::optional<int> uniform, std::optional<int> at_least,
+                std::optional<std::array<double, 5>> ball, std::optional<double> max_edge, std::optional<double> tolerance,
+                std::optional<std::size_t> budget, int max_level) {
+  if (max_level < 0 || max_level > kMaxLevel)
+    throw InputError("max_level " + std::to_string(max_level) + " is not in [0, " + std::to_string(kMaxLevel) + "]");
+  const auto level_in_range = [](int level, const char* what) {
+    if (level < 0 || level > kMaxLevel)
+      throw InputError(std::string(what) + ": level " + std::to_string(level) + " is not in [0, " + std::to_string(kMaxLevel) + "]");
+    return level;
+  };
+  if (max_edge && !(*max_edge > 0)) throw InputError("max_edge: must be positive");
+  if (tolerance && !(*tolerance > 0)) throw InputError("tolerance: must be positive");
+  if (ball && !((*ball)[3] > 0)) throw InputError("ball: the radius must be positive");
+  const RefinementOptions o = interruptible(max_level);
+  RefinementResult total;
+  const auto run = [&](const LodCriterion& c) {
+    RefinementResult r;
+    {
+      py::gil_scoped_release release;
+      r = selective_refinement(mesh, c, o);
+    }
+    total.splits += r.splits;
+    total.removals += r.removals;
+  };
+  if (uniform) run(UniformLevel(level_in_range(*uniform, "uniform")));
+  if (at_least) run(AtLeastLevel(level_in_range(*at_least, "at_least")));
+  if (ball)
+    run(BallLevel(Vec3((*ball)[0], (*ball)[1], (*ball)[2]), (*ball)[3],
+                  level_in_range(static_cast<int>((*ball)[4]), "ball")));
+  if (max_edge) run(MaxEdgeLength(*max_edge));
+  if (tolerance) run(GeometricTolerance(*tolerance));
+  if (budget) run(TriangleBudget(*budget));
+  return result_of(total);
+}
+
+// The user's own indicator: per triangle (the rows of triangles()) refine where above
+// refine_above; per vertex (the rows of the point arrays) remove where below coarsen_below.
+py::dict adapt_to(RgbMesh& mesh, std::optional<Doubles> triangle_values, double refine_above,
+                  std::optional<Doubles> vertex_values, double coarsen_below, int max_level) {
+  if (max_level < 0 || max_level > kMaxLevel)
+    throw InputError("max_level " + std::to_string(max_level) + " is not in [0, " + std::to_string(kMaxLevel) + "]");
+  const MeshSnapshot s = mesh.snapshot();
+  std::vector<double> by_triangle, by_vertex;
+  if (triangle_values) {
+    if (triangle_values->ndim() != 1 || static_cast<std::size_t>(triangle_values->shape(0)) != s.triangles.size())
+      throw InputError("triangle_values: one value per triangle is needed (" + std::to_string(s.triangles.size()) + ")");
+    by_triangle.assign(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
+    for (std::size_t i = 0; i < s.triangles.size(); ++i)
+      by_triangle[static_cast<std::size_t>(s.triangle_handle[i].idx)] = triangle_values->data()[i];
+  }
+  if (vertex_values) {
+    if (vertex_values->ndim() != 1 || static_cast<std::size_t>(vertex_values->shape(0)) != s.points.size())
+      throw InputError("vertex_values: one value per vertex is needed (" + std::to_string(s.points.size()) + ")");
+    by_vertex.assign(static_cast<std::size_t>(mesh.vertex_slots()), 1e300);
+    for (std::size_t i = 0; i < s.points.size(); ++i)
+      by_vertex[static_cast<std::size_t>(s.vertex_handle[i].idx)] = vertex_values->data()[i];
+  }
+  const RefinementOptions o = interruptible(max_level);
+  const FieldCriterion criterion(std::move(by_triangle), refine_above, std::move(by_vertex), coarsen_below);
+  RefinementResult r;
+  {
+    py::gil_scoped_release release;
+    r = selective_refinement(mesh, criterion, o);
+  }
+  return result_of(r);
+}
+
 }  // namespace
 
 void bind_mesh(py::module_& m) {
@@ -124,6 +215,16 @@ void bind_mesh(py::module_& m) {
             return r.splits;
           },
           py::arg("level"), "Refines (or coarsens) to the uniform mesh of this level; returns the vertices inserted.")
+      .def("refine", &refine, py::kw_only(), py::arg("uniform") = py::none(), py::arg("at_least") = py::none(),
+           py::arg("ball") = py::none(), py::arg("max_edge") = py::none(), py::arg("tolerance") = py::none(),
+           py::arg("budget") = py::none(), py::arg("max_level") = kMaxLevel,
+           "Selective refinement by the built-in criteria, applied in this order: uniform level, at least a "
+           "level, a ball (x, y, z, radius, level), a longest edge, a geometric tolerance, a triangle budget; "
+           "no vertex above max_level. Returns {'splits', 'removals'}. Ctrl-C interrupts, leaving a valid mesh.")
+      .def("adapt_to", &adapt_to, py::kw_only(), py::arg("triangle_values") = py::none(), py::arg("refine_above") = 0.5,
+           py::arg("vertex_values") = py::none(), py::arg("coarsen_below") = 0.0, py::arg("max_level") = kMaxLevel,
+           "Refines the triangles whose value (one per row of triangles()) is above refine_above one level, and "
+           "removes the vertices whose value (one per point) is below coarsen_below where the RGB rules allow.")
       .def("validate", [](const RgbMesh& mesh) { return mesh.validate(); },
            "'' when every invariant holds (conformity, manifoldness, orientation, colours, levels), else the first violation.");
 }

@@ -78,3 +78,41 @@ def test_bad_input_is_a_value_error_naming_the_element(points, triangles, messag
     with pytest.raises(ValueError, match=message.replace("(", r"\(").replace(")", r"\)")):
         rgbmesh.Mesh.from_arrays(points, triangles)
     assert issubclass(rgbmesh.InputError, ValueError)
+
+
+def test_built_in_criteria_and_the_level_cap():
+    points, triangles = icosahedron()
+    mesh = rgbmesh.Mesh.from_arrays(points, triangles)
+    r = mesh.refine(ball=(0.0, 1.6, 0.0, 0.5, 4), max_level=3)
+    assert r["splits"] > 0 and mesh.max_level == 3 and mesh.validate() == ""
+    before = mesh.num_triangles
+    mesh.refine(budget=before + 200)
+    assert before + 200 <= mesh.num_triangles <= before + 210  # a split adds 2 to 4 triangles
+    with pytest.raises(ValueError, match="uniform: level 99"):
+        mesh.refine(uniform=99)
+
+
+def test_a_user_indicator_refines_and_coarsens_back_to_the_base():
+    points, triangles = icosahedron()
+    mesh = rgbmesh.Mesh.from_arrays(points, triangles)
+    # Refine where the triangles' centres lie in the upper half, three times.
+    for _ in range(3):
+        p, t = mesh.control_points(), mesh.triangles()
+        centre_z = p[t].mean(axis=1)[:, 2]
+        mesh.adapt_to(triangle_values=(centre_z > 0).astype(float))
+        assert mesh.validate() == ""
+    refined = mesh.num_vertices
+    levels = mesh.vertex_levels()
+    assert refined > 12 and levels.max() == 3
+    # The upper half got finer (forced splits reach a little below the equator), the lower cap
+    # (z < -1, the base's lowest vertices at -1.62) not at all.
+    z = mesh.control_points()[levels > 0][:, 2]
+    assert (z > 0).mean() > 0.8 and z.min() > -1.0
+    # Coarsen everything: every inserted vertex's value below the threshold, until none goes.
+    while mesh.num_vertices > 12:
+        r = mesh.adapt_to(vertex_values=np.zeros(mesh.num_vertices), coarsen_below=1.0)
+        assert r["removals"] > 0 and mesh.validate() == ""
+    assert np.array_equal(mesh.control_points(), points)
+    assert {tuple(sorted(t)) for t in mesh.triangles()} == {tuple(sorted(t)) for t in triangles}
+    with pytest.raises(ValueError, match="one value per triangle"):
+        mesh.adapt_to(triangle_values=np.zeros(3))
