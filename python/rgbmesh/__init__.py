@@ -3,6 +3,6 @@
 A thin binding of the C++ library: the mesh lives in C++, arrays come out as numpy arrays.
 """
 
-from ._rgbmesh import InputError, Mesh, PreconditionError
+from ._rgbmesh import InputError, Mesh, OutputError, PreconditionError, read
 
-__all__ = ["Mesh", "InputError", "PreconditionError"]
+__all__ = ["Mesh", "read", "InputError", "OutputError", "PreconditionError"]

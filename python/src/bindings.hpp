@@ -6,5 +6,6 @@
 namespace rgbmesh::python {
 
 void bind_mesh(pybind11::module_& m);
+void bind_io(pybind11::module_& m);  // after bind_mesh (it adds Mesh.write)
 
 }  // namespace rgbmesh::python

@@ -14,6 +14,7 @@ PYBIND11_MODULE(_rgbmesh, m) {
   m.doc() = "RGB subdivision meshes (the C++ library rgbmesh)";
   static py::exception<rgbmesh::InputError> input_error(m, "InputError", PyExc_ValueError);
   static py::exception<rgbmesh::PreconditionError> precondition_error(m, "PreconditionError", PyExc_RuntimeError);
+  static py::exception<rgbmesh::OutputError> output_error(m, "OutputError", PyExc_OSError);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -21,7 +22,10 @@ PYBIND11_MODULE(_rgbmesh, m) {
       input_error(e.what());
     } catch (const rgbmesh::PreconditionError& e) {
       precondition_error(e.what());
+    } catch (const rgbmesh::OutputError& e) {
+      output_error(e.what());
     }
   });
   rgbmesh::python::bind_mesh(m);
+  rgbmesh::python::bind_io(m);
 }

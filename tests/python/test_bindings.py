@@ -116,3 +116,33 @@ def test_a_user_indicator_refines_and_coarsens_back_to_the_base():
     assert {tuple(sorted(t)) for t in mesh.triangles()} == {tuple(sorted(t)) for t in triangles}
     with pytest.raises(ValueError, match="one value per triangle"):
         mesh.adapt_to(triangle_values=np.zeros(3))
+
+
+def test_written_and_read_back_with_the_rgb_state(tmp_path):
+    points, triangles = icosahedron()
+    mesh = rgbmesh.Mesh.from_arrays(points, triangles)
+    mesh.refine(ball=(0.0, 1.6, 0.0, 0.5, 3))
+    path = tmp_path / "adapted.vtp"
+    mesh.write(path)
+    back = rgbmesh.read(path)
+    # The RGB state restores the same mesh: levels, triangles and control points.
+    assert back.num_vertices == mesh.num_vertices and back.validate() == ""
+    assert np.array_equal(np.sort(back.vertex_levels()), np.sort(mesh.vertex_levels()))
+    key = lambda m: {tuple(sorted(map(tuple, np.round(m.control_points()[t], 12)))) for t in m.triangles()}
+    assert key(back) == key(mesh)
+    # Other formats: the base mesh of their triangles.
+    mesh.write(tmp_path / "adapted.obj", limit=True)
+    assert rgbmesh.read(tmp_path / "adapted.obj").num_vertices == mesh.num_vertices
+
+
+def test_bad_files_and_unwritable_paths(tmp_path):
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nv 1 0 0\nf 1 2 7\n")
+    with pytest.raises(ValueError, match="bad.obj: line 3"):
+        rgbmesh.read(bad)
+    points, triangles = icosahedron()
+    mesh = rgbmesh.Mesh.from_arrays(points, triangles)
+    with pytest.raises(OSError):
+        mesh.write(tmp_path / "no" / "such" / "folder" / "x.vtp")
+    with pytest.raises(ValueError, match="compression 'zip'"):
+        mesh.write(tmp_path / "x.vtp", compression="zip")
