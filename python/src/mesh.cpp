@@ -206,6 +206,42 @@ void bind_mesh(py::module_& m) {
           },
           "Each vertex's insertion level (0: a base vertex).")
       .def(
+          "triangle_levels",
+          [](const RgbMesh& mesh) {
+            const MeshSnapshot s = mesh.snapshot();
+            return make_array<std::uint8_t>(s.triangle_level.size(), 1, [&](std::uint8_t* d) {
+              std::copy(s.triangle_level.begin(), s.triangle_level.end(), d);
+            });
+          },
+          "Each triangle's level, in the order of triangles().")
+      .def(
+          "triangle_colors",
+          [](const RgbMesh& mesh) {
+            const MeshSnapshot s = mesh.snapshot();
+            return make_array<std::uint8_t>(s.triangle_color.size(), 1, [&](std::uint8_t* d) {
+              for (std::size_t i = 0; i < s.triangle_color.size(); ++i) d[i] = static_cast<std::uint8_t>(s.triangle_color[i]);
+            });
+          },
+          "Each triangle's colour: 0 green, 1 red, 2 blue (the paper's section IV).")
+      .def(
+          "parents",
+          [](const RgbMesh& mesh) {
+            const MeshSnapshot s = mesh.snapshot();
+            std::vector<std::int32_t> row_of_slot(static_cast<std::size_t>(mesh.vertex_slots()), -1);
+            for (std::size_t i = 0; i < s.vertex_handle.size(); ++i)
+              row_of_slot[static_cast<std::size_t>(s.vertex_handle[i].idx)] = static_cast<std::int32_t>(i);
+            return make_array<std::int32_t>(s.vertex_handle.size(), 2, [&](std::int32_t* d) {
+              for (std::size_t i = 0; i < s.vertex_handle.size(); ++i) {
+                const VertexHandle v = s.vertex_handle[i];
+                const bool base = mesh.level(v) == 0;
+                for (std::size_t k = 0; k < 2; ++k)
+                  d[2 * i + k] = base ? -1 : row_of_slot[static_cast<std::size_t>(mesh.parents(v)[k].idx)];
+              }
+            });
+          },
+          "Each vertex's parents, (n, 2) rows of the point arrays: the ends of the edge it split (its "
+          "control point is the Loop edge rule's there); -1, -1 for a base vertex.")
+      .def(
           "refine_uniform",
           [](RgbMesh& mesh, int level) {
             if (level < 0 || level > kMaxLevel)

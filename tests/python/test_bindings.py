@@ -146,3 +146,20 @@ def test_bad_files_and_unwritable_paths(tmp_path):
         mesh.write(tmp_path / "no" / "such" / "folder" / "x.vtp")
     with pytest.raises(ValueError, match="compression 'zip'"):
         mesh.write(tmp_path / "x.vtp", compression="zip")
+
+
+def test_levels_colours_and_parents_describe_the_rgb_structure():
+    points, triangles = icosahedron()
+    mesh = rgbmesh.Mesh.from_arrays(points, triangles)
+    mesh.refine(ball=(0.0, 1.6, 0.0, 0.5, 3))
+    parents, levels = mesh.parents(), mesh.vertex_levels()
+    base = levels == 0
+    assert (parents[base] == -1).all() and (parents[~base] >= 0).all()
+    # A vertex is finer than both its parents, and its parents are joined by no edge now (it
+    # split that edge).
+    assert (levels[parents[~base]].max(axis=1) < levels[~base]).all()
+    edges = {tuple(sorted(e)) for t in mesh.triangles() for e in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0]))}
+    assert not any(tuple(sorted(p)) in edges for p in parents[~base])
+    colours, tlevels = mesh.triangle_colors(), mesh.triangle_levels()
+    assert set(np.unique(colours)) <= {0, 1, 2} and 1 in colours and 2 in colours
+    assert tlevels.shape == colours.shape == (mesh.num_triangles,) and tlevels.max() == 3
