@@ -65,6 +65,36 @@ py::array_t<T> make_array(std::size_t rows, std::size_t columns, Fill&& fill) {
   return out;
 }
 
+// Each live vertex's row in the point arrays (the vertices in slot order, as in a snapshot),
+// by slot (-1: a free slot).
+std::vector<std::int32_t> rows_of_slots(const RgbMesh& mesh) {
+  std::vector<std::int32_t> row(static_cast<std::size_t>(mesh.vertex_slots()), -1);
+  std::int32_t next = 0;
+  for (const VertexHandle v : mesh.vertices()) row[static_cast<std::size_t>(v.idx)] = next++;
+  return row;
+}
+
+// Per-vertex and per-triangle arrays written straight from the mesh, in the snapshot's order
+// (no snapshot of everything for one array).
+template <class T, std::size_t Width, class Value>
+py::array_t<T> per_vertex(const RgbMesh& mesh, Value&& value) {
+  return make_array<T>(mesh.num_vertices(), Width, [&](T* d) {
+    for (const VertexHandle v : mesh.vertices()) {
+      value(v, d);
+      d += Width;
+    }
+  });
+}
+template <class T, std::size_t Width, class Value>
+py::array_t<T> per_triangle(const RgbMesh& mesh, Value&& value) {
+  return make_array<T>(mesh.num_triangles(), Width, [&](T* d) {
+    for (const TriangleHandle t : mesh.triangles()) {
+      value(t, d);
+      d += Width;
+    }
+  });
+}
+
 py::array_t<double> points_of(const MeshSnapshot& s) {
   return make_array<double>(s.points.size(), 3, [&](double* d) {
     for (std::size_t i = 0; i < s.points.size(); ++i) {
@@ -174,7 +204,14 @@ void bind_mesh(py::module_& m) {
       .def_property_readonly("num_triangles", &RgbMesh::num_triangles)
       .def_property_readonly("max_level", &RgbMesh::max_level)
       .def(
-          "control_points", [](const RgbMesh& mesh) { return points_of(mesh.snapshot(RgbMesh::Points::control)); },
+          "control_points",
+          [](const RgbMesh& mesh) {
+            const std::vector<std::uint8_t> shown = mesh.shown_levels();
+            return per_vertex<double, 3>(mesh, [&](VertexHandle v, double* d) {
+              const Vec3 c = mesh.control_point(v, shown[static_cast<std::size_t>(v.idx)]);
+              d[0] = c.x, d[1] = c.y, d[2] = c.z;
+            });
+          },
           "The vertices' control points at their shown level, (n, 3), in the order of triangles().")
       .def(
           "limit_positions",
@@ -189,54 +226,38 @@ void bind_mesh(py::module_& m) {
       .def(
           "triangles",
           [](const RgbMesh& mesh) {
-            const MeshSnapshot s = mesh.snapshot();
-            return make_array<std::int32_t>(s.triangles.size(), 3, [&](std::int32_t* d) {
-              for (std::size_t i = 0; i < s.triangles.size(); ++i)
-                for (std::size_t k = 0; k < 3; ++k) d[3 * i + k] = s.triangles[i][k];
+            const std::vector<std::int32_t> row = rows_of_slots(mesh);
+            return per_triangle<std::int32_t, 3>(mesh, [&](TriangleHandle t, std::int32_t* d) {
+              const auto c = mesh.triangle_vertices(t);
+              for (std::size_t k = 0; k < 3; ++k) d[k] = row[static_cast<std::size_t>(c[k].idx)];
             });
           },
           "The triangles, (m, 3) indices into the point arrays, counter-clockwise.")
       .def(
           "vertex_levels",
           [](const RgbMesh& mesh) {
-            const MeshSnapshot s = mesh.snapshot();
-            return make_array<std::uint8_t>(s.vertex_level.size(), 1, [&](std::uint8_t* d) {
-              std::copy(s.vertex_level.begin(), s.vertex_level.end(), d);
-            });
+            return per_vertex<std::uint8_t, 1>(mesh, [&](VertexHandle v, std::uint8_t* d) { *d = static_cast<std::uint8_t>(mesh.level(v)); });
           },
           "Each vertex's insertion level (0: a base vertex).")
       .def(
           "triangle_levels",
           [](const RgbMesh& mesh) {
-            const MeshSnapshot s = mesh.snapshot();
-            return make_array<std::uint8_t>(s.triangle_level.size(), 1, [&](std::uint8_t* d) {
-              std::copy(s.triangle_level.begin(), s.triangle_level.end(), d);
-            });
+            return per_triangle<std::uint8_t, 1>(mesh, [&](TriangleHandle t, std::uint8_t* d) { *d = static_cast<std::uint8_t>(mesh.level(t)); });
           },
           "Each triangle's level, in the order of triangles().")
       .def(
           "triangle_colors",
           [](const RgbMesh& mesh) {
-            const MeshSnapshot s = mesh.snapshot();
-            return make_array<std::uint8_t>(s.triangle_color.size(), 1, [&](std::uint8_t* d) {
-              for (std::size_t i = 0; i < s.triangle_color.size(); ++i) d[i] = static_cast<std::uint8_t>(s.triangle_color[i]);
-            });
+            return per_triangle<std::uint8_t, 1>(mesh, [&](TriangleHandle t, std::uint8_t* d) { *d = static_cast<std::uint8_t>(mesh.color(t)); });
           },
           "Each triangle's colour: 0 green, 1 red, 2 blue (the paper's section IV).")
       .def(
           "parents",
           [](const RgbMesh& mesh) {
-            const MeshSnapshot s = mesh.snapshot();
-            std::vector<std::int32_t> row_of_slot(static_cast<std::size_t>(mesh.vertex_slots()), -1);
-            for (std::size_t i = 0; i < s.vertex_handle.size(); ++i)
-              row_of_slot[static_cast<std::size_t>(s.vertex_handle[i].idx)] = static_cast<std::int32_t>(i);
-            return make_array<std::int32_t>(s.vertex_handle.size(), 2, [&](std::int32_t* d) {
-              for (std::size_t i = 0; i < s.vertex_handle.size(); ++i) {
-                const VertexHandle v = s.vertex_handle[i];
-                const bool base = mesh.level(v) == 0;
-                for (std::size_t k = 0; k < 2; ++k)
-                  d[2 * i + k] = base ? -1 : row_of_slot[static_cast<std::size_t>(mesh.parents(v)[k].idx)];
-              }
+            const std::vector<std::int32_t> row = rows_of_slots(mesh);
+            return per_vertex<std::int32_t, 2>(mesh, [&](VertexHandle v, std::int32_t* d) {
+              const bool base = mesh.level(v) == 0;
+              for (std::size_t k = 0; k < 2; ++k) d[k] = base ? -1 : row[static_cast<std::size_t>(mesh.parents(v)[k].idx)];
             });
           },
           "Each vertex's parents, (n, 2) rows of the point arrays: the ends of the edge it split (its "
