@@ -4,8 +4,8 @@
 #   scripts/install-deps.sh test   the above plus the test and benchmark dependencies
 set -euo pipefail
 
-main_packages=(cmake ninja-build g++ pkg-config libvtk9-dev libeigen3-dev libsuitesparse-dev libopenblas0-pthread libceres-dev libcli11-dev libcgal-dev libpetsc-real-dev libmetis-dev openmpi-bin)
-test_packages=(libgtest-dev libgmock-dev libbenchmark-dev libosd-dev doxygen python3-vtk9)
+main_packages=(cmake ninja-build g++ pkg-config libvtk9-dev libeigen3-dev libsuitesparse-dev libopenblas0-pthread libceres-dev libcli11-dev libcgal-dev libpetsc-real-dev libmetis-dev openmpi-bin python3-dev python3-numpy pybind11-dev)
+test_packages=(libgtest-dev libgmock-dev libbenchmark-dev libosd-dev doxygen python3-vtk9 python3-pytest)
 
 packages=("${main_packages[@]}")
 if [ "${1:-main}" = "test" ]; then packages+=("${test_packages[@]}"); fi

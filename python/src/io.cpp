@@ -1,0 +1,48 @@
+// rgbmesh.read and Mesh.write: every format the tool reads and writes (vtk_io), the RGB state
+// of .vtp/.vtu files included, written atomically.
+
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include "bindings.hpp"
+#include "rgbmesh/errors.hpp"
+#include "rgbmesh/vtk_io.hpp"
+
+namespace py = pybind11;
+
+namespace rgbmesh::python {
+
+void bind_io(py::module_& m) {
+  m.def(
+      "read",
+      [](const std::filesystem::path& path, bool triangulate) {
+        SoupOptions o;
+        o.triangulate = triangulate;
+        RgbMeshFile file;
+        {
+          py::gil_scoped_release release;
+          file = read_rgb_mesh(path, o);
+        }
+        return std::move(file.mesh);
+      },
+      py::arg("path"), py::arg("triangulate") = false,
+      "Reads a mesh file (.obj, .off, .ply, .stl, .vtk, .vtp, .vtu). A .vtp/.vtu that rgbmesh wrote comes "
+      "back with its RGB state (levels, colours, every inserted vertex); any other file as a base mesh. Bad "
+      "files: ValueError naming the file and the line or element.");
+  py::class_<RgbMesh>(m.attr("Mesh")).def(
+      "write",
+      [](RgbMesh& mesh, const std::filesystem::path& path, bool limit, const std::string& compression) {
+        WriteOptions o;
+        if (!compression_from_name(compression, o.compression))
+          throw InputError("compression '" + compression + "': lz4, zlib or none");
+        py::gil_scoped_release release;
+        write_rgb_mesh(path, mesh, o, limit);
+      },
+      py::arg("path"), py::kw_only(), py::arg("limit") = false, py::arg("compression") = "lz4",
+      "Writes the mesh (the format from the extension: .obj, .off, .ply, .stl, .vtp, .vtu), atomically; "
+      ".vtp and .vtu carry the RGB state, which read() restores. limit: the vertices at their limit "
+      "positions instead of their control points. An unwritable path: OSError.");
+}
+
+}  // namespace rgbmesh::python

@@ -1,0 +1,289 @@
+// rgbmesh.Mesh: an RgbMesh, built from numpy arrays and read back as numpy arrays (one copy
+// per array, no per-element Python), refined with the GIL released.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include "bindings.hpp"
+#include "rgbmesh/errors.hpp"
+#include "rgbmesh/mesh.hpp"
+#include "rgbmesh/refinement.hpp"
+
+namespace py = pybind11;
+
+namespace rgbmesh::python {
+
+namespace {
+
+using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using Indices = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+
+// An (n, 3) array's rows, refused with the reason if it is not one.
+template <class Array>
+void require_rows_of_three(const Array& a, const char* what) {
+  if (a.ndim() != 2 || a.shape(1) != 3)
+    throw InputError(std::string(what) + ": an (n, 3) array is needed, got " + std::to_string(a.ndim()) + " dimensions" +
+                     (a.ndim() == 2 ? " and " + std::to_string(a.shape(1)) + " columns" : std::string()));
+}
+
+RgbMesh from_arrays(const Doubles& points, const Indices& triangles) {
+  require_rows_of_three(points, "points");
+  require_rows_of_three(triangles, "triangles");
+  const auto n = static_cast<std::size_t>(points.shape(0)), m = static_cast<std::size_t>(triangles.shape(0));
+  std::vector<Vec3> p(n);
+  const double* x = points.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    p[i] = Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    if (!std::isfinite(p[i].x) || !std::isfinite(p[i].y) || !std::isfinite(p[i].z))
+      throw InputError("points: point " + std::to_string(i) + " is not finite");
+  }
+  std::vector<std::array<std::int32_t, 3>> t(m);
+  const std::int64_t* c = triangles.data();
+  for (std::size_t i = 0; i < m; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const std::int64_t v = c[3 * i + static_cast<std::size_t>(k)];
+      if (v < 0 || static_cast<std::size_t>(v) >= n)
+        throw InputError("triangles: triangle " + std::to_string(i) + " has vertex index " + std::to_string(v) +
+                         ", out of range (there are " + std::to_string(n) + " points)");
+      t[i][static_cast<std::size_t>(k)] = static_cast<std::int32_t>(v);
+    }
+  return RgbMesh::from_triangles(p, t);
+}
+
+// Copies into a new numpy array of `rows` x `columns`.
+template <class T, class Fill>
+py::array_t<T> make_array(std::size_t rows, std::size_t columns, Fill&& fill) {
+  py::array_t<T> out(columns == 1 ? std::vector<py::ssize_t>{static_cast<py::ssize_t>(rows)}
+                                  : std::vector<py::ssize_t>{static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(columns)});
+  fill(out.mutable_data());
+  return out;
+}
+
+// Each live vertex's row in the point arrays (the vertices in slot order, as in a snapshot),
+// by slot (-1: a free slot).
+std::vector<std::int32_t> rows_of_slots(const RgbMesh& mesh) {
+  std::vector<std::int32_t> row(static_cast<std::size_t>(mesh.vertex_slots()), -1);
+  std::int32_t next = 0;
+  for (const VertexHandle v : mesh.vertices()) row[static_cast<std::size_t>(v.idx)] = next++;
+  return row;
+}
+
+// Per-vertex and per-triangle arrays written straight from the mesh, in the snapshot's order
+// (no snapshot of everything for one array).
+template <class T, std::size_t Width, class Value>
+py::array_t<T> per_vertex(const RgbMesh& mesh, Value&& value) {
+  return make_array<T>(mesh.num_vertices(), Width, [&](T* d) {
+    for (const VertexHandle v : mesh.vertices()) {
+      value(v, d);
+      d += Width;
+    }
+  });
+}
+template <class T, std::size_t Width, class Value>
+py::array_t<T> per_triangle(const RgbMesh& mesh, Value&& value) {
+  return make_array<T>(mesh.num_triangles(), Width, [&](T* d) {
+    for (const TriangleHandle t : mesh.triangles()) {
+      value(t, d);
+      d += Width;
+    }
+  });
+}
+
+py::array_t<double> points_of(const MeshSnapshot& s) {
+  return make_array<double>(s.points.size(), 3, [&](double* d) {
+    for (std::size_t i = 0; i < s.points.size(); ++i) {
+      d[3 * i] = s.points[i].x;
+      d[3 * i + 1] = s.points[i].y;
+      d[3 * i + 2] = s.points[i].z;
+    }
+  });
+}
+
+// Refinement options that let Ctrl-C through: every 65,536 operations the progress report
+// takes the GIL back and asks Python for pending signals; a KeyboardInterrupt then unwinds
+// from between two operations, leaving a valid mesh.
+RefinementOptions interruptible(int max_level) {
+  RefinementOptions o;
+  o.max_level = max_level;
+  o.progress = [](std::uint64_t, std::size_t) {
+    py::gil_scoped_acquire acquire;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  };
+  return o;
+}
+
+py::dict result_of(const RefinementResult& r) {
+  py::dict d;
+  d["splits"] = r.splits;
+  d["removals"] = r.removals;
+  return d;
+}
+
+// Refinement by the built-in criteria, in the order given by the tool's stages.
+py::dict refine(RgbMesh& mesh, std::optional<int> uniform, std::optional<int> at_least,
+                std::optional<std::array<double, 5>> ball, std::optional<double> max_edge, std::optional<double> tolerance,
+                std::optional<std::size_t> budget, int max_level) {
+  if (max_level < 0 || max_level > kMaxLevel)
+    throw InputError("max_level " + std::to_string(max_level) + " is not in [0, " + std::to_string(kMaxLevel) + "]");
+  const auto level_in_range = [](int level, const char* what) {
+    if (level < 0 || level > kMaxLevel)
+      throw InputError(std::string(what) + ": level " + std::to_string(level) + " is not in [0, " + std::to_string(kMaxLevel) + "]");
+    return level;
+  };
+  if (max_edge && !(*max_edge > 0)) throw InputError("max_edge: must be positive");
+  if (tolerance && !(*tolerance > 0)) throw InputError("tolerance: must be positive");
+  if (ball && !((*ball)[3] > 0)) throw InputError("ball: the radius must be positive");
+  const RefinementOptions o = interruptible(max_level);
+  RefinementResult total;
+  const auto run = [&](const LodCriterion& c) {
+    RefinementResult r;
+    {
+      py::gil_scoped_release release;
+      r = selective_refinement(mesh, c, o);
+    }
+    total.splits += r.splits;
+    total.removals += r.removals;
+  };
+  if (uniform) run(UniformLevel(level_in_range(*uniform, "uniform")));
+  if (at_least) run(AtLeastLevel(level_in_range(*at_least, "at_least")));
+  if (ball)
+    run(BallLevel(Vec3((*ball)[0], (*ball)[1], (*ball)[2]), (*ball)[3],
+                  level_in_range(static_cast<int>((*ball)[4]), "ball")));
+  if (max_edge) run(MaxEdgeLength(*max_edge));
+  if (tolerance) run(GeometricTolerance(*tolerance));
+  if (budget) run(TriangleBudget(*budget));
+  return result_of(total);
+}
+
+// The user's own indicator: per triangle (the rows of triangles()) refine where above
+// refine_above; per vertex (the rows of the point arrays) remove where below coarsen_below.
+py::dict adapt_to(RgbMesh& mesh, std::optional<Doubles> triangle_values, double refine_above,
+                  std::optional<Doubles> vertex_values, double coarsen_below, int max_level) {
+  if (max_level < 0 || max_level > kMaxLevel)
+    throw InputError("max_level " + std::to_string(max_level) + " is not in [0, " + std::to_string(kMaxLevel) + "]");
+  const MeshSnapshot s = mesh.snapshot();
+  std::vector<double> by_triangle, by_vertex;
+  if (triangle_values) {
+    if (triangle_values->ndim() != 1 || static_cast<std::size_t>(triangle_values->shape(0)) != s.triangles.size())
+      throw InputError("triangle_values: one value per triangle is needed (" + std::to_string(s.triangles.size()) + ")");
+    by_triangle.assign(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
+    for (std::size_t i = 0; i < s.triangles.size(); ++i)
+      by_triangle[static_cast<std::size_t>(s.triangle_handle[i].idx)] = triangle_values->data()[i];
+  }
+  if (vertex_values) {
+    if (vertex_values->ndim() != 1 || static_cast<std::size_t>(vertex_values->shape(0)) != s.points.size())
+      throw InputError("vertex_values: one value per vertex is needed (" + std::to_string(s.points.size()) + ")");
+    by_vertex.assign(static_cast<std::size_t>(mesh.vertex_slots()), 1e300);
+    for (std::size_t i = 0; i < s.points.size(); ++i)
+      by_vertex[static_cast<std::size_t>(s.vertex_handle[i].idx)] = vertex_values->data()[i];
+  }
+  const RefinementOptions o = interruptible(max_level);
+  const FieldCriterion criterion(std::move(by_triangle), refine_above, std::move(by_vertex), coarsen_below);
+  RefinementResult r;
+  {
+    py::gil_scoped_release release;
+    r = selective_refinement(mesh, criterion, o);
+  }
+  return result_of(r);
+}
+
+}  // namespace
+
+void bind_mesh(py::module_& m) {
+  py::class_<RgbMesh>(m, "Mesh", "An RGB subdivision mesh: its base mesh and the vertices inserted since.")
+      .def_static("from_arrays", &from_arrays, py::arg("points"), py::arg("triangles"),
+                  "A base mesh from an (n, 3) float array of points and an (m, 3) integer array of "
+                  "counter-clockwise triangles, validated as the mesh files are (ValueError naming the element).")
+      .def_property_readonly("num_vertices", &RgbMesh::num_vertices)
+      .def_property_readonly("num_triangles", &RgbMesh::num_triangles)
+      .def_property_readonly("max_level", &RgbMesh::max_level)
+      .def(
+          "control_points",
+          [](const RgbMesh& mesh) {
+            const std::vector<std::uint8_t> shown = mesh.shown_levels();
+            return per_vertex<double, 3>(mesh, [&](VertexHandle v, double* d) {
+              const Vec3 c = mesh.control_point(v, shown[static_cast<std::size_t>(v.idx)]);
+              d[0] = c.x, d[1] = c.y, d[2] = c.z;
+            });
+          },
+          "The vertices' control points at their shown level, (n, 3), in the order of triangles().")
+      .def(
+          "limit_positions",
+          [](RgbMesh& mesh) {
+            {
+              py::gil_scoped_release release;
+              mesh.compute_limits();
+            }
+            return points_of(mesh.snapshot(RgbMesh::Points::limit));
+          },
+          "The vertices' positions on the Loop limit surface, (n, 3), in the order of triangles().")
+      .def(
+          "triangles",
+          [](const RgbMesh& mesh) {
+            const std::vector<std::int32_t> row = rows_of_slots(mesh);
+            return per_triangle<std::int32_t, 3>(mesh, [&](TriangleHandle t, std::int32_t* d) {
+              const auto c = mesh.triangle_vertices(t);
+              for (std::size_t k = 0; k < 3; ++k) d[k] = row[static_cast<std::size_t>(c[k].idx)];
+            });
+          },
+          "The triangles, (m, 3) indices into the point arrays, counter-clockwise.")
+      .def(
+          "vertex_levels",
+          [](const RgbMesh& mesh) {
+            return per_vertex<std::uint8_t, 1>(mesh, [&](VertexHandle v, std::uint8_t* d) { *d = static_cast<std::uint8_t>(mesh.level(v)); });
+          },
+          "Each vertex's insertion level (0: a base vertex).")
+      .def(
+          "triangle_levels",
+          [](const RgbMesh& mesh) {
+            return per_triangle<std::uint8_t, 1>(mesh, [&](TriangleHandle t, std::uint8_t* d) { *d = static_cast<std::uint8_t>(mesh.level(t)); });
+          },
+          "Each triangle's level, in the order of triangles().")
+      .def(
+          "triangle_colors",
+          [](const RgbMesh& mesh) {
+            return per_triangle<std::uint8_t, 1>(mesh, [&](TriangleHandle t, std::uint8_t* d) { *d = static_cast<std::uint8_t>(mesh.color(t)); });
+          },
+          "Each triangle's colour: 0 green, 1 red, 2 blue (the paper's section IV).")
+      .def(
+          "parents",
+          [](const RgbMesh& mesh) {
+            const std::vector<std::int32_t> row = rows_of_slots(mesh);
+            return per_vertex<std::int32_t, 2>(mesh, [&](VertexHandle v, std::int32_t* d) {
+              const bool base = mesh.level(v) == 0;
+              for (std::size_t k = 0; k < 2; ++k) d[k] = base ? -1 : row[static_cast<std::size_t>(mesh.parents(v)[k].idx)];
+            });
+          },
+          "Each vertex's parents, (n, 2) rows of the point arrays: the ends of the edge it split (its "
+          "control point is the Loop edge rule's there); -1, -1 for a base vertex.")
+      .def(
+          "refine_uniform",
+          [](RgbMesh& mesh, int level) {
+            if (level < 0 || level > kMaxLevel)
+              throw InputError("level " + std::to_string(level) + " is not in [0, " + std::to_string(kMaxLevel) + "]");
+            py::gil_scoped_release release;
+            const RefinementResult r = selective_refinement(mesh, UniformLevel(level));
+            return r.splits;
+          },
+          py::arg("level"), "Refines (or coarsens) to the uniform mesh of this level; returns the vertices inserted.")
+      .def("refine", &refine, py::kw_only(), py::arg("uniform") = py::none(), py::arg("at_least") = py::none(),
+           py::arg("ball") = py::none(), py::arg("max_edge") = py::none(), py::arg("tolerance") = py::none(),
+           py::arg("budget") = py::none(), py::arg("max_level") = kMaxLevel,
+           "Selective refinement by the built-in criteria, applied in this order: uniform level, at least a "
+           "level, a ball (x, y, z, radius, level), a longest edge, a geometric tolerance, a triangle budget; "
+           "no vertex above max_level. Returns {'splits', 'removals'}. Ctrl-C interrupts, leaving a valid mesh.")
+      .def("adapt_to", &adapt_to, py::kw_only(), py::arg("triangle_values") = py::none(), py::arg("refine_above") = 0.5,
+           py::arg("vertex_values") = py::none(), py::arg("coarsen_below") = 0.0, py::arg("max_level") = kMaxLevel,
+           "Refines the triangles whose value (one per row of triangles()) is above refine_above one level, and "
+           "removes the vertices whose value (one per point) is below coarsen_below where the RGB rules allow.")
+      .def("validate", [](const RgbMesh& mesh) { return mesh.validate(); },
+           "'' when every invariant holds (conformity, manifoldness, orientation, colours, levels), else the first violation.");
+}
+
+}  // namespace rgbmesh::python
