@@ -313,91 +313,9 @@ const UniformMesh& uniform_floor(const RgbMesh& mesh, int floor, FloorCache* cac
 
 }  // namespace
 
-Units units(const RgbMesh& mesh, int floor, int parts, double share, FloorCache* cache) {
-  if (!(share > 0)) throw std::invalid_argument("units: the share must be positive");
-  Units u;
-  const double limit = share * static_cast<double>(mesh.num_triangles()) / std::max(1, parts);
-  // Each triangle's cell at every level from the floor down to the finest (-1 where coarser),
-  // from the uniform meshes of those levels: the floor's coarsened from the mesh, each next one
-  // refined from the one above.
-  require_floor(mesh, floor);
-  std::optional<UniformMesh> own_floor;
-  std::vector<const UniformMesh*> uniform{&uniform_floor(mesh, floor, cache, own_floor)};
-  std::vector<std::unique_ptr<UniformMesh>> below;  // the levels under the floor, this call's
-  std::vector<MacroTriangles> at{cells_at(mesh, *uniform[0])};
-  std::unordered_map<std::uint64_t, std::int32_t> child;  // the mesh's vertices by their parents
-  std::int32_t next_missing = -2;
-  const int finest = mesh.max_level();
-  // Top-down: a unit heavier than the limit whose triangles are all finer than it splits into
-  // the cells one level down that hold them.
-  struct Pending {
-    int level;
-    std::int32_t cell;
-    std::vector<TriangleHandle> triangles;
-  };
-  std::vector<Pending> todo;
-  {
-    std::vector<std::vector<TriangleHandle>> by_cell(at[0].corners.size());
-    for (const TriangleHandle t : mesh.triangles()) by_cell[static_cast<std::size_t>(at[0].of_triangle[t.idx])].push_back(t);
-    for (std::size_t f = 0; f < by_cell.size(); ++f)
-      todo.push_back({floor, static_cast<std::int32_t>(f), std::move(by_cell[f])});
-  }
-  u.of_triangle.assign(static_cast<std::size_t>(mesh.triangle_slots()), -1);
-  while (!todo.empty()) {
-    Pending p = std::move(todo.back());
-    todo.pop_back();
-    bool split = static_cast<double>(p.triangles.size()) > limit && p.level < finest;
-    for (const TriangleHandle t : p.triangles) split = split && mesh.level(t) > p.level;
-    if (split) {
-      const auto depth = static_cast<std::size_t>(p.level + 1 - floor);
-      if (at.size() <= depth) {
-        if (child.empty()) {
-          child.reserve(static_cast<std::size_t>(mesh.num_vertices()));
-          for (const VertexHandle v : mesh.vertices())
-            if (mesh.level(v) > 0) child[edge_key(mesh.parents(v)[0].idx, mesh.parents(v)[1].idx)] = v.idx;
-        }
-        below.push_back(std::make_unique<UniformMesh>(uniform_below(*uniform.back(), child, next_missing)));
-        uniform.push_back(below.back().get());
-        at.push_back(cells_at(mesh, *uniform.back()));
-      }
-      std::vector<std::pair<std::int32_t, std::vector<TriangleHandle>>> children;
-      for (const TriangleHandle t : p.triangles) {
-        const std::int32_t c = at[depth].of_triangle[t.idx];
-        auto it = std::find_if(children.begin(), children.end(), [c](const auto& x) { return x.first == c; });
-        if (it == children.end()) it = children.insert(children.end(), {c, {}});
-        it->second.push_back(t);
-      }
-      for (auto& [c, triangles] : children) todo.push_back({p.level + 1, c, std::move(triangles)});
-      continue;
-    }
-    const auto id = static_cast<std::int32_t>(u.level.size());
-    u.level.push_back(p.level);
-    u.cell.push_back(p.cell);
-    u.triangles.push_back(p.triangles.size());
-    for (const TriangleHandle t : p.triangles) u.of_triangle[t.idx] = id;
-  }
-  // Units are neighbours where their triangles share an edge.
-  std::vector<std::vector<std::int32_t>> next(u.level.size());
-  for (const TriangleHandle t : mesh.triangles()) {
-    const std::int32_t a = u.of_triangle[t.idx];
-    for (const EdgeHandle e : mesh.triangle_edges(t)) {
-      if (mesh.is_boundary(e)) continue;
-      const std::int32_t b = u.of_triangle[mesh.other_triangle(e, t).idx];
-      if (b != a) next[static_cast<std::size_t>(a)].push_back(b);
-    }
-  }
-  u.neighbours.resize(next.size());
-  for (std::size_t a = 0; a < next.size(); ++a) {
-    std::sort(next[a].begin(), next[a].end());
-    next[a].erase(std::unique(next[a].begin(), next[a].end()), next[a].end());
-    u.neighbours[a] = std::move(next[a]);
-  }
-  return u;
-}
-
 namespace {
 
-// A view's triangles placed in the cells of the uniform meshes from the floor down, the levels
+// A mesh's (or a view's) triangles placed in the cells of the uniform meshes from the floor down, the levels
 // made as they are asked for (the floor's from the cache).
 class CellLevels {
  public:
@@ -431,6 +349,77 @@ class CellLevels {
   std::unordered_map<std::uint64_t, std::int32_t> child_;
   std::int32_t next_missing_ = -2;
 };
+
+}  // namespace
+
+Units units(const RgbMesh& mesh, int floor, int parts, double share, FloorCache* cache) {
+  if (!(share > 0)) throw std::invalid_argument("units: the share must be positive");
+  Units u;
+  const double limit = share * static_cast<double>(mesh.num_triangles()) / std::max(1, parts);
+  // Each triangle's cell at every level from the floor down to the finest (-1 where coarser),
+  // from the uniform meshes of those levels: the floor's coarsened from the mesh, each next one
+  // refined from the one above.
+  CellLevels cells(mesh, floor, cache);
+  const MacroTriangles& at_floor = cells.at(floor);
+  const int finest = mesh.max_level();
+  // Top-down: a unit heavier than the limit whose triangles are all finer than it splits into
+  // the cells one level down that hold them.
+  struct Pending {
+    int level;
+    std::int32_t cell;
+    std::vector<TriangleHandle> triangles;
+  };
+  std::vector<Pending> todo;
+  {
+    std::vector<std::vector<TriangleHandle>> by_cell(at_floor.corners.size());
+    for (const TriangleHandle t : mesh.triangles()) by_cell[static_cast<std::size_t>(at_floor.of_triangle[t.idx])].push_back(t);
+    for (std::size_t f = 0; f < by_cell.size(); ++f)
+      todo.push_back({floor, static_cast<std::int32_t>(f), std::move(by_cell[f])});
+  }
+  u.of_triangle.assign(static_cast<std::size_t>(mesh.triangle_slots()), -1);
+  while (!todo.empty()) {
+    Pending p = std::move(todo.back());
+    todo.pop_back();
+    bool split = static_cast<double>(p.triangles.size()) > limit && p.level < finest;
+    for (const TriangleHandle t : p.triangles) split = split && mesh.level(t) > p.level;
+    if (split) {
+      const MacroTriangles& below = cells.at(p.level + 1);
+      std::vector<std::pair<std::int32_t, std::vector<TriangleHandle>>> children;
+      for (const TriangleHandle t : p.triangles) {
+        const std::int32_t c = below.of_triangle[t.idx];
+        auto it = std::find_if(children.begin(), children.end(), [c](const auto& x) { return x.first == c; });
+        if (it == children.end()) it = children.insert(children.end(), {c, {}});
+        it->second.push_back(t);
+      }
+      for (auto& [c, triangles] : children) todo.push_back({p.level + 1, c, std::move(triangles)});
+      continue;
+    }
+    const auto id = static_cast<std::int32_t>(u.level.size());
+    u.level.push_back(p.level);
+    u.cell.push_back(p.cell);
+    u.triangles.push_back(p.triangles.size());
+    for (const TriangleHandle t : p.triangles) u.of_triangle[t.idx] = id;
+  }
+  // Units are neighbours where their triangles share an edge.
+  std::vector<std::vector<std::int32_t>> next(u.level.size());
+  for (const TriangleHandle t : mesh.triangles()) {
+    const std::int32_t a = u.of_triangle[t.idx];
+    for (const EdgeHandle e : mesh.triangle_edges(t)) {
+      if (mesh.is_boundary(e)) continue;
+      const std::int32_t b = u.of_triangle[mesh.other_triangle(e, t).idx];
+      if (b != a) next[static_cast<std::size_t>(a)].push_back(b);
+    }
+  }
+  u.neighbours.resize(next.size());
+  for (std::size_t a = 0; a < next.size(); ++a) {
+    std::sort(next[a].begin(), next[a].end());
+    next[a].erase(std::unique(next[a].begin(), next[a].end()), next[a].end());
+    u.neighbours[a] = std::move(next[a]);
+  }
+  return u;
+}
+
+namespace {
 
 std::uint64_t cell_key(int level, std::int32_t cell) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(level)) << 32) | static_cast<std::uint32_t>(cell);
