@@ -353,6 +353,82 @@ TEST(Fem, AMeshWithOnlyDirichletVerticesHasTheInterpolantAsSolution) {
   EXPECT_GT(residual_estimator(mesh, p, s.u).total, 0);
 }
 
+// A vectorised source and vectorised Dirichlet data (PointValues, what the Python package
+// passes for a numpy function) are called once per computation with every point the pointwise
+// functions would be called at, and give the same numbers bit for bit: P1 and P2, on an open
+// Loop surface (Dirichlet boundary) and on the projected sphere with c = 0 (the zero-mean
+// check samples the flat triangles, the P2 load the curved elements).
+TEST(Fem, VectorisedDataGiveThePointwiseResults) {
+  const auto f = [](const Vec3& x) { return std::sin(3 * x.x) + x.y * x.z; };
+  const auto g = [](const Vec3& x) { return 1 + x.x - 2 * x.y; };
+  RgbMesh disk = testing::fan_disk(6).build();
+  selective_refinement(disk, UniformLevel(2));
+  RgbMesh ball = testing::icosahedron().build();
+  selective_refinement(ball, UniformLevel(2));
+  for (int order : {1, 2}) {
+    for (const bool sphere_case : {false, true}) {
+      RgbMesh& m = sphere_case ? ball : disk;
+      const SurfaceMesh mesh = sphere_case ? build_surface_mesh(m, Projection(project_to_unit_sphere), order)
+                                           : build_surface_mesh(m, std::nullopt, order);
+      Problem pointwise;
+      pointwise.name = "pointwise";
+      pointwise.c = sphere_case ? 0.0 : 1.0;
+      // On the sphere with c = 0: a zero-mean source (odd in x).
+      pointwise.source = sphere_case ? ScalarField([](const Vec3& x) { return x.x * (1 + x.y * x.y); }) : ScalarField(f);
+      if (!sphere_case) pointwise.dirichlet = g;
+      Problem vectorised = pointwise;
+      vectorised.name = "vectorised";
+      vectorised.source = nullptr;
+      vectorised.dirichlet = nullptr;
+      int source_calls = 0, dirichlet_calls = 0;
+      std::size_t source_points = 0;
+      vectorised.source_values = [&](const Vec3* x, std::size_t n, double* v) {
+        ++source_calls;
+        source_points += n;
+        for (std::size_t i = 0; i < n; ++i) v[i] = pointwise.source(x[i]);
+      };
+      if (!sphere_case)
+        vectorised.dirichlet_values = [&](const Vec3* x, std::size_t n, double* v) {
+          ++dirichlet_calls;
+          for (std::size_t i = 0; i < n; ++i) v[i] = g(x[i]);
+        };
+      const Solution a = solve(mesh, pointwise), b = solve(mesh, vectorised);
+      const std::string what = "order " + std::to_string(order) + (sphere_case ? " sphere" : " disk");
+      ASSERT_EQ(a.u.size(), b.u.size()) << what;
+      EXPECT_TRUE(a.u == b.u) << what << ": max difference " << (a.u - b.u).cwiseAbs().maxCoeff();
+      // The load, plus the zero-mean check on the sphere: 7 points per triangle each time.
+      EXPECT_EQ(source_calls, sphere_case ? 2 : 1) << what;
+      EXPECT_EQ(source_points, 7 * mesh.triangles.size() * static_cast<std::size_t>(source_calls)) << what;
+      EXPECT_EQ(dirichlet_calls, sphere_case ? 0 : 1) << what;
+      const Estimate ea = residual_estimator(mesh, pointwise, a.u), eb = residual_estimator(mesh, vectorised, b.u);
+      EXPECT_EQ(ea.eta, eb.eta) << what;
+      EXPECT_GT(ea.total, 0) << what;
+    }
+  }
+  // Both forms at once, and values that are not finite, are refused.
+  const SurfaceMesh mesh = build_surface_mesh(disk);
+  Problem both;
+  both.c = 1;
+  both.source = f;
+  both.source_values = [](const Vec3*, std::size_t n, double* v) { std::fill(v, v + n, 1.0); };
+  EXPECT_THROW(solve(mesh, both), InputError);
+  Problem nan_source;
+  nan_source.c = 1;
+  nan_source.source_values = [](const Vec3* x, std::size_t n, double* v) {
+    for (std::size_t i = 0; i < n; ++i) v[i] = x[i].x > 0.5 ? std::nan("") : 1.0;
+  };
+  EXPECT_THROW(solve(mesh, nan_source), InputError);
+  Problem nan_boundary;
+  nan_boundary.c = 1;
+  nan_boundary.dirichlet_values = [](const Vec3*, std::size_t n, double* v) { std::fill(v, v + n, std::nan("")); };
+  try {
+    solve(mesh, nan_boundary);
+    FAIL() << "non-finite Dirichlet data were accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("Dirichlet data are not finite"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Fem, BadProblemsGiveClearErrors) {
   const SurfaceMesh mesh = sphere(2);
   Problem p;

@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "parallel.hpp"
+#include "source_samples.hpp"
 
 namespace rgbmesh::fem {
 
@@ -300,6 +301,7 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
   const std::size_t nt = mesh.triangles.size();
   const auto& rule = triangle_quadrature();
   std::vector<double> h(nt), eta2(nt, 0.0), energy(nt, 0.0), delta(nt, 0.0), geometric(nt, 0.0);
+  const detail::SourceSamples source(mesh, problem, detail::SamplePoints::element, share);
   // Element residuals f - c u_h + Δ_Γh u_h, ‖∇u_h‖²_T and (with a projection) the distance to
   // the surface.
   detail::for_each_index(nt, [&](std::size_t t) {
@@ -307,11 +309,12 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
     const auto& c = mesh.triangles[t];
     h[t] = longest_edge(mesh.points[c[0]], mesh.points[c[1]], mesh.points[c[2]]);
     double r2 = 0;
-    for (const auto& q : rule) {
+    for (std::size_t n = 0; n < rule.size(); ++n) {
+      const auto& q = rule[n];
       const ElementPoint p = element_point(mesh, t, q.barycentric);
       const auto [uh, grad] = evaluate(p, u);
       const Vec3 lifted = mesh.lift(p.x);
-      const double r = (problem.source ? problem.source(lifted) : 0.0) - problem.c * uh +
+      const double r = source.at(t, n, lifted) - problem.c * uh +
                        laplace_beltrami(mesh, t, q.barycentric, u);
       const double w = q.weight * p.density;
       r2 += w * r * r;
@@ -387,6 +390,7 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
   const std::vector<char> needed = needed_triangles(mesh, share, 2);
   const TriangleFields fields(mesh, u, needed);
   std::vector<double> h(nt), eta2(nt, 0.0), geometric(nt, 0.0), delta(nt, 0.0);
+  const detail::SourceSamples source(mesh, problem, detail::SamplePoints::flat, share);
   for (std::size_t i = 0; i < nt; ++i) {
     if (!share.computes(i)) continue;
     const auto& t = mesh.triangles[i];
@@ -398,11 +402,12 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
     const auto& t = mesh.triangles[i];
     const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
     double r2 = 0;
-    for (const auto& q : rule) {
+    for (std::size_t n = 0; n < rule.size(); ++n) {
+      const auto& q = rule[n];
       const Vec3 x = at(q.barycentric, p0, p1, p2);
       const Vec3 lifted = mesh.lift(x);
       const double uh = q.barycentric[0] * u[t[0]] + q.barycentric[1] * u[t[1]] + q.barycentric[2] * u[t[2]];
-      const double r = (problem.source ? problem.source(lifted) : 0.0) - problem.c * uh;
+      const double r = source.at(i, n, lifted) - problem.c * uh;
       r2 += q.weight * fields.geo(i).area * r * r;
       if (mesh.projection) delta[i] = std::max(delta[i], distance(x, lifted));
     }

@@ -12,6 +12,7 @@
 
 #include "amg.hpp"
 #include "parallel.hpp"
+#include "source_samples.hpp"
 #include "rgbmesh/soup.hpp"
 
 #if defined(RGBMESH_HAVE_CHOLMOD)
@@ -127,17 +128,19 @@ std::pair<double, double> surface_integral_of_data(const SurfaceMesh& mesh, cons
                                                    const WorkShare& share) {
   double total = 0, scale = 0;
   const auto& rule = triangle_quadrature();
-  if (problem.source) {
+  const detail::SourceSamples source(mesh, problem, detail::SamplePoints::flat, share);
+  if (source.any()) {
     for (std::size_t k = 0; k < mesh.triangles.size(); ++k) {
       if (!share.computes(k)) continue;
       const auto& t = mesh.triangles[k];
       const Vec3 &p0 = mesh.points[t[0]], &p1 = mesh.points[t[1]], &p2 = mesh.points[t[2]];
       const TriangleGeometry g = triangle_geometry(p0, p1, p2);
       const double size = std::sqrt(g.area);
-      for (const auto& q : rule) {
+      for (std::size_t n = 0; n < rule.size(); ++n) {
+        const auto& q = rule[n];
         const Vec3 x = at(q.barycentric, p0, p1, p2);
         const double w = q.weight * g.area * mesh.lift_area_factor(x, g.normal, size);
-        const double f = problem.source(mesh.lift(x));
+        const double f = source.at(k, n, mesh.lift(x));
         total += w * f;
         scale += w * std::abs(f);
       }
@@ -201,7 +204,8 @@ namespace {
 Eigen::VectorXd shared_load_vector(const SurfaceMesh& mesh, const Problem& problem, const WorkShare& share) {
   Eigen::VectorXd load = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.num_dofs()));
   const auto& rule = triangle_quadrature();
-  if (problem.source) {
+  const detail::SourceSamples source(mesh, problem, detail::SamplePoints::element, share);
+  if (source.any()) {
     // Each triangle's ∫ f φ_i on every core, then added up in triangle order (as one thread
     // would: the same numbers whatever the number of threads).
     const std::size_t nt = mesh.triangles.size();
@@ -215,14 +219,16 @@ Eigen::VectorXd shared_load_vector(const SurfaceMesh& mesh, const Problem& probl
         const auto& c = mesh.triangles[t];
         const Vec3 &p0 = mesh.points[c[0]], &p1 = mesh.points[c[1]], &p2 = mesh.points[c[2]];
         const double area = triangle_geometry(p0, p1, p2).area;
-        for (const auto& q : rule) {
-          const double f = problem.source(mesh.lift(at(q.barycentric, p0, p1, p2)));
+        for (std::size_t n = 0; n < rule.size(); ++n) {
+          const auto& q = rule[n];
+          const double f = source.at(t, n, mesh.lift(at(q.barycentric, p0, p1, p2)));
           for (int i = 0; i < 3; ++i) l[i] += q.weight * area * f * q.barycentric[i];
         }
       } else {
-        for (const auto& q : rule) {
+        for (std::size_t n = 0; n < rule.size(); ++n) {
+          const auto& q = rule[n];
           const ElementPoint p = element_point(mesh, t, q.barycentric);
-          const double wf = q.weight * p.density * problem.source(mesh.lift(p.x));
+          const double wf = q.weight * p.density * source.at(t, n, mesh.lift(p.x));
           for (int i = 0; i < p.nodes; ++i) l[i] += wf * p.value[i];
         }
       }
@@ -310,11 +316,25 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   std::vector<char> fixed = dirichlet_dofs(mesh, problem);
   Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
   bool any_dirichlet = false;
+  if (problem.dirichlet && problem.dirichlet_values)
+    throw InputError("problem '" + problem.name + "': both dirichlet and dirichlet_values are set (give one)");
+  std::vector<Eigen::Index> fixed_dofs;
   for (Eigen::Index i = 0; i < n; ++i) {
     if (!fixed[i]) continue;
     any_dirichlet = true;
-    u[i] = problem.dirichlet ? problem.dirichlet(mesh.lift(mesh.points[i])) : 0.0;
+    fixed_dofs.push_back(i);
   }
+  if (problem.dirichlet) {
+    for (const Eigen::Index i : fixed_dofs) u[i] = problem.dirichlet(mesh.lift(mesh.points[i]));
+  } else if (problem.dirichlet_values && !fixed_dofs.empty()) {
+    std::vector<Vec3> at_dofs;
+    at_dofs.reserve(fixed_dofs.size());
+    for (const Eigen::Index i : fixed_dofs) at_dofs.push_back(mesh.lift(mesh.points[i]));
+    const std::vector<double> g = detail::point_values(problem.dirichlet_values, at_dofs);
+    for (std::size_t k = 0; k < fixed_dofs.size(); ++k) u[fixed_dofs[k]] = g[k];
+  }
+  if (total_of(u.allFinite() ? 0.0 : 1.0) > 0)  // (decided together, as the load's check)
+    throw InputError("problem '" + problem.name + "': the Dirichlet data are not finite somewhere on the boundary");
   // (Decided together: on a distributed mesh each process sees the boundary of its own view.)
   if (shared) any_dirichlet = total_of(any_dirichlet ? 1.0 : 0.0) > 0;
   double mean_load = 0;  // ∫f + ∫h, removed in the zero-mean case

@@ -8,6 +8,7 @@
 /// says otherwise (du/dn = h there, n the outward conormal); with c = 0 and no Dirichlet part
 /// the zero-mean treatment applies, and the compatibility condition includes the flux h.
 
+#include <cstddef>
 #include <functional>
 #include <optional>
 #include <string>
@@ -19,6 +20,11 @@ namespace rgbmesh::fem {
 
 using ScalarField = std::function<double(const Vec3&)>;
 using VectorField = std::function<Vec3(const Vec3&)>;
+/// A scalar field evaluated at many points in one call: values[i] = f(points[i]) for
+/// i < count. For fields written in an array language (a numpy function through the Python
+/// package): fem calls it once per assembly or estimate with every point that computation
+/// needs, from one thread, instead of once per point from several threads.
+using PointValues = std::function<void(const Vec3* points, std::size_t count, double* values)>;
 
 /// An exact solution, as a function on the exact surface: error_norms evaluates both fields
 /// only at points of the surface (the lifts of quadrature points), so an extension off the
@@ -38,6 +44,9 @@ struct Problem {
   double c = 0;  ///< reaction coefficient, >= 0
   ScalarField source;
   ScalarField dirichlet;                       ///< g; zero if empty
+  /// f and g as PointValues, instead of `source` and `dirichlet` (at most one of each pair;
+  /// InputError when both are set). The points are the same, and so are the results.
+  PointValues source_values, dirichlet_values;
   std::function<bool(const Vec3&)> is_neumann;  ///< at a boundary edge's midpoint; none if empty
   ScalarField neumann_flux;                    ///< h; zero if empty
   std::optional<ExactSolution> exact;
