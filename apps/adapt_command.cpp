@@ -210,6 +210,8 @@ std::string stop_message(adapt::StopReason reason, const Settings& s, const Adap
     case adapt::StopReason::memory:
       return "the next cycle would pass the memory limit of " + s.ceiling.describe() +
              " (the results so far are written)";
+    case adapt::StopReason::requested:
+      return "the run was asked to stop";
   }
   return "";
 }

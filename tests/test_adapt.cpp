@@ -285,6 +285,39 @@ TEST(Adapt, RunsStopAtMaxDofsAndSayWhy) {
   for (const auto& r : mv.cycles) EXPECT_LE(r.dofs, 3000u);
 }
 
+TEST(Adapt, ARunStopsWhenAskedAndCanBeAbandonedWithAValidMesh) {
+  // The stop predicate ends the run with the cycle it accepts, on the mesh that cycle solved.
+  RgbMesh mesh = icosphere();
+  AdaptOptions o = sphere_options(Strategy::adaptive);
+  std::vector<std::size_t> asked;
+  o.stop = [&](const CycleReport& r) {
+    asked.push_back(r.dofs);
+    return r.dofs > 500;
+  };
+  const AdaptRun run = run_cycles(mesh, fem::sphere_peak(), o);
+  EXPECT_EQ(run.stopped, StopReason::requested);
+  EXPECT_STREQ(to_string(run.stopped), "requested");
+  ASSERT_GE(run.cycles.size(), 2u);
+  EXPECT_EQ(asked.size(), run.cycles.size());
+  EXPECT_GT(run.cycles.back().dofs, 500u);
+  EXPECT_LE(run.cycles[run.cycles.size() - 2].dofs, 500u);
+  EXPECT_EQ(mesh.num_vertices(), run.cycles.back().dofs);  // not adapted after the last solve
+  EXPECT_EQ(mesh.validate(), "");
+  // An exception from the interruption point abandons the run, wherever it comes from (here
+  // from inside the third cycle's adaptation), and leaves a valid mesh.
+  for (const int throw_at : {1, 7, 12}) {
+    RgbMesh m = icosphere();
+    AdaptOptions a = sphere_options(Strategy::adaptive);
+    int calls = 0;
+    a.interruption_point = [&] {
+      if (++calls == throw_at) throw std::runtime_error("interrupted");
+    };
+    EXPECT_THROW(run_cycles(m, fem::sphere_peak(), a), std::runtime_error) << throw_at;
+    EXPECT_EQ(calls, throw_at);
+    EXPECT_EQ(m.validate(), "") << throw_at;
+  }
+}
+
 TEST(Adapt, SphereHarmonicAdaptsWithItsZeroMeanSource) {
   // c = 0 on the closed sphere: the source has zero mean on the sphere, but its discrete load
   // on an adaptive mesh of flat triangles does not; the run must not refuse it.

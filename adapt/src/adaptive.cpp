@@ -160,6 +160,7 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   const auto t_mesh = std::chrono::steady_clock::now();
   c.fe = fem::build_surface_mesh(mesh, options.projection, options.order);
   c.report.mesh_seconds = seconds_since(t_mesh);
+  if (options.interruption_point) options.interruption_point();
   // On several processes, each assembles and computes the estimator's and the norms' terms of
   // its part's triangles.
   fem::WorkShare share;
@@ -186,6 +187,7 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   if (guess.size() > 0) so.initial_guess = &guess;
   if (so.shared_solver) so.share = share;
   c.solution = fem::solve(c.fe, problem, so);
+  if (options.interruption_point) options.interruption_point();
   const auto t0 = std::chrono::steady_clock::now();
   c.estimate = options.estimator == EstimatorKind::residual ? fem::residual_estimator(c.fe, problem, c.solution.u, share)
                                                             : fem::zz_estimator(c.fe, c.solution.u, share);
@@ -271,6 +273,7 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
   RefinementOptions ro;
   ro.max_level = options.max_level;
   if (options.memory_headroom) ro.max_mesh_bytes = mesh.memory_bytes() + options.memory_headroom();
+  if (options.interruption_point) ro.progress = [&options](std::uint64_t, std::size_t) { options.interruption_point(); };
   RefinementResult r;
   // A distributed mesh: this process's own triangles, marked against thresholds found with
   // the other processes.
@@ -347,7 +350,11 @@ void refine_to_floor(RgbMesh& mesh, const AdaptOptions& options) {
   if (options.min_level < 0 || options.min_level > options.max_level)
     throw std::invalid_argument("adapt: min_level " + std::to_string(options.min_level) + " is not in [0, max_level " +
                                 std::to_string(options.max_level) + "]");
-  if (options.min_level > 0) selective_refinement(mesh, AtLeastLevel(options.min_level));
+  if (options.min_level > 0) {
+    RefinementOptions ro;
+    if (options.interruption_point) ro.progress = [&options](std::uint64_t, std::size_t) { options.interruption_point(); };
+    selective_refinement(mesh, AtLeastLevel(options.min_level), ro);
+  }
 }
 
 // Whether a cycle on the mesh as it is now fits under the memory ceiling: the unknowns added
@@ -367,6 +374,7 @@ const char* to_string(StopReason reason) {
     case StopReason::max_dofs: return "max-dofs";
     case StopReason::steps: return "steps";
     case StopReason::memory: return "memory";
+    case StopReason::requested: return "requested";
   }
   return "?";
 }
@@ -500,8 +508,11 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
       run.stopped = StopReason::target_error;
     else if (options.strategy == Strategy::uniform && unknowns_after_uniform_level(mesh, c, options) > options.max_dofs)
       run.stopped = StopReason::max_dofs;  // predicted: the next mesh is never built
+    else if (!replay && options.stop && options.stop(c.report))
+      run.stopped = StopReason::requested;
     else
       last = false;
+    if (options.interruption_point) options.interruption_point();
     std::vector<char> marked(c.fe.triangles.size(), 0);
     if (!last) {
       transfer.store(c.fe, c.solution.u);

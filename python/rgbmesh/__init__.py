@@ -3,6 +3,14 @@
 A thin binding of the C++ library: the mesh lives in C++, arrays come out as numpy arrays.
 """
 
+from . import _rgbmesh
 from ._rgbmesh import InputError, Mesh, OutputError, PreconditionError, read
 
 __all__ = ["Mesh", "read", "InputError", "OutputError", "PreconditionError"]
+
+# The finite-element loop and the fit, where the extension was built with those modules.
+for _name in ("Problem", "Solution", "solve", "adapt", "fit"):
+    if hasattr(_rgbmesh, _name):
+        globals()[_name] = getattr(_rgbmesh, _name)
+        __all__.append(_name)
+del _name

@@ -21,8 +21,7 @@ namespace rgbmesh::python {
 
 namespace {
 
-using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
-using Indices = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+using Doubles = DoubleArray;
 
 // An (n, 3) array's rows, refused with the reason if it is not one.
 template <class Array>
@@ -32,29 +31,6 @@ void require_rows_of_three(const Array& a, const char* what) {
                      (a.ndim() == 2 ? " and " + std::to_string(a.shape(1)) + " columns" : std::string()));
 }
 
-RgbMesh from_arrays(const Doubles& points, const Indices& triangles) {
-  require_rows_of_three(points, "points");
-  require_rows_of_three(triangles, "triangles");
-  const auto n = static_cast<std::size_t>(points.shape(0)), m = static_cast<std::size_t>(triangles.shape(0));
-  std::vector<Vec3> p(n);
-  const double* x = points.data();
-  for (std::size_t i = 0; i < n; ++i) {
-    p[i] = Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
-    if (!std::isfinite(p[i].x) || !std::isfinite(p[i].y) || !std::isfinite(p[i].z))
-      throw InputError("points: point " + std::to_string(i) + " is not finite");
-  }
-  std::vector<std::array<std::int32_t, 3>> t(m);
-  const std::int64_t* c = triangles.data();
-  for (std::size_t i = 0; i < m; ++i)
-    for (int k = 0; k < 3; ++k) {
-      const std::int64_t v = c[3 * i + static_cast<std::size_t>(k)];
-      if (v < 0 || static_cast<std::size_t>(v) >= n)
-        throw InputError("triangles: triangle " + std::to_string(i) + " has vertex index " + std::to_string(v) +
-                         ", out of range (there are " + std::to_string(n) + " points)");
-      t[i][static_cast<std::size_t>(k)] = static_cast<std::int32_t>(v);
-    }
-  return RgbMesh::from_triangles(p, t);
-}
 
 // Copies into a new numpy array of `rows` x `columns`.
 template <class T, class Fill>
@@ -195,9 +171,40 @@ py::dict adapt_to(RgbMesh& mesh, std::optional<Doubles> triangle_values, double 
 
 }  // namespace
 
+std::vector<Vec3> points_of_array(const DoubleArray& points, const char* what) {
+  require_rows_of_three(points, what);
+  std::vector<Vec3> p(static_cast<std::size_t>(points.shape(0)));
+  const double* x = points.data();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p[i] = Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+    if (!std::isfinite(p[i].x) || !std::isfinite(p[i].y) || !std::isfinite(p[i].z))
+      throw InputError(std::string(what) + ": point " + std::to_string(i) + " is not finite");
+  }
+  return p;
+}
+
+RgbMesh mesh_from_arrays(const DoubleArray& points, const IndexArray& triangles, const std::string& what) {
+  const std::string prefix = what.empty() ? "" : what + " ";
+  const std::vector<Vec3> p = points_of_array(points, (prefix + "points").c_str());
+  require_rows_of_three(triangles, (prefix + "triangles").c_str());
+  const std::size_t n = p.size(), m = static_cast<std::size_t>(triangles.shape(0));
+  std::vector<std::array<std::int32_t, 3>> t(m);
+  const std::int64_t* c = triangles.data();
+  for (std::size_t i = 0; i < m; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const std::int64_t v = c[3 * i + static_cast<std::size_t>(k)];
+      if (v < 0 || static_cast<std::size_t>(v) >= n)
+        throw InputError(prefix + "triangles: triangle " + std::to_string(i) + " has vertex index " + std::to_string(v) +
+                         ", out of range (there are " + std::to_string(n) + " points)");
+      t[i][static_cast<std::size_t>(k)] = static_cast<std::int32_t>(v);
+    }
+  return RgbMesh::from_triangles(p, t);
+}
+
 void bind_mesh(py::module_& m) {
   py::class_<RgbMesh>(m, "Mesh", "An RGB subdivision mesh: its base mesh and the vertices inserted since.")
-      .def_static("from_arrays", &from_arrays, py::arg("points"), py::arg("triangles"),
+      .def_static("from_arrays", [](const DoubleArray& p, const IndexArray& t) { return mesh_from_arrays(p, t); },
+                  py::arg("points"), py::arg("triangles"),
                   "A base mesh from an (n, 3) float array of points and an (m, 3) integer array of "
                   "counter-clockwise triangles, validated as the mesh files are (ValueError naming the element).")
       .def_property_readonly("num_vertices", &RgbMesh::num_vertices)
@@ -267,11 +274,13 @@ void bind_mesh(py::module_& m) {
           [](RgbMesh& mesh, int level) {
             if (level < 0 || level > kMaxLevel)
               throw InputError("level " + std::to_string(level) + " is not in [0, " + std::to_string(kMaxLevel) + "]");
+            const RefinementOptions o = interruptible(kMaxLevel);
             py::gil_scoped_release release;
-            const RefinementResult r = selective_refinement(mesh, UniformLevel(level));
+            const RefinementResult r = selective_refinement(mesh, UniformLevel(level), o);
             return r.splits;
           },
-          py::arg("level"), "Refines (or coarsens) to the uniform mesh of this level; returns the vertices inserted.")
+          py::arg("level"), "Refines (or coarsens) to the uniform mesh of this level; returns the vertices inserted. Ctrl-C "
+          "interrupts, leaving a valid mesh.")
       .def("refine", &refine, py::kw_only(), py::arg("uniform") = py::none(), py::arg("at_least") = py::none(),
            py::arg("ball") = py::none(), py::arg("max_edge") = py::none(), py::arg("tolerance") = py::none(),
            py::arg("budget") = py::none(), py::arg("max_level") = kMaxLevel,

@@ -28,4 +28,10 @@ PYBIND11_MODULE(_rgbmesh, m) {
   });
   rgbmesh::python::bind_mesh(m);
   rgbmesh::python::bind_io(m);
+#if defined(RGBMESH_PYTHON_FEM)
+  rgbmesh::python::bind_fem(m);
+#endif
+#if defined(RGBMESH_PYTHON_FIT)
+  rgbmesh::python::bind_fit(m);
+#endif
 }

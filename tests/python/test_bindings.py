@@ -9,18 +9,10 @@ import numpy as np
 import pytest
 import rgbmesh
 
+from meshes import icosahedron, write_obj
+
 vtk = pytest.importorskip("vtk")
 from vtk.util.numpy_support import vtk_to_numpy  # noqa: E402
-
-
-def icosahedron():
-    t = (1 + 5 ** 0.5) / 2
-    points = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
-                       [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]], float)
-    triangles = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
-                          [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
-                          [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]])
-    return points, triangles
 
 
 def test_uniform_refinement_counts_and_invariants():
@@ -43,11 +35,7 @@ def test_uniform_refinement_counts_and_invariants():
 def test_the_same_limit_positions_as_the_tool(tmp_path):
     points, triangles = icosahedron()
     base = tmp_path / "ico.obj"
-    with open(base, "w") as f:
-        for p in points:
-            f.write("v %.17g %.17g %.17g\n" % tuple(p))
-        for t in triangles:
-            f.write("f %d %d %d\n" % tuple(t + 1))
+    write_obj(base, points, triangles)
     out = tmp_path / "refined.vtp"
     subprocess.run([os.environ["RGBMESH_CLI"], "refine", str(base), str(out), "--uniform", "2", "--limit"], check=True,
                    capture_output=True)

@@ -27,6 +27,8 @@ enum class Marking {
 };
 enum class EstimatorKind { residual, zz };
 
+struct CycleReport;
+
 struct AdaptOptions {
   Strategy strategy = Strategy::adaptive;
   Marking marking = Marking::dorfler;
@@ -79,6 +81,14 @@ struct AdaptOptions {
   /// mesh would need more (kSolveBytesPerDof per new unknown, the refinement's arrays) is not
   /// run: the run stops with StopReason::memory, its results so far intact.
   std::function<std::size_t()> memory_headroom;
+  /// run_cycles: asked after each cycle's solve and estimate, before the mesh is adapted;
+  /// true ends the run with that cycle (StopReason::requested), the mesh staying the one
+  /// solved, as at the other stops. Empty: never.
+  std::function<bool(const CycleReport&)> stop;
+  /// Called between the steps of a cycle and every 65,536 operations of an adaptation. It may
+  /// throw to abandon the run (how the Python package lets Ctrl-C through): the exception
+  /// leaves run_cycles or run_dynamic with the mesh valid, though perhaps partly adapted.
+  std::function<void()> interruption_point;
   fem::SolveOptions solve;
   std::optional<fem::Projection> projection;  ///< exact-geometry mode (e.g. the unit sphere)
   /// Finite elements: 1 (P1) or 2 (isoparametric P2, fem::build_surface_mesh). Order 2 counts
@@ -109,13 +119,14 @@ enum class StopReason {
   max_dofs,      ///< the next mesh would exceed max_dofs
   steps,         ///< every time step done (run_dynamic)
   memory,        ///< the next cycle would pass the memory ceiling (AdaptOptions::memory_headroom)
+  requested,     ///< AdaptOptions::stop said so
 };
 
 /// Peak memory of one cycle per unknown (mesh, finite-element mesh, assembly, CHOLMOD's factor,
 /// estimate, output), measured: 1.25 GB at 655,362 unknowns (1.9 kB each) for uniform
 /// sphere-peak; with a margin.
 inline constexpr double kSolveBytesPerDof = 2500.0;
-/// "cycles", "target-error", "max-dofs", "steps", "memory".
+/// "cycles", "target-error", "max-dofs", "steps", "memory", "requested".
 const char* to_string(StopReason reason);
 
 struct CycleReport {

@@ -1,0 +1,261 @@
+"""The Python package's finite-element loop (issue 14): solve and adapt with built-in problems
+and with sources written as numpy functions, against the rgbmesh tool's runs of the same
+problems (the same cycles), the expected convergence rates on the sphere, per-cycle callbacks,
+stops, Ctrl-C, and errors for bad input."""
+
+import json
+import os
+import signal
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+import rgbmesh
+
+from meshes import icosahedron, write_obj
+
+PEAK_DIRECTION = np.array([0.48, 0.6, 0.64]) / np.linalg.norm([0.48, 0.6, 0.64])
+
+
+def peak_source(points, kappa=100.0, c=1.0):
+    """The sphere-peak problem's source, -Δu + c u for u = exp(κ (x·d - 1)) on the unit sphere,
+    written here independently of the library (numpy over all points at once)."""
+    t = points @ PEAK_DIRECTION
+    g = np.exp(kappa * (t - 1.0))
+    laplacian = kappa * kappa * g * (1.0 - t * t) - 2.0 * t * kappa * g
+    return -laplacian + c * g
+
+
+def unit_icosphere(level=0):
+    mesh = rgbmesh.Mesh.from_arrays(*icosahedron(unit=True))
+    if level:
+        mesh.refine_uniform(level)
+    return mesh
+
+
+def tool(*args):
+    return subprocess.run([os.environ["RGBMESH_CLI"], *map(str, args)], check=True, capture_output=True, text=True)
+
+
+def public(name):
+    path = os.path.join(os.environ["RGBMESH_PUBLIC_DATA"], name)
+    assert os.path.exists(path), "missing public test data %s: run scripts/fetch-test-data.sh" % path
+    return path
+
+
+def slope(reports, key):
+    """The least-squares slope of log(key) against log(dofs) over the second half of the cycles."""
+    r = reports[len(reports) // 2:]
+    return np.polyfit(np.log([c["dofs"] for c in r]), np.log([c[key] for c in r]), 1)[0]
+
+
+def test_a_solution_is_given_in_the_order_of_the_mesh_arrays():
+    mesh = rgbmesh.read(public("elephant-with-holes.off"))
+    centre = mesh.limit_positions()[100]
+    mesh.refine(ball=tuple(centre) + (0.05, 2))
+    s = rgbmesh.solve(mesh, rgbmesh.Problem.gaussian(centre, 0.02))
+    # P1 on the Loop limit surface: a node per vertex, at its limit position, in the rows of the
+    # point arrays, and the mesh's own triangles.
+    assert np.array_equal(s.points, mesh.limit_positions())
+    assert np.array_equal(s.triangles, mesh.triangles())
+    assert s.u.shape == (mesh.num_vertices,) and s.estimate.shape == (mesh.num_triangles,)
+    assert np.isclose(s.total_estimate, np.sqrt((s.estimate ** 2).sum()))
+    assert np.array_equal(s.vertex_levels, mesh.vertex_levels())
+    # The elephant has 106 holes: Dirichlet u = 0 on every boundary vertex; the source peaks at
+    # the centre, so does the solution.
+    boundary = np.zeros(mesh.num_vertices, bool)
+    t = mesh.triangles()
+    edges = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
+    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    boundary[unique[counts == 1].ravel()] = True
+    assert boundary.sum() > 100 and np.all(s.u[boundary] == 0)
+    assert np.linalg.norm(s.points[np.argmax(s.u)] - centre) < 0.02
+    assert s.report["error_h1"] is None and s.marked is None
+    # P2: the vertices, then a node per edge.
+    s2 = rgbmesh.solve(mesh, rgbmesh.Problem.gaussian(centre, 0.02), order=2)
+    edges_count = len(unique)
+    assert s2.u.shape == (mesh.num_vertices + edges_count,) and s2.edge_nodes.shape == (mesh.num_triangles, 3)
+    assert s2.edge_nodes.min() == mesh.num_vertices
+
+
+def test_a_numpy_source_gives_the_built_in_problem_s_results():
+    mesh = unit_icosphere(3)
+    builtin = rgbmesh.solve(mesh, rgbmesh.Problem.builtin("sphere-peak"))
+    mine = rgbmesh.solve(mesh, rgbmesh.Problem(peak_source, c=1.0), geometry="sphere")
+    assert np.allclose(mine.u, builtin.u, rtol=1e-11, atol=1e-13)
+    assert np.allclose(mine.estimate, builtin.estimate, rtol=1e-10, atol=1e-14)
+    # The source is called once per assembly and once per estimate, with every point at once:
+    # the degree-5 rule's 7 points per triangle.
+    calls = []
+
+    def counted(points):
+        calls.append(len(points))
+        return peak_source(points)
+
+    rgbmesh.solve(mesh, rgbmesh.Problem(counted, c=1.0), geometry="sphere")
+    assert calls == [7 * mesh.num_triangles] * 2
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_adaptive_cycles_are_the_tool_s_on_the_sphere(tmp_path, order):
+    points, triangles = icosahedron(unit=True)
+    write_obj(tmp_path / "ico.obj", points, triangles)
+    max_dofs = 6000 if order == 1 else 8000
+    tool("adapt", "--mesh", tmp_path / "ico.obj", "--problem", "sphere-peak", "--order", order, "--max-dofs", max_dofs,
+         "--out", tmp_path / "run", "--report", tmp_path / "report.json")
+    expected = json.load(open(tmp_path / "report.json"))["cycles"]
+    for problem in (rgbmesh.Problem.builtin("sphere-peak"), rgbmesh.Problem(peak_source, c=1.0)):
+        mesh = rgbmesh.Mesh.from_arrays(points, triangles)
+        run = rgbmesh.adapt(mesh, problem, order=order, max_dofs=max_dofs, geometry="sphere")
+        assert run["stopped"] == "max-dofs"
+        got = run["cycles"]
+        assert [(c["triangles"], c["dofs"], c["marked"]) for c in got] == \
+               [(c["triangles"], c["dofs"], c["marked"]) for c in expected]
+        assert np.allclose([c["estimate"] for c in got], [c["estimate"] for c in expected], rtol=1e-8)
+        if problem.has_exact_solution:
+            assert np.allclose([c["error_h1"] for c in got], [c["error_h1"] for c in expected], rtol=1e-8)
+        assert mesh.validate() == ""
+
+
+def test_adaptive_cycles_are_the_tool_s_on_a_scan_with_holes(tmp_path):
+    path = public("elephant-with-holes.off")
+    mesh = rgbmesh.read(path)
+    centre, width = mesh.limit_positions()[100], 0.04
+    tool("adapt", "--mesh", path, "--problem", "gaussian", "--center", ",".join("%.17g" % x for x in centre),
+         "--width", "%.17g" % width, "--max-dofs", 15000, "--out", tmp_path / "run", "--report", tmp_path / "r.json")
+    expected = json.load(open(tmp_path / "r.json"))["cycles"]
+    run = rgbmesh.adapt(mesh, rgbmesh.Problem.gaussian(centre, width), max_dofs=15000)
+    assert len(run["cycles"]) == len(expected) >= 3
+    assert [(c["triangles"], c["dofs"]) for c in run["cycles"]] == [(c["triangles"], c["dofs"]) for c in expected]
+    assert np.allclose([c["estimate"] for c in run["cycles"]], [c["estimate"] for c in expected], rtol=1e-8)
+
+
+@pytest.mark.parametrize("order, rate", [(1, -0.5), (2, -1.0)])
+def test_a_numpy_source_in_an_adaptive_loop_reaches_the_optimal_rate(order, rate):
+    # The estimate is equivalent to the H1 error: it falls as N^(-order/2). The built-in problem
+    # with the same source shows the H1 error itself falling at that rate.
+    run = rgbmesh.adapt(unit_icosphere(1), rgbmesh.Problem(peak_source, c=1.0), order=order, geometry="sphere",
+                        max_dofs=40000)
+    assert run["cycles"][-1]["dofs"] > 15000
+    assert abs(slope(run["cycles"], "estimate") - rate) < 0.1
+    builtin = rgbmesh.adapt(unit_icosphere(1), rgbmesh.Problem.builtin("sphere-peak"), order=order, max_dofs=40000)
+    assert abs(slope(builtin["cycles"], "error_h1") - rate) < 0.1
+    # And a uniform run is much worse at the same size (the peak needs local refinement).
+    uniform = rgbmesh.adapt(unit_icosphere(1), rgbmesh.Problem(peak_source, c=1.0), order=order, geometry="sphere",
+                            strategy="uniform", max_dofs=40000)
+    last = uniform["cycles"][-1]
+    near = min(run["cycles"], key=lambda c: abs(c["dofs"] - last["dofs"]))
+    assert near["dofs"] < 2 * last["dofs"] and last["estimate"] > 2 * near["estimate"]
+
+
+def test_callbacks_see_every_cycle_and_stop_ends_the_run(tmp_path):
+    vtk = pytest.importorskip("vtk")
+    from vtk.util.numpy_support import vtk_to_numpy
+
+    mesh = unit_icosphere(1)
+    seen = []
+
+    def callback(cycle):
+        r = cycle.report
+        assert cycle.u.shape == (r["dofs"],) and cycle.triangles.shape == (r["triangles"], 3)
+        assert cycle.marked.sum() == r["marked"] and cycle.estimate.shape == (r["triangles"],)
+        seen.append(cycle)
+
+    run = rgbmesh.adapt(mesh, rgbmesh.Problem.builtin("sphere-peak"), callback=callback,
+                        stop=lambda report: report["dofs"] > 1000)
+    assert run["stopped"] == "requested"
+    assert [s.report["cycle"] for s in seen] == list(range(len(run["cycles"])))
+    # The mesh is the one the last cycle solved, as at every stop.
+    assert mesh.num_vertices == run["cycles"][-1]["dofs"] > 1000 >= run["cycles"][-2]["dofs"]
+    # A cycle kept from the callback still writes its file (ParaView's view of the cycle).
+    seen[3].write(tmp_path / "cycle3.vtp")
+    reader = vtk.vtkXMLPolyDataReader()
+    reader.SetFileName(str(tmp_path / "cycle3.vtp"))
+    reader.Update()
+    data = reader.GetOutput()
+    assert data.GetNumberOfPoints() == seen[3].report["dofs"]
+    assert np.allclose(vtk_to_numpy(data.GetPointData().GetArray("solution")), seen[3].u)
+    assert np.allclose(vtk_to_numpy(data.GetCellData().GetArray("error_indicator")), seen[3].estimate)
+    assert data.GetPointData().GetArray("error") is not None  # the exact solution is known
+
+
+def test_errors_in_the_user_s_functions_and_options():
+    mesh = unit_icosphere(2)
+    with pytest.raises(ValueError, match=r"source: returned an array of shape \(3,\) for"):
+        rgbmesh.solve(mesh, rgbmesh.Problem(lambda p: np.zeros(3), c=1.0))
+    with pytest.raises(ValueError, match=r"source: not finite at point"):
+        rgbmesh.solve(mesh, rgbmesh.Problem(lambda p: np.where(p[:, 0] > 0.5, np.nan, 1.0), c=1.0))
+    with pytest.raises(ValueError, match="source: returned str"):
+        rgbmesh.solve(mesh, rgbmesh.Problem(lambda p: "x", c=1.0))
+
+    # The user's own exception comes through unchanged, and the mesh stays valid.
+    def failing(points):
+        raise ZeroDivisionError("the user's bug")
+
+    with pytest.raises(ZeroDivisionError, match="the user's bug"):
+        rgbmesh.adapt(mesh, rgbmesh.Problem(failing, c=1.0))
+    assert mesh.validate() == ""
+    # One number for all points is a constant source.
+    assert rgbmesh.solve(mesh, rgbmesh.Problem(lambda p: 1.0, c=1.0)).u.min() > 0.99
+    with pytest.raises(ValueError, match="zero mean"):
+        rgbmesh.solve(mesh, rgbmesh.Problem(lambda p: np.ones(len(p)), c=0.0))
+    with pytest.raises(ValueError, match="geometry 'loop'"):
+        rgbmesh.solve(mesh, rgbmesh.Problem.builtin("sphere-peak"), geometry="loop")
+    far = rgbmesh.Mesh.from_arrays(*icosahedron())  # radius 1.9
+    with pytest.raises(ValueError, match="base vertex 0 is at distance 1.90"):
+        rgbmesh.solve(far, rgbmesh.Problem(peak_source, c=1.0), geometry="sphere")
+    with pytest.raises(ValueError, match="marking: 'bulk' is not one of"):
+        rgbmesh.adapt(mesh, rgbmesh.Problem.builtin("sphere-peak"), marking="bulk")
+    with pytest.raises(ValueError, match="needs target_error"):
+        rgbmesh.adapt(mesh, rgbmesh.Problem.builtin("sphere-peak"), marking="equidistribution")
+    with pytest.raises(ValueError, match="unknown solver 'fast'"):
+        rgbmesh.solve(mesh, rgbmesh.Problem.builtin("sphere-peak"), solver="fast")
+    with pytest.raises(ValueError, match="order 3"):
+        rgbmesh.solve(mesh, rgbmesh.Problem.builtin("sphere-peak"), order=3)
+    with pytest.raises(ValueError, match="unknown problem|sphere-harmonic"):
+        rgbmesh.Problem.builtin("torus")
+    with pytest.raises(ValueError, match="c: must be finite and >= 0"):
+        rgbmesh.Problem(peak_source, c=-1.0)
+
+
+def test_dirichlet_data_on_an_open_surface():
+    # A flat fan: u = 1 + 2x - y is harmonic, so with f = 0 and that boundary data P1 gives it
+    # exactly at every vertex (the vertices' limit positions stay in the plane z = 0).
+    angles = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    points = np.vstack([[0, 0, 0], np.c_[np.cos(angles), np.sin(angles), np.zeros(8)]])
+    triangles = np.array([[0, 1 + k, 1 + (k + 1) % 8] for k in range(8)])
+    mesh = rgbmesh.Mesh.from_arrays(points, triangles)
+    mesh.refine_uniform(3)
+    linear = lambda p: 1 + 2 * p[:, 0] - p[:, 1]
+    s = rgbmesh.solve(mesh, rgbmesh.Problem(None, dirichlet=linear))
+    assert np.abs(s.points[:, 2]).max() < 1e-15
+    assert np.abs(s.u - linear(s.points)).max() < 1e-12
+
+
+def send_ctrl_c_after(seconds):
+    timer = threading.Timer(seconds, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    return timer
+
+
+def test_ctrl_c_interrupts_a_long_refinement_and_an_adaptive_run():
+    # Level 9 is 5.2 million triangles, many seconds of work: Ctrl-C after 0.3 s stops it
+    # between two operations, with a valid mesh.
+    mesh = unit_icosphere()
+    timer = send_ctrl_c_after(0.3)
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        mesh.refine_uniform(9)
+    timer.join()
+    assert mesh.num_triangles < 20 * 4 ** 9 and mesh.validate() == ""
+    # An adaptive run with a slow Python source: interrupted inside a cycle.
+    slow = lambda p: (time.sleep(0.05), peak_source(p))[1]
+    mesh = unit_icosphere(1)
+    timer = send_ctrl_c_after(0.5)
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        rgbmesh.adapt(mesh, rgbmesh.Problem(slow, c=1.0), geometry="sphere", max_dofs=10 ** 6, cycles=1000)
+    timer.join()
+    assert time.monotonic() - start < 5 and mesh.validate() == ""
