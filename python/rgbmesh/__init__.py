@@ -14,3 +14,13 @@ for _name in ("Problem", "Solution", "solve", "adapt", "fit"):
         globals()[_name] = getattr(_rgbmesh, _name)
         __all__.append(_name)
 del _name
+
+# VTK and PyVista objects (optional imports, when a conversion is asked for).
+from .conversions import from_pyvista, from_vtk, to_pyvista, to_vtk  # noqa: E402
+
+Mesh.to_vtk = to_vtk
+Mesh.to_pyvista = to_pyvista
+if "Solution" in globals():
+    Solution.to_vtk = to_vtk
+    Solution.to_pyvista = to_pyvista
+__all__ += ["to_vtk", "from_vtk", "to_pyvista", "from_pyvista"]

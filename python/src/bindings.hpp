@@ -15,6 +15,7 @@ namespace rgbmesh::python {
 
 void bind_mesh(pybind11::module_& m);
 void bind_io(pybind11::module_& m);  // after bind_mesh (it adds Mesh.write)
+void bind_state(pybind11::module_& m);  // after bind_mesh (Mesh.state, Mesh.from_state)
 void bind_fem(pybind11::module_& m);  // with RGBMESH_PYTHON_FEM (rgbmesh::fem and rgbmesh::adapt built)
 void bind_fit(pybind11::module_& m);  // with RGBMESH_PYTHON_FIT (rgbmesh::fit built)
 

@@ -28,6 +28,7 @@ PYBIND11_MODULE(_rgbmesh, m) {
   });
   rgbmesh::python::bind_mesh(m);
   rgbmesh::python::bind_io(m);
+  rgbmesh::python::bind_state(m);
 #if defined(RGBMESH_PYTHON_FEM)
   rgbmesh::python::bind_fem(m);
 #endif
