@@ -12,6 +12,7 @@ cd "$(dirname "$0")/.."
 scripts/install-deps.sh test
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DRGBMESH_BUILD_TESTS=ON -DRGBMESH_BUILD_BENCH=ON
 cmake --build build --target bench_refinement bench_fem bench_fit bench_write rgbmesh_cli
+cmake --build build --target rgbmesh_python 2>/dev/null || true  # (without Python/pybind11: no package)
 build/bin/bench_refinement --benchmark_min_time=1 "$@"
 build/bin/bench_fem
 build/bin/bench_fit
@@ -23,6 +24,12 @@ echo "bunny, uniform level 5:"
 build/bin/rgbmesh refine data/bunny.obj - --uniform 5 --stats 2>/dev/null | tail -n 1
 echo "bunny, uniform level 5, then back to the base mesh:"
 build/bin/rgbmesh refine data/bunny.obj - --uniform 5 --coarsen-all --stats 2>/dev/null | tail -n 1
+# The Python package's arrays against refining the mesh they describe (10^6 vertices).
+if [ -d build/python/rgbmesh ]; then
+  echo
+  echo "Python arrays of a 10^6-vertex mesh, as fractions of refining it:"
+  PYTHONPATH=build/python /usr/bin/python3 bench/python_overhead.py
+fi
 # Against deal.II, where it is installed (Debian: libdeal.ii-dev; not installed by this script).
 if cmake --build build --target bench_vs_dealii 2>/dev/null; then
   echo

@@ -13,6 +13,7 @@
 #include "bindings.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/mesh.hpp"
+#include "rgbmesh/parallel.hpp"
 #include "rgbmesh/refinement.hpp"
 
 namespace py = pybind11;
@@ -51,34 +52,27 @@ std::vector<std::int32_t> rows_of_slots(const RgbMesh& mesh) {
 }
 
 // Per-vertex and per-triangle arrays written straight from the mesh, in the snapshot's order
-// (no snapshot of everything for one array).
+// (no snapshot of everything for one array), on every core with the GIL released. `value`
+// must only read the mesh (limit positions must be known already: their cache is written
+// when they are not).
+template <class T, std::size_t Width, class Handle, class Range, class Value>
+py::array_t<T> per_element(std::size_t count, const Range& range, Value&& value) {
+  std::vector<Handle> handles;
+  handles.reserve(count);
+  for (const Handle h : range) handles.push_back(h);
+  return make_array<T>(handles.size(), Width, [&](T* d) {
+    py::gil_scoped_release release;
+    rgbmesh::detail::parallel_for(handles.size(), std::size_t{1} << 14, rgbmesh::detail::hardware_threads(),
+                                  [&](std::size_t, std::size_t i) { value(handles[i], d + Width * i); });
+  });
+}
 template <class T, std::size_t Width, class Value>
 py::array_t<T> per_vertex(const RgbMesh& mesh, Value&& value) {
-  return make_array<T>(mesh.num_vertices(), Width, [&](T* d) {
-    for (const VertexHandle v : mesh.vertices()) {
-      value(v, d);
-      d += Width;
-    }
-  });
+  return per_element<T, Width, VertexHandle>(mesh.num_vertices(), mesh.vertices(), std::forward<Value>(value));
 }
 template <class T, std::size_t Width, class Value>
 py::array_t<T> per_triangle(const RgbMesh& mesh, Value&& value) {
-  return make_array<T>(mesh.num_triangles(), Width, [&](T* d) {
-    for (const TriangleHandle t : mesh.triangles()) {
-      value(t, d);
-      d += Width;
-    }
-  });
-}
-
-py::array_t<double> points_of(const MeshSnapshot& s) {
-  return make_array<double>(s.points.size(), 3, [&](double* d) {
-    for (std::size_t i = 0; i < s.points.size(); ++i) {
-      d[3 * i] = s.points[i].x;
-      d[3 * i + 1] = s.points[i].y;
-      d[3 * i + 2] = s.points[i].z;
-    }
-  });
+  return per_element<T, Width, TriangleHandle>(mesh.num_triangles(), mesh.triangles(), std::forward<Value>(value));
 }
 
 // Refinement options that let Ctrl-C through: every 65,536 operations the progress report
@@ -143,21 +137,30 @@ py::dict adapt_to(RgbMesh& mesh, std::optional<Doubles> triangle_values, double 
                   std::optional<Doubles> vertex_values, double coarsen_below, int max_level) {
   if (max_level < 0 || max_level > kMaxLevel)
     throw InputError("max_level " + std::to_string(max_level) + " is not in [0, " + std::to_string(kMaxLevel) + "]");
-  const MeshSnapshot s = mesh.snapshot();
+  // The rows of the arrays are the live elements in slot order (as triangles() and the point
+  // arrays give them): the values go to the slots.
   std::vector<double> by_triangle, by_vertex;
   if (triangle_values) {
-    if (triangle_values->ndim() != 1 || static_cast<std::size_t>(triangle_values->shape(0)) != s.triangles.size())
-      throw InputError("triangle_values: one value per triangle is needed (" + std::to_string(s.triangles.size()) + ")");
+    if (triangle_values->ndim() != 1 || static_cast<std::size_t>(triangle_values->shape(0)) != mesh.num_triangles())
+      throw InputError("triangle_values: one value per triangle is needed (" + std::to_string(mesh.num_triangles()) + ")");
     by_triangle.assign(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
-    for (std::size_t i = 0; i < s.triangles.size(); ++i)
-      by_triangle[static_cast<std::size_t>(s.triangle_handle[i].idx)] = triangle_values->data()[i];
+    const double* value = triangle_values->data();
+    for (const TriangleHandle t : mesh.triangles()) {
+      if (!std::isfinite(*value))
+        throw InputError("triangle_values: row " + std::to_string(value - triangle_values->data()) + " is not finite");
+      by_triangle[static_cast<std::size_t>(t.idx)] = *value++;
+    }
   }
   if (vertex_values) {
-    if (vertex_values->ndim() != 1 || static_cast<std::size_t>(vertex_values->shape(0)) != s.points.size())
-      throw InputError("vertex_values: one value per vertex is needed (" + std::to_string(s.points.size()) + ")");
+    if (vertex_values->ndim() != 1 || static_cast<std::size_t>(vertex_values->shape(0)) != mesh.num_vertices())
+      throw InputError("vertex_values: one value per vertex is needed (" + std::to_string(mesh.num_vertices()) + ")");
     by_vertex.assign(static_cast<std::size_t>(mesh.vertex_slots()), 1e300);
-    for (std::size_t i = 0; i < s.points.size(); ++i)
-      by_vertex[static_cast<std::size_t>(s.vertex_handle[i].idx)] = vertex_values->data()[i];
+    const double* value = vertex_values->data();
+    for (const VertexHandle v : mesh.vertices()) {
+      if (!std::isfinite(*value))
+        throw InputError("vertex_values: row " + std::to_string(value - vertex_values->data()) + " is not finite");
+      by_vertex[static_cast<std::size_t>(v.idx)] = *value++;
+    }
   }
   const RefinementOptions o = interruptible(max_level);
   const FieldCriterion criterion(std::move(by_triangle), refine_above, std::move(by_vertex), coarsen_below);
@@ -213,13 +216,33 @@ void bind_mesh(py::module_& m) {
       .def(
           "control_points",
           [](const RgbMesh& mesh) {
+            // A vertex shown above its insertion level has its control point from its limit
+            // position (p^k = g p^l + (1 - g) p^∞, Eq. 6): those limits first, and only those
+            // (in a uniform mesh a quarter of the vertices; computing every limit costs four
+            // times as much), here, since computing one fills a cache.
             const std::vector<std::uint8_t> shown = mesh.shown_levels();
+            {
+              py::gil_scoped_release release;
+              for (const VertexHandle v : mesh.vertices())
+                if (shown[static_cast<std::size_t>(v.idx)] > mesh.level(v)) mesh.limit_position(v);
+            }
             return per_vertex<double, 3>(mesh, [&](VertexHandle v, double* d) {
               const Vec3 c = mesh.control_point(v, shown[static_cast<std::size_t>(v.idx)]);
               d[0] = c.x, d[1] = c.y, d[2] = c.z;
             });
           },
-          "The vertices' control points at their shown level, (n, 3), in the order of triangles().")
+          "The vertices' control points at their shown level (where they are in the current mesh), (n, 3): the "
+          "rows of the point arrays, which triangles() indexes.")
+      .def(
+          "insertion_points",
+          [](const RgbMesh& mesh) {
+            return per_vertex<double, 3>(mesh, [&](VertexHandle v, double* d) {
+              const Vec3& c = mesh.insertion_point(v);
+              d[0] = c.x, d[1] = c.y, d[2] = c.z;
+            });
+          },
+          "The vertices' control points at their insertion level (the base points for base vertices; Loop's "
+          "odd rule for the others), (n, 3): stored, so a plain copy.")
       .def(
           "limit_positions",
           [](RgbMesh& mesh) {
@@ -227,12 +250,23 @@ void bind_mesh(py::module_& m) {
               py::gil_scoped_release release;
               mesh.compute_limits();
             }
-            return points_of(mesh.snapshot(RgbMesh::Points::limit));
+            return per_vertex<double, 3>(mesh, [&](VertexHandle v, double* d) {
+              const Vec3 c = mesh.limit_position(v);
+              d[0] = c.x, d[1] = c.y, d[2] = c.z;
+            });
           },
-          "The vertices' positions on the Loop limit surface, (n, 3), in the order of triangles().")
+          "The vertices' positions on the Loop limit surface, (n, 3), rows of the point arrays. Computed once "
+          "(RgbMesh::compute_limits, which may insert and remove helper vertices: the mesh is the same, but the "
+          "rows of the per-triangle arrays may come in another order afterwards).")
       .def(
           "triangles",
           [](const RgbMesh& mesh) {
+            // Without free vertex slots (a mesh never coarsened) a vertex's row is its slot.
+            if (static_cast<std::size_t>(mesh.vertex_slots()) == mesh.num_vertices())
+              return per_triangle<std::int32_t, 3>(mesh, [&](TriangleHandle t, std::int32_t* d) {
+                const auto c = mesh.triangle_vertices(t);
+                for (std::size_t k = 0; k < 3; ++k) d[k] = c[k].idx;
+              });
             const std::vector<std::int32_t> row = rows_of_slots(mesh);
             return per_triangle<std::int32_t, 3>(mesh, [&](TriangleHandle t, std::int32_t* d) {
               const auto c = mesh.triangle_vertices(t);

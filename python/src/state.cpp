@@ -42,7 +42,10 @@ std::vector<T> values_of(const Array& a, std::size_t count, const char* what) {
 }
 
 py::dict state_of(const RgbMesh& mesh) {
-  const RgbState s = save_state(mesh, mesh.snapshot());
+  MeshSnapshot rows;  // (save_state needs only the points' vertices, in the arrays' order)
+  rows.vertex_handle.reserve(mesh.num_vertices());
+  for (const VertexHandle v : mesh.vertices()) rows.vertex_handle.push_back(v);
+  const RgbState s = save_state(mesh, rows);
   py::dict d;
   d["version"] = s.version;
   d["base_points"] = array_of<double>(s.base_points.size(), 3, s.base_points.empty() ? nullptr : &s.base_points[0].x);

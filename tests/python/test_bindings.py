@@ -104,6 +104,10 @@ def test_a_user_indicator_refines_and_coarsens_back_to_the_base():
     assert {tuple(sorted(t)) for t in mesh.triangles()} == {tuple(sorted(t)) for t in triangles}
     with pytest.raises(ValueError, match="one value per triangle"):
         mesh.adapt_to(triangle_values=np.zeros(3))
+    with pytest.raises(ValueError, match="triangle_values: row 7 is not finite"):
+        mesh.adapt_to(triangle_values=np.where(np.arange(mesh.num_triangles) == 7, np.nan, 1.0))
+    with pytest.raises(ValueError, match="vertex_values: row 3 is not finite"):
+        mesh.adapt_to(vertex_values=np.where(np.arange(mesh.num_vertices) == 3, np.inf, 1.0))
 
 
 def test_written_and_read_back_with_the_rgb_state(tmp_path):
