@@ -4,7 +4,7 @@
 # in the same process), then the command-line tool's --stats on the Stanford bunny refined to
 # uniform level 5 (1.9 million vertices: peak memory per vertex) and coarsened back, and the
 # finite-element benchmark (assembly and solve, 10^4 to 10^6 unknowns, each solver), the fit,
-# and the output formats on 1.9 million vertices (bench_write: seconds against PLY, memory);
+# the Python package's arrays against refining (bench/python_overhead.py), and the output formats on 1.9 million vertices (bench_write: seconds against PLY, memory);
 # against deal.II where it is installed (bench_vs_dealii); the adaptive loop on 1, 2 and 4 MPI
 # processes (mpi_cycles.sh) and the partition among them (bench_partition).
 set -euo pipefail
