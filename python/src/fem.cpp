@@ -148,7 +148,7 @@ struct Solution {
   fem::SurfaceMesh fe;
   Eigen::VectorXd u;
   fem::Estimate estimate;
-  std::vector<char> marked;  // per triangle (a cycle; none for solve())
+  std::vector<char> marked;  // per triangle (a cycle's marks; all 0 for solve())
   adapt::SolvedMesh solved;
   adapt::CycleReport report;
   bool is_cycle = false;
@@ -221,6 +221,7 @@ std::shared_ptr<Solution> solve(RgbMesh& mesh, const PyProblem& p, int order, co
       s->report.error_h1 = e.h1;
     }
     s->solved = levels_of(mesh, s->fe);
+    s->marked.assign(s->fe.triangles.size(), 0);  // (nothing marked: the files' "marked" array is 0)
   }
   return s;
 }

@@ -124,6 +124,24 @@ def test_solutions_become_data_sets_with_their_fields():
     assert grid.GetNumberOfPoints() == len(s2.u) and grid.GetNumberOfCells() == mesh.num_triangles
 
 
+def test_solutions_write_the_tool_s_files(tmp_path):
+    mesh = rgbmesh.Mesh.from_arrays(*icosahedron(unit=True))
+    mesh.refine_uniform(2)
+    for order, name, reader in [(1, "p1.vtp", vtk.vtkXMLPolyDataReader()),
+                                (2, "p2.vtu", vtk.vtkXMLUnstructuredGridReader()),
+                                (2, "p2_vertices.vtp", vtk.vtkXMLPolyDataReader())]:
+        s = rgbmesh.solve(mesh, rgbmesh.Problem.builtin("sphere-peak"), order=order)
+        s.write(tmp_path / name)
+        reader.SetFileName(str(tmp_path / name))
+        reader.Update()
+        data = reader.GetOutput()
+        nodes = len(s.u) if name.endswith(".vtu") else mesh.num_vertices
+        assert data.GetNumberOfPoints() == nodes and data.GetNumberOfCells() == mesh.num_triangles
+        assert np.allclose(vtk_to_numpy(data.GetPointData().GetArray("solution")), s.u[:nodes])
+        assert (vtk_to_numpy(data.GetCellData().GetArray("marked")) == 0).all()
+        assert data.GetPointData().GetArray("error") is not None
+
+
 @pytest.mark.skipif(importlib.util.find_spec("pyvista") is not None, reason="PyVista is installed")
 def test_without_pyvista_its_conversions_say_what_is_missing():
     with pytest.raises(ImportError, match="needs the pyvista package"):
