@@ -91,6 +91,24 @@ py::tuple from_state(const DoubleArray& base_points, const Ints& base_triangles,
 
 void bind_state(py::module_& m) {
   py::class_<RgbMesh>(m.attr("Mesh"))
+      .def("copy", [](const RgbMesh& mesh) { return RgbMesh(mesh); }, "An independent copy (the same handles and rows).")
+      .def("__copy__", [](const RgbMesh& mesh) { return RgbMesh(mesh); })
+      .def("__deepcopy__", [](const RgbMesh& mesh, py::dict) { return RgbMesh(mesh); }, py::arg("memo"))
+      // Pickling (multiprocessing, storing meshes) goes through the RGB state and the triangles,
+      // as the files do: the unpickled mesh is the same RGB mesh, rows in the state's order.
+      .def(py::pickle(
+          [](const RgbMesh& mesh) {
+            const py::dict state = state_of(mesh);
+            return py::make_tuple(state["version"], state["base_points"], state["base_triangles"], state["base_vertex"],
+                                  state["parents"], py::cast(mesh).attr("triangles")());
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 6) throw InputError("unpickling a Mesh: 6 items expected, got " + std::to_string(t.size()));
+            py::tuple restored = from_state(py::cast<DoubleArray>(t[1]), py::cast<Ints>(t[2]), py::cast<Ints>(t[3]),
+                                            py::cast<Ints>(t[4]), py::cast<Ints>(t[5]), std::nullopt, std::nullopt,
+                                            std::nullopt, t[0].cast<int>());
+            return std::move(restored[0].cast<RgbMesh&>());
+          }))
       .def("state", &state_of,
            "The RGB state as arrays, what .vtp/.vtu files carry (format version 1): base_points and "
            "base_triangles (the base mesh, exactly), and per row of the point arrays base_vertex (its base index, "

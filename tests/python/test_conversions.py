@@ -154,3 +154,17 @@ def test_pyvista_objects_round_trip():
     pv = mesh.to_pyvista()
     assert pv.n_points == mesh.num_vertices
     assert corners(rgbmesh.from_pyvista(pv)) == corners(mesh)
+
+
+def test_meshes_copy_and_pickle_as_the_same_rgb_mesh():
+    import copy
+    import pickle
+
+    mesh = adapted_mesh()
+    for other in (pickle.loads(pickle.dumps(mesh)), copy.deepcopy(mesh), mesh.copy()):
+        assert other.validate() == "" and corners(other) == corners(mesh)
+        assert np.array_equal(np.sort(other.vertex_levels()), np.sort(mesh.vertex_levels()))
+    # A copy is independent: coarsening it leaves the original as it was.
+    other = mesh.copy()
+    other.refine_uniform(0)
+    assert other.num_vertices == 12 and mesh.num_vertices > 12 and mesh.validate() == ""
