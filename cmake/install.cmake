@@ -82,3 +82,42 @@ write_basic_package_version_file("${PROJECT_BINARY_DIR}/rgbmeshConfigVersion.cma
   COMPATIBILITY SameMinorVersion)
 install(FILES "${PROJECT_BINARY_DIR}/rgbmeshConfig.cmake" "${PROJECT_BINARY_DIR}/rgbmeshConfigVersion.cmake"
         DESTINATION ${RGBMESH_INSTALL_CMAKEDIR})
+
+# The Python package (issue 14), when it is built: the extension and the package's .py files
+# into RGBMESH_PYTHON_INSTALL_DIR/rgbmesh, as the component `python` (setup.py installs that
+# component alone to make its wheel, so `cmake --install` and pip give the same files). The
+# libraries are static, so the extension needs nothing of this build at run time; its build-tree
+# RUNPATH is dropped, and the system libraries it needs (VTK, PETSc, ...) are found by ld.so.
+if(RGBMESH_HAVE_PYTHON)
+  # The interpreter's own site-packages directory relative to its prefix: for Debian's
+  # /usr/bin/python3 that is lib/python3/dist-packages (its `deb_system` scheme, the directory
+  # Debian's packages use and FindPython reports as Python3_SITEARCH), for a virtual environment's
+  # or another Python's lib/python3.X/site-packages. So `--prefix /usr` or `--prefix <venv>` puts
+  # the package on that interpreter's path; other prefixes need PYTHONPATH.
+  execute_process(
+    COMMAND "${RGBMESH_PYTHON_EXECUTABLE}" -c [=[
+import os, sys, sysconfig
+if sys.prefix == sys.base_prefix and "deb_system" in sysconfig.get_scheme_names():
+    scheme = "deb_system"
+else:
+    scheme = sysconfig.get_default_scheme() if hasattr(sysconfig, "get_default_scheme") else sysconfig._get_default_scheme()
+# Debian's default scheme for its system interpreter is posix_local (/usr/local/...), which would
+# not be under the prefix at all: hence deb_system above.
+root = os.path.join(os.sep, "PREFIX")
+path = sysconfig.get_path("platlib", scheme, vars={"base": root, "platbase": root})
+sys.stdout.write(os.path.relpath(path, root))
+]=]
+    RESULT_VARIABLE _rgbmesh_site_result OUTPUT_VARIABLE _rgbmesh_site ERROR_VARIABLE _rgbmesh_site_error)
+  if(NOT _rgbmesh_site_result EQUAL 0 OR _rgbmesh_site STREQUAL "" OR _rgbmesh_site MATCHES "^\\.\\.")
+    message(WARNING "rgbmesh: could not ask ${RGBMESH_PYTHON_EXECUTABLE} for its site-packages directory "
+                    "(${_rgbmesh_site_error}); the Python package installs into lib/python3/dist-packages")
+    set(_rgbmesh_site lib/python3/dist-packages)
+  endif()
+  set(RGBMESH_PYTHON_INSTALL_DIR "${_rgbmesh_site}" CACHE STRING
+      "Where the Python package rgbmesh is installed (the directory holding rgbmesh/), relative to the prefix or absolute")
+  install(TARGETS rgbmesh_python LIBRARY DESTINATION "${RGBMESH_PYTHON_INSTALL_DIR}/rgbmesh" COMPONENT python)
+  # The same files python/CMakeLists.txt copies next to the extension in the build tree.
+  file(GLOB _rgbmesh_python_files CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/python/rgbmesh/*.py")
+  install(FILES ${_rgbmesh_python_files} DESTINATION "${RGBMESH_PYTHON_INSTALL_DIR}/rgbmesh" COMPONENT python)
+  message(STATUS "rgbmesh: the Python package installs into <prefix>/${RGBMESH_PYTHON_INSTALL_DIR} (RGBMESH_PYTHON_INSTALL_DIR)")
+endif()
