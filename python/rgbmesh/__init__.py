@@ -20,7 +20,7 @@ from .conversions import from_pyvista, from_vtk, to_pyvista, to_vtk  # noqa: E40
 
 Mesh.to_vtk = to_vtk
 Mesh.to_pyvista = to_pyvista
-if "Solution" in globals():
-    Solution.to_vtk = to_vtk
-    Solution.to_pyvista = to_pyvista
+if hasattr(_rgbmesh, "Solution"):
+    _rgbmesh.Solution.to_vtk = to_vtk
+    _rgbmesh.Solution.to_pyvista = to_pyvista
 __all__ += ["to_vtk", "from_vtk", "to_pyvista", "from_pyvista"]

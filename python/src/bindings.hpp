@@ -27,15 +27,32 @@ std::vector<Vec3> points_of_array(const DoubleArray& points, const char* what);
 /// A base mesh from arrays, checked as the mesh files are; errors name `what` ("base") first.
 RgbMesh mesh_from_arrays(const DoubleArray& points, const IndexArray& triangles, const std::string& what = "");
 
-/// A new numpy array of rows x columns (1: a vector) from `data`, converted element by element.
-template <class T, class Source>
-pybind11::array_t<T> array_of(std::size_t rows, std::size_t columns, const Source* data) {
+/// A new numpy array of rows x columns (1: a vector), filled by fill(T* data).
+template <class T, class Fill>
+pybind11::array_t<T> make_array(std::size_t rows, std::size_t columns, Fill&& fill) {
   using pybind11::ssize_t;
   pybind11::array_t<T> out(columns == 1 ? std::vector<ssize_t>{static_cast<ssize_t>(rows)}
                                         : std::vector<ssize_t>{static_cast<ssize_t>(rows), static_cast<ssize_t>(columns)});
-  T* d = out.mutable_data();
-  for (std::size_t i = 0; i < rows * columns; ++i) d[i] = static_cast<T>(data[i]);
+  fill(out.mutable_data());
   return out;
+}
+/// A new numpy array of rows x columns from `data`, converted element by element.
+template <class T, class Source>
+pybind11::array_t<T> array_of(std::size_t rows, std::size_t columns, const Source* data) {
+  return make_array<T>(rows, columns, [&](T* d) {
+    for (std::size_t i = 0; i < rows * columns; ++i) d[i] = static_cast<T>(data[i]);
+  });
+}
+
+/// Ctrl-C: asks Python for pending signals (the GIL held); a KeyboardInterrupt then unwinds
+/// from here, between two operations of the library, which leave the mesh valid.
+inline void throw_if_interrupted() {
+  if (PyErr_CheckSignals() != 0) throw pybind11::error_already_set();
+}
+/// The same from code that released the GIL: takes it back for the check.
+inline void check_signals() {
+  pybind11::gil_scoped_acquire gil;
+  throw_if_interrupted();
 }
 
 }  // namespace rgbmesh::python

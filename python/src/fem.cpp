@@ -42,13 +42,6 @@ struct Callable {
   }
 };
 
-// Ctrl-C: asks Python for pending signals (the GIL taken for it); a KeyboardInterrupt then
-// unwinds from here.
-void check_signals() {
-  py::gil_scoped_acquire gil;
-  if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-}
-
 std::string shape_of(const py::array& a) {
   std::string s = "(";
   for (py::ssize_t k = 0; k < a.ndim(); ++k) s += (k ? ", " : "") + std::to_string(a.shape(k));
@@ -63,7 +56,7 @@ fem::PointValues point_function(py::object f, const std::string& what) {
   auto callable = std::make_shared<Callable>(std::move(f));
   return [callable, what](const Vec3* x, std::size_t n, double* values) {
     py::gil_scoped_acquire gil;
-    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    throw_if_interrupted();
     py::array_t<double> points({static_cast<py::ssize_t>(n), py::ssize_t{3}});
     std::memcpy(points.mutable_data(), x, n * sizeof(Vec3));
     const py::object result = callable->f(points);
@@ -297,7 +290,7 @@ py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strateg
       std::shared_ptr<Solution> copy = copy_cycle(c, problem);
       py::gil_scoped_acquire gil;
       on_cycle->f(std::move(copy));
-      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      throw_if_interrupted();
     });
   }
   py::list reports;

@@ -133,7 +133,7 @@ py::dict run_fit(const py::object& target, const py::object& triangles, const py
     r = fit::fit(b.mesh, cloud.points, o, [&](const fit::IterationReport& it) {
       py::gil_scoped_acquire gil;
       if (!callback.is_none()) callback(iteration_dict(it));
-      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      throw_if_interrupted();
     });
   }
   py::dict out;

@@ -22,8 +22,6 @@ namespace rgbmesh::python {
 
 namespace {
 
-using Doubles = DoubleArray;
-
 // An (n, 3) array's rows, refused with the reason if it is not one.
 template <class Array>
 void require_rows_of_three(const Array& a, const char* what) {
@@ -33,14 +31,6 @@ void require_rows_of_three(const Array& a, const char* what) {
 }
 
 
-// Copies into a new numpy array of `rows` x `columns`.
-template <class T, class Fill>
-py::array_t<T> make_array(std::size_t rows, std::size_t columns, Fill&& fill) {
-  py::array_t<T> out(columns == 1 ? std::vector<py::ssize_t>{static_cast<py::ssize_t>(rows)}
-                                  : std::vector<py::ssize_t>{static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(columns)});
-  fill(out.mutable_data());
-  return out;
-}
 
 // Each live vertex's row in the point arrays (the vertices in slot order, as in a snapshot),
 // by slot (-1: a free slot).
@@ -66,6 +56,9 @@ py::array_t<T> per_element(std::size_t count, const Range& range, Value&& value)
                                   [&](std::size_t, std::size_t i) { value(handles[i], d + Width * i); });
   });
 }
+// A point into a row of an (n, 3) array.
+void put(const Vec3& p, double* row) { row[0] = p.x, row[1] = p.y, row[2] = p.z; }
+
 template <class T, std::size_t Width, class Value>
 py::array_t<T> per_vertex(const RgbMesh& mesh, Value&& value) {
   return per_element<T, Width, VertexHandle>(mesh.num_vertices(), mesh.vertices(), std::forward<Value>(value));
@@ -81,10 +74,7 @@ py::array_t<T> per_triangle(const RgbMesh& mesh, Value&& value) {
 RefinementOptions interruptible(int max_level) {
   RefinementOptions o;
   o.max_level = max_level;
-  o.progress = [](std::uint64_t, std::size_t) {
-    py::gil_scoped_acquire acquire;
-    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-  };
+  o.progress = [](std::uint64_t, std::size_t) { check_signals(); };
   return o;
 }
 
@@ -133,8 +123,8 @@ py::dict refine(RgbMesh& mesh, std::optional<int> uniform, std::optional<int> at
 
 // The user's own indicator: per triangle (the rows of triangles()) refine where above
 // refine_above; per vertex (the rows of the point arrays) remove where below coarsen_below.
-py::dict adapt_to(RgbMesh& mesh, std::optional<Doubles> triangle_values, double refine_above,
-                  std::optional<Doubles> vertex_values, double coarsen_below, int max_level) {
+py::dict adapt_to(RgbMesh& mesh, std::optional<DoubleArray> triangle_values, double refine_above,
+                  std::optional<DoubleArray> vertex_values, double coarsen_below, int max_level) {
   if (max_level < 0 || max_level > kMaxLevel)
     throw InputError("max_level " + std::to_string(max_level) + " is not in [0, " + std::to_string(kMaxLevel) + "]");
   // The rows of the arrays are the live elements in slot order (as triangles() and the point
@@ -226,20 +216,15 @@ void bind_mesh(py::module_& m) {
               for (const VertexHandle v : mesh.vertices())
                 if (shown[static_cast<std::size_t>(v.idx)] > mesh.level(v)) mesh.limit_position(v);
             }
-            return per_vertex<double, 3>(mesh, [&](VertexHandle v, double* d) {
-              const Vec3 c = mesh.control_point(v, shown[static_cast<std::size_t>(v.idx)]);
-              d[0] = c.x, d[1] = c.y, d[2] = c.z;
-            });
+            return per_vertex<double, 3>(
+                mesh, [&](VertexHandle v, double* d) { put(mesh.control_point(v, shown[static_cast<std::size_t>(v.idx)]), d); });
           },
           "The vertices' control points at their shown level (where they are in the current mesh), (n, 3): the "
           "rows of the point arrays, which triangles() indexes.")
       .def(
           "insertion_points",
           [](const RgbMesh& mesh) {
-            return per_vertex<double, 3>(mesh, [&](VertexHandle v, double* d) {
-              const Vec3& c = mesh.insertion_point(v);
-              d[0] = c.x, d[1] = c.y, d[2] = c.z;
-            });
+            return per_vertex<double, 3>(mesh, [&](VertexHandle v, double* d) { put(mesh.insertion_point(v), d); });
           },
           "The vertices' control points at their insertion level (the base points for base vertices; Loop's "
           "odd rule for the others), (n, 3): stored, so a plain copy.")
@@ -250,10 +235,7 @@ void bind_mesh(py::module_& m) {
               py::gil_scoped_release release;
               mesh.compute_limits();
             }
-            return per_vertex<double, 3>(mesh, [&](VertexHandle v, double* d) {
-              const Vec3 c = mesh.limit_position(v);
-              d[0] = c.x, d[1] = c.y, d[2] = c.z;
-            });
+            return per_vertex<double, 3>(mesh, [&](VertexHandle v, double* d) { put(mesh.limit_position(v), d); });
           },
           "The vertices' positions on the Loop limit surface, (n, 3), rows of the point arrays. Computed once "
           "(RgbMesh::compute_limits, which may insert and remove helper vertices: the mesh is the same, but the "

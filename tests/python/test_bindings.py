@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import rgbmesh
 
-from meshes import icosahedron, write_obj
+from helpers import icosahedron, write_obj
 
 vtk = pytest.importorskip("vtk")
 from vtk.util.numpy_support import vtk_to_numpy  # noqa: E402

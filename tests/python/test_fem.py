@@ -6,7 +6,6 @@ stops, Ctrl-C, and errors for bad input."""
 import json
 import os
 import signal
-import subprocess
 import threading
 import time
 
@@ -14,7 +13,7 @@ import numpy as np
 import pytest
 import rgbmesh
 
-from meshes import icosahedron, write_obj
+from helpers import icosahedron, public, tool, write_obj
 
 PEAK_DIRECTION = np.array([0.48, 0.6, 0.64]) / np.linalg.norm([0.48, 0.6, 0.64])
 
@@ -33,16 +32,6 @@ def unit_icosphere(level=0):
     if level:
         mesh.refine_uniform(level)
     return mesh
-
-
-def tool(*args):
-    return subprocess.run([os.environ["RGBMESH_CLI"], *map(str, args)], check=True, capture_output=True, text=True)
-
-
-def public(name):
-    path = os.path.join(os.environ["RGBMESH_PUBLIC_DATA"], name)
-    assert os.path.exists(path), "missing public test data %s: run scripts/fetch-test-data.sh" % path
-    return path
 
 
 def slope(reports, key):

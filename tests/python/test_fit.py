@@ -3,24 +3,12 @@ base (given, decimated from a scan's faces, reconstructed from a point cloud), a
 surface close to an analytic target, and errors for bad input."""
 
 import json
-import os
-import subprocess
 
 import numpy as np
 import pytest
 import rgbmesh
 
-from meshes import icosahedron, write_obj
-
-
-def tool(*args):
-    return subprocess.run([os.environ["RGBMESH_CLI"], *map(str, args)], check=True, capture_output=True, text=True)
-
-
-def public(name):
-    path = os.path.join(os.environ["RGBMESH_PUBLIC_DATA"], name)
-    assert os.path.exists(path), "missing public test data %s: run scripts/fetch-test-data.sh" % path
-    return path
+from helpers import icosahedron, public, tool, write_obj
 
 
 def ellipsoid_points(n=4000, axes=(1.0, 0.7, 0.5), seed=3):

@@ -1,4 +1,7 @@
-"""Meshes the Python tests share."""
+"""What the Python tests share: meshes, the rgbmesh tool, the public test data."""
+
+import os
+import subprocess
 
 import numpy as np
 
@@ -22,3 +25,15 @@ def write_obj(path, points, triangles):
             f.write("v %.17g %.17g %.17g\n" % tuple(p))
         for t in triangles:
             f.write("f %d %d %d\n" % tuple(np.asarray(t) + 1))
+
+
+def tool(*args):
+    """Runs the rgbmesh tool (RGBMESH_CLI) with these arguments; fails the test if it fails."""
+    return subprocess.run([os.environ["RGBMESH_CLI"], *map(str, args)], check=True, capture_output=True, text=True)
+
+
+def public(name):
+    """A public test file (scripts/fetch-test-data.sh); fails, not skips, when it is missing."""
+    path = os.path.join(os.environ["RGBMESH_PUBLIC_DATA"], name)
+    assert os.path.exists(path), "missing public test data %s: run scripts/fetch-test-data.sh" % path
+    return path
