@@ -4,11 +4,16 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
+#include <optional>
 
 #include "json.hpp"
 #include "output_dir.hpp"
+#include "resources.hpp"
 #include "rgbmesh/fit/base.hpp"
+#include "rgbmesh/fit/distances.hpp"
 #include "rgbmesh/fit/fit.hpp"
+#include "rgbmesh/fit/fit_target.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/vtk_io.hpp"
@@ -39,30 +44,54 @@ fit::FitOptions fit_options(const FitArgs& a) {
   return o;
 }
 
-// The base: --base as given, or built from the target.
-fit::Base base_for(const FitArgs& a, const PointCloud& target) {
+// The control of every stage: the memory ceiling (a ResourceError naming the stage once the
+// process holds more) and a progress line for stages that last more than two seconds.
+fit::StageControl stage_control(const MemoryCeiling& ceiling) {
+  auto line = std::make_shared<std::unique_ptr<ProgressLine>>();
+  fit::StageControl control;
+  control.on_step = [line, ceiling](const std::string& stage, double fraction) {
+    const std::size_t resident = resident_memory_bytes();
+    if (resident > ceiling.bytes()) {
+      if (*line) (*line)->finish();
+      throw ResourceError(stage + ": the process holds " + human_bytes(static_cast<double>(resident)) +
+                          ", more than the memory limit of " + ceiling.describe());
+    }
+    if (!*line || (*line)->task() != stage) {
+      if (*line) (*line)->finish();
+      *line = std::make_unique<ProgressLine>(stage);
+    }
+    (*line)->update(fraction);
+  };
+  return control;
+}
+
+// The base given with --base, if any.
+std::optional<fit::Base> given_base(const FitArgs& a) {
+  if (a.base.empty()) return std::nullopt;
   SoupOptions soup_options;
   soup_options.triangulate = a.triangulate;
-  if (!a.base.empty()) {
-    fit::Base base;
-    base.mesh = read_mesh(a.base, soup_options);
-    for (const std::string& note : base.mesh.notes) base.notes.push_back(a.base + ": " + note);
-    base.mesh.notes.clear();
-    try {
-      base.topology = fit::topology_of(base.mesh);
-    } catch (const InputError& e) {
-      throw InputError(a.base + ": " + e.what());
-    }
-    base.source = fit::BaseSource::given;
-    return base;
+  fit::Base base;
+  base.mesh = read_mesh(a.base, soup_options);
+  for (const std::string& note : base.mesh.notes) base.notes.push_back(a.base + ": " + note);
+  base.mesh.notes.clear();
+  try {
+    base.topology = fit::topology_of(base.mesh);
+  } catch (const InputError& e) {
+    throw InputError(a.base + ": " + e.what());
   }
-  PolygonSoup soup;
-  soup.points = target.points;
-  soup.faces = target.faces;
-  fit::BaseOptions options;
-  options.faces = a.base_faces;
-  options.triangulate = a.triangulate;
-  return fit::make_base(soup, target.normals, options);
+  base.source = fit::BaseSource::given;
+  return base;
+}
+
+fit::TargetFitOptions target_fit_options(const FitArgs& a) {
+  fit::TargetFitOptions o;
+  o.fit = fit_options(a);
+  o.base.faces = a.base_faces;
+  o.base.soup.triangulate = a.triangulate;
+  o.base.ignore_faces = a.ignore_faces;
+  if (!fit::reconstruction_method_from_name(a.reconstruction, o.base.reconstruction.method))
+    throw InputError("--reconstruction: '" + a.reconstruction + "' is not automatic, poisson or advancing-front");
+  return o;
 }
 
 // Exactly the double (the JSON helper rounds to 6 digits): the report's figures must match
@@ -89,39 +118,15 @@ MeshSnapshot limit_snapshot(const fit::LimitStencils& stencils, const std::vecto
   return limit;
 }
 
-}  // namespace
-
-int run_fit(const FitArgs& a) {
-  const auto start = std::chrono::steady_clock::now();
-  const fit::FitOptions options = fit_options(a);
-  const PointCloud target = read_point_cloud(a.target);
-  for (const std::string& note : target.notes) std::cerr << "rgbmesh: note: " << note << "\n";
-  const fit::Base base = base_for(a, target);
-  for (const std::string& note : base.notes) std::cerr << "rgbmesh: note: " << note << "\n";
-  prepare_output_directory(a.out);
-
-  std::printf(
-      "rgbmesh fit: %s target points%s; base (%s) %s vertices / %s triangles, %s; limit surface at level "
-      "%d\n",
-      fit::with_thousands(target.points.size()).c_str(), target.faces.empty() ? "" : " (mesh vertices)",
-      fit::to_string(base.source), fit::with_thousands(base.mesh.points.size()).c_str(),
-      fit::with_thousands(base.mesh.triangles.size()).c_str(), fit::to_string(base.topology).c_str(),
-      a.levels);
-  std::printf("iteration         rms         max   rms/diag   seconds\n");
-  const double diagonal = bounding_box_diagonal(target.points);
-  const fit::FitResult r = fit::fit(base.mesh, target.points, options, [&](const fit::IterationReport& it) {
-    std::printf("%9d  %10.4e  %10.4e  %9.2e  %8.3f\n", it.iteration, it.rms, it.max, it.rms / diagonal, it.seconds);
-    std::fflush(stdout);
-  });
-
-  for (const std::string& note : r.notes) std::cerr << "rgbmesh: note: " << note << "\n";
-
+void write_outputs(const FitArgs& a, const fit::TargetFit& f) {
+  const fit::Base& base = f.base;
+  const fit::FitResult& r = f.result;
   const fs::path dir(a.out);
   write_mesh(dir / "base.obj", RgbMesh::from_triangles(base.mesh.points, base.mesh.triangles).snapshot());
-  write_mesh(dir / "fitted_base.obj",
-             RgbMesh::from_triangles(r.control_points, base.mesh.triangles).snapshot());
+  write_mesh(dir / "fitted_base.obj", RgbMesh::from_triangles(r.control_points, base.mesh.triangles).snapshot());
   MeshSnapshot limit = limit_snapshot(r.stencils, r.control_points);
   fit::TriangleDistances per_triangle = fit::distances_per_triangle(r);
+  limit.point_data.push_back({"distance_to_target", 1, f.distances.to_target});
   limit.cell_data.push_back({"targets", 1, std::move(per_triangle.targets)});
   limit.cell_data.push_back({"rms_distance", 1, std::move(per_triangle.rms_distance)});
   const auto vtk_options = [&](const char* file) { return output_options((dir / file).string(), a.compression); };
@@ -129,65 +134,163 @@ int run_fit(const FitArgs& a) {
   // The limit surface of the starting base, for comparison (subdivision shrinks a coarse base).
   write_mesh(dir / "initial_limit_surface.vtp", limit_snapshot(r.stencils, base.mesh.points),
              vtk_options("initial_limit_surface.vtp"));
-  write_point_cloud(dir / "targets.vtp", target.points, {{"distance", 1, r.distance}}, vtk_options("targets.vtp"));
-  const double total_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  write_point_cloud(dir / "targets.vtp", f.targets, {{"distance", 1, r.distance}}, vtk_options("targets.vtp"));
+}
 
-  if (!a.report.empty()) {
-    std::vector<std::string> iterations, notes;
-    for (const fit::IterationReport& it : r.iterations)
-      iterations.push_back(JsonObject()
-                               .add("iteration", it.iteration)
-                               .add("rms", it.rms)
-                               .add("max", it.max)
-                               .add("seconds", it.seconds)
-                               .str());
-    for (const std::string& note : target.notes) notes.push_back(JsonObject::quote(note));
-    for (const std::string& note : base.notes) notes.push_back(JsonObject::quote(note));
-    for (const std::string& note : r.notes) notes.push_back(JsonObject::quote(note));
-    const std::string target_json = JsonObject()
-                                        .add("file", a.target)
-                                        .add("points", static_cast<std::uint64_t>(target.points.size()))
-                                        .add("faces", static_cast<std::uint64_t>(target.faces.size()))
-                                        .raw("normals", target.normals.empty() ? "false" : "true")
-                                        .str();
-    JsonObject base_json;
-    base_json.add("source", fit::to_string(base.source));
-    if (!a.base.empty()) base_json.add("file", a.base);
-    if (a.base.empty()) base_json.add("requested_faces", static_cast<std::uint64_t>(a.base_faces));
-    base_json.add("vertices", static_cast<std::uint64_t>(base.mesh.points.size()))
-        .add("faces", static_cast<std::uint64_t>(base.mesh.triangles.size()))
-        .add("components", base.topology.components)
-        .add("genus", base.topology.genus)
-        .add("boundary_loops", base.topology.boundary_loops)
-        .add("reconstruction_seconds", base.reconstruction_seconds)
-        .add("decimation_seconds", base.decimation_seconds);
-    JsonObject report;
-    report.add("version", RGBMESH_VERSION);
-    if (!a.command_line.empty()) report.add("command", a.command_line);
-    report.raw("target", target_json)
-        .raw("base", base_json.str())
-        .raw("notes", json_list(notes))
-        .raw("settings", JsonObject()
-                             .add("levels", a.levels)
-                             .add("loss", a.loss)
-                             .add("smooth", a.smooth)
-                             .add("iterations", a.iterations)
-                             .str())
-        .add("smooth_used", r.smooth)
-        .raw("iterations", json_list(iterations))
-        .raw("rms", exact(r.rms))
-        .raw("max", exact(r.max))
-        .raw("diagonal", exact(r.diagonal))
-        .add("rms_relative", r.rms / r.diagonal)
-        .add("max_relative", r.max / r.diagonal)
-        .add("seconds", r.seconds)
-        .add("total_seconds", total_seconds);
-    write_text_atomically(a.report, report.str() + "\n");
+std::string distances_json(const fit::TwoSidedDistances& d) {
+  return JsonObject()
+      .raw("rms", exact(d.to_surface_rms))
+      .raw("max", exact(d.to_surface_max))
+      .raw("p99", exact(d.to_surface_p99))
+      .add("rms_relative", d.to_surface_rms / d.diagonal)
+      .add("max_relative", d.to_surface_max / d.diagonal)
+      .str();
+}
+
+std::string back_json(const fit::TwoSidedDistances& d) {
+  return JsonObject()
+      .raw("rms", exact(d.to_target_rms))
+      .raw("max", exact(d.to_target_max))
+      .add("rms_relative", d.to_target_rms / d.diagonal)
+      .add("max_relative", d.to_target_max / d.diagonal)
+      .str();
+}
+
+void write_report(const FitArgs& a, const PointCloud& cloud, const fit::TargetFit& f, double total_seconds) {
+  const fit::Base& base = f.base;
+  const fit::FitResult& r = f.result;
+  const fit::TwoSidedDistances& two_sided = f.distances;
+  const fit::Verdict& verdict = f.verdict;
+  std::vector<std::string> iterations, notes;
+  for (const fit::IterationReport& it : r.iterations)
+    iterations.push_back(
+        JsonObject()
+            .add("iteration", it.iteration)
+            .add("rms", it.rms)
+            .add("max", it.max)
+            .add("surface_rms", it.surface_rms)
+            .add("seconds", it.seconds)
+            .str());
+  for (const std::string& note : cloud.notes) notes.push_back(JsonObject::quote(note));
+  for (const std::string& note : f.notes) notes.push_back(JsonObject::quote(note));
+  const std::string target_json = JsonObject()
+                                      .add("file", a.target)
+                                      .add("kind", f.target_is_surface ? "surface" : "points")
+                                      .add("points", static_cast<std::uint64_t>(cloud.points.size()))
+                                      .add("faces", static_cast<std::uint64_t>(cloud.faces.size()))
+                                      .add("fitted_points", static_cast<std::uint64_t>(f.targets.size()))
+                                      .raw("normals", cloud.normals.empty() ? "false" : "true")
+                                      .str();
+  JsonObject base_json;
+  base_json.add("source", fit::to_string(base.source));
+  if (!a.base.empty()) base_json.add("file", a.base);
+  if (a.base.empty()) base_json.add("requested_faces", static_cast<std::uint64_t>(a.base_faces));
+  if (base.source == fit::BaseSource::reconstructed)
+    base_json.add("reconstruction", fit::to_string(base.reconstruction)).add("unsupported_area", base.unsupported);
+  base_json.add("vertices", static_cast<std::uint64_t>(base.mesh.points.size()))
+      .add("faces", static_cast<std::uint64_t>(base.mesh.triangles.size()))
+      .add("components", base.topology.components)
+      .add("genus", base.topology.genus)
+      .add("boundary_loops", base.topology.boundary_loops)
+      .add("reconstruction_seconds", base.reconstruction_seconds)
+      .add("decimation_seconds", base.decimation_seconds);
+  JsonObject report;
+  report.add("version", RGBMESH_VERSION);
+  if (!a.command_line.empty()) report.add("command", a.command_line);
+  report.add("status", verdict.accepted ? "accepted" : "rejected");
+  if (!verdict.accepted) report.add("reason", verdict.reason);
+  report.raw("target", target_json)
+      .raw("base", base_json.str())
+      .raw("notes", json_list(notes))
+      .raw("settings", JsonObject()
+                           .add("levels", a.levels)
+                           .add("loss", a.loss)
+                           .add("smooth", a.smooth)
+                           .add("iterations", a.iterations)
+                           .add("reconstruction", a.reconstruction)
+                           .str())
+      .add("smooth_used", r.smooth)
+      .raw("iterations", json_list(iterations))
+      .raw("rms", exact(r.rms))
+      .raw("max", exact(r.max))
+      .raw("diagonal", exact(r.diagonal))
+      .add("rms_relative", r.rms / r.diagonal)
+      .add("max_relative", r.max / r.diagonal)
+      .raw("targets_to_surface", distances_json(two_sided))
+      .raw("surface_to_target", back_json(two_sided))
+      .add("seconds", r.seconds)
+      .add("total_seconds", total_seconds);
+  write_text_atomically(a.report, report.str() + "\n");
+}
+
+}  // namespace
+
+int run_fit(const FitArgs& a) {
+  const auto start = std::chrono::steady_clock::now();
+  const fit::TargetFitOptions options = target_fit_options(a);
+  const MemoryCeiling ceiling = MemoryCeiling::from_option(a.memory_limit);
+  const fit::StageControl control = stage_control(ceiling);
+  const PointCloud cloud = read_point_cloud(a.target);
+  for (const std::string& note : cloud.notes) std::cerr << "rgbmesh: note: " << note << "\n";
+  const std::optional<fit::Base> given = given_base(a);
+  PolygonSoup soup;
+  soup.points = cloud.points;
+  soup.faces = cloud.faces;
+  fit::TargetFit f;
+  try {
+    f = fit::prepare_target_fit(soup, cloud.normals, given, options, control);
+  } catch (const InputError& e) {
+    // The checks of the target's faces name faces and vertices: the file is named here. The
+    // stages' own errors start with the stage.
+    const std::string what = e.what();
+    if (what.rfind("reconstructing", 0) == 0 || what.rfind("decimating", 0) == 0) throw;
+    throw InputError(a.target + ": " + what + " (--ignore-faces fits the target's vertices as a point cloud)");
   }
-  std::printf("rms %.3e (%.4f%% of the diagonal), max %.3e (%.4f%%); fit %.2f s, total %.2f s; wrote %s\n",
-              r.rms, 100 * r.rms / r.diagonal, r.max, 100 * r.max / r.diagonal, r.seconds, total_seconds,
-              a.out.c_str());
+  for (const std::string& note : f.notes) std::cerr << "rgbmesh: note: " << note << "\n";
+  const std::size_t notes_before_fit = f.notes.size();
+  prepare_output_directory(a.out);
+
+  std::printf(
+      "rgbmesh fit: %s target points%s; base (%s) %s vertices / %s triangles, %s; limit surface at level "
+      "%d\n",
+      fit::with_thousands(f.targets.size()).c_str(),
+      f.target_is_surface ? (" (the mesh's " + fit::with_thousands(f.target_surface.points.size()) +
+                             " vertices and points spread over its " +
+                             fit::with_thousands(f.target_surface.triangles.size()) + " triangles)")
+                                .c_str()
+                          : "",
+      fit::to_string(f.base.source), fit::with_thousands(f.base.mesh.points.size()).c_str(),
+      fit::with_thousands(f.base.mesh.triangles.size()).c_str(), fit::to_string(f.base.topology).c_str(), a.levels);
+  std::printf("iteration         rms         max   rms/diag  back/diag   seconds\n");
+  const double diagonal = bounding_box_diagonal(f.targets);
+  fit::run_target_fit(
+      f, options,
+      [&](const fit::IterationReport& it) {
+        std::printf("%9d  %10.4e  %10.4e  %9.2e  %9.2e  %8.3f\n", it.iteration, it.rms, it.max, it.rms / diagonal,
+                    it.surface_rms / diagonal, it.seconds);
+        std::fflush(stdout);
+      },
+      control);
+  for (std::size_t i = notes_before_fit; i < f.notes.size(); ++i)
+    std::cerr << "rgbmesh: note: " << f.notes[i] << "\n";
+
+  write_outputs(a, f);
+  const double total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!a.report.empty()) write_report(a, cloud, f, total_seconds);
+  const fit::FitResult& r = f.result;
+  const fit::TwoSidedDistances& d = f.distances;
+  std::printf(
+      "targets to surface: rms %.3e (%.4f%% of the diagonal), max %.3e (%.4f%%)\n"
+      "surface to target:  rms %.3e (%.4f%%), max %.3e (%.4f%%)\n"
+      "fit %.2f s, total %.2f s; wrote %s\n",
+      r.rms, 100 * r.rms / r.diagonal, r.max, 100 * r.max / r.diagonal, d.to_target_rms,
+      100 * d.to_target_rms / r.diagonal, d.to_target_max, 100 * d.to_target_max / r.diagonal, r.seconds,
+      total_seconds, a.out.c_str());
+  std::fflush(stdout);
+  if (!f.verdict.accepted)
+    throw InputError(f.verdict.reason + "; " + a.out +
+                     "/limit_surface.vtp shows where (point data distance_to_target). A finer base (--base-faces), "
+                     "more levels (--levels) or a base of your own (--base) may fit; for a cloud, more points");
   return 0;
 }
 

@@ -13,6 +13,8 @@ struct FitArgs {
   std::string target;        // points: a point cloud (.xyz, .pwn, or a mesh format without faces) or a mesh
   std::string base;          // empty: built from the target (decimated, or reconstructed and decimated)
   bool triangulate = false;  // fan-split the polygons of --target's and --base's faces
+  bool ignore_faces = false;  // fit --target's vertices as a point cloud
+  std::string reconstruction = "automatic";  // automatic, poisson, advancing-front
   std::size_t base_faces = 1000;
   int levels = 3;
   std::string loss = "huber";  // huber, cauchy, none
@@ -21,19 +23,25 @@ struct FitArgs {
   std::string out = "out-fit";  // apart from adapt's "out", so that the two never clear each other's
   std::string report;
   std::string command_line;  // for the report; may be empty
+  std::string memory_limit;  // --memory-limit's text ("": the default ceiling)
 };
 
-// Reads the target, builds or reads the base, runs the fit and writes, into DIR (after removing
-// a previous run's outputs, see output_dir.hpp):
+// Reads the target, builds or reads the base, runs the fit, measures it in both directions
+// (fit/distances.hpp) and writes, into DIR (after removing a previous run's outputs, see
+// output_dir.hpp):
 //   base.obj                   the starting base (given, the target, decimated or reconstructed)
 //   fitted_base.obj            the fitted control points on the base's triangles
 //   initial_limit_surface.vtp  the starting base's limit surface
-//   limit_surface.vtp          the fitted limit surface, with cell data "targets" (targets whose
-//                              closest point lies in the triangle) and "rms_distance" (their RMS
-//                              distance to the surface; 0 where there are none)
-//   targets.vtp                the targets as vertices, with point data "distance" (to the fitted
-//                              limit surface: the figures the RMS and maximum come from)
-// and the JSON report; returns the exit code. InputError on bad arguments or input.
+//   limit_surface.vtp          the fitted limit surface, with point data "distance_to_target" and
+//                              cell data "targets" (targets whose closest point lies in the
+//                              triangle) and "rms_distance" (their RMS distance to the surface;
+//                              0 where there are none)
+//   targets.vtp                the targets as vertices (a mesh target's vertices and the points
+//                              spread over its triangles), with point data "distance" (to the
+//                              fitted limit surface: the figures the RMS and maximum come from)
+// and the JSON report; returns the exit code. InputError on bad arguments or input, and when the
+// fitted surface fails the two-sided check (after the files are written, so that the user can
+// see where); ResourceError when a stage passes the memory ceiling.
 int run_fit(const FitArgs& args);
 
 }  // namespace rgbmesh::cli

@@ -405,6 +405,14 @@ int main(int argc, char** argv) {
       ->check(number_in("an integer in [4, 10^8]", [](double x) { return x >= 4 && x <= 1e8; }))
       ->excludes(fit_base);
   fit_cmd->add_flag("--triangulate", fit_args.triangulate, "Fan-split polygons of the --target and --base faces");
+  fit_cmd->add_flag("--ignore-faces", fit_args.ignore_faces,
+                    "Fit the --target's vertices as a point cloud, whatever its faces (by default a mesh target is "
+                    "the surface its faces make)");
+  fit_cmd
+      ->add_option("--reconstruction", fit_args.reconstruction,
+                   "How a point cloud's base surface is reconstructed: automatic (Poisson where the points enclose a "
+                   "volume, else advancing front), poisson (closed) or advancing-front (open where the points are)")
+      ->capture_default_str();
   fit_cmd->add_option("--levels", fit_args.levels, "Uniform level of the limit surface used in the fit")
       ->capture_default_str()
       ->check(number_in("an integer in [1, 6]", [](double x) { return x >= 1 && x <= 6; }));
@@ -466,6 +474,7 @@ int main(int argc, char** argv) {
   try {
     const MemoryCeiling ceiling = MemoryCeiling::from_option(memory_limit);
     adapt_args.memory_limit = memory_limit;
+    fit_args.memory_limit = memory_limit;
     // Only adapt runs on several processes; any other command is rank 0's alone.
     if (processes.rank != 0 && !adapt_cmd->parsed() && (info->parsed() || convert->parsed() || refine->parsed() || fit_cmd->parsed()))
       return 0;

@@ -11,9 +11,11 @@
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Bounded_normal_change_filter.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
+#include <CGAL/Surface_mesh_simplification/Edge_collapse_visitor_base.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include <algorithm>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -78,13 +80,34 @@ class FaceCountReached {
   std::size_t faces_;
 };
 
-TriangleMeshData collapse_to(const TriangleMeshData& mesh, std::size_t faces) {
+// Calls the stage's control every 1,024 edges taken from the queue (the fraction is that of the
+// collapses needed, roughly: the initial edge count down to the goal's).
+class ControlVisitor : public SMS::Edge_collapse_visitor_base<SurfaceMesh> {
+ public:
+  ControlVisitor(const StageControl& control, const std::string& stage, std::size_t from, std::size_t to)
+      : control_(&control), stage_(&stage), from_(from), to_(to) {}
+  void OnSelected(const Profile&, const boost::optional<double>&, std::size_t initial, std::size_t current) {
+    if (++*selected_ % 1024 != 0) return;
+    const double needed = static_cast<double>(initial) * (1.0 - static_cast<double>(to_) / static_cast<double>(from_));
+    control_->step(*stage_, needed > 0 ? std::min(1.0, static_cast<double>(initial - current) / needed) : -1);
+  }
+
+ private:
+  const StageControl* control_;
+  const std::string* stage_;
+  std::size_t from_, to_;
+  std::shared_ptr<std::size_t> selected_ = std::make_shared<std::size_t>(0);
+};
+
+TriangleMeshData collapse_to(const TriangleMeshData& mesh, std::size_t faces, const StageControl& control,
+                             const std::string& stage) {
   SurfaceMesh sm = to_surface_mesh(mesh);
   SMS::GarlandHeckbert_plane_policies<SurfaceMesh, Kernel> quadrics(sm);
   SMS::edge_collapse(sm, FaceCountReached(sm, faces),
                      CGAL::parameters::get_cost(quadrics.get_cost())
                          .get_placement(quadrics.get_placement())
-                         .filter(SMS::Bounded_normal_change_filter<>()));
+                         .filter(SMS::Bounded_normal_change_filter<>())
+                         .visitor(ControlVisitor(control, stage, mesh.triangles.size(), faces)));
   return prepare_triangle_mesh(to_soup(sm));
 }
 
@@ -102,8 +125,10 @@ std::string problem_with(const TriangleMeshData& result, const Topology& expecte
 
 }  // namespace
 
-TriangleMeshData decimate(const TriangleMeshData& mesh, std::size_t faces, const std::string& name) {
+TriangleMeshData decimate(const TriangleMeshData& mesh, std::size_t faces, const std::string& name,
+                          const StageControl& control) {
   const std::string stage = "decimating " + name + " to " + with_thousands(faces) + " faces: ";
+  const std::string step_stage = stage.substr(0, stage.size() - 2);
   Topology topology;
   try {
     topology = topology_of(mesh);
@@ -133,7 +158,7 @@ TriangleMeshData decimate(const TriangleMeshData& mesh, std::size_t faces, const
     }
     std::string problem;
     try {
-      result = collapse_to(mesh, goal);
+      result = collapse_to(mesh, goal, control, step_stage);
       problem = problem_with(result, topology);
     } catch (const InputError& e) {
       problem = e.what();

@@ -181,7 +181,9 @@ std::vector<Vec3> LimitStencils::evaluate(const std::vector<Vec3>& base) const {
   return out;
 }
 
-LimitStencils limit_stencils(const TriangleMeshData& base, int level) {
+LimitStencils limit_stencils(const TriangleMeshData& base, int level, const StageControl& control) {
+  const std::string stage = "limit stencils of the base at level " + std::to_string(level);
+  control.step(stage, 0);
   const auto n = static_cast<std::int32_t>(base.points.size());
   const auto adj = adjacency(base);
   // Colour classes: base vertices within 5 edges of each other differ (a limit point's stencil
@@ -235,6 +237,7 @@ LimitStencils limit_stencils(const TriangleMeshData& base, int level) {
   // Probe runs: coordinate d of base vertex j is 1 when colour(j) = 3 r + d.
   std::vector<std::vector<std::pair<std::int32_t, double>>> weights(vertices.size());
   for (int r = 0; 3 * r < colours; ++r) {
+    control.step(stage, static_cast<double>(3 * r) / colours);
     std::vector<Vec3> probe(base.points.size());
     for (std::int32_t j = 0; j < n; ++j) {
       const int c = colour[j] - 3 * r;
@@ -276,12 +279,15 @@ LimitStencils limit_stencils(const TriangleMeshData& base, int level) {
 }
 
 FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, const FitOptions& options,
-              const std::function<void(const IterationReport&)>& on_iteration) {
+              const std::function<void(const IterationReport&)>& on_iteration, const StageControl& control,
+              const TargetSurface* target_surface) {
   if (targets.empty()) throw InputError("fit: no target points");
   const auto t_start = std::chrono::steady_clock::now();
   FitResult res;
   res.diagonal = bounding_box_diagonal(targets);
-  res.stencils = limit_stencils(base, options.levels);
+  res.stencils = limit_stencils(base, options.levels, control);
+  const std::string stage = "fitting " + with_thousands(base.points.size()) + " control points to " +
+                            with_thousands(targets.size()) + " targets";
   const LimitStencils& st = res.stencils;
   const auto adj = adjacency(base);
   std::vector<double> x(3 * base.points.size());
@@ -295,6 +301,23 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
     for (std::size_t j = 0; j < p.size(); ++j) p[j] = Vec3(x[3 * j], x[3 * j + 1], x[3 * j + 2]);
     return p;
   };
+  // The other direction, when the target's surface is given: each limit vertex's nearest point
+  // on it, and the vertex's share of the limit surface's area (a third of its triangles').
+  std::vector<TargetSurface::Closest> back;
+  std::vector<double> area_share;
+  const auto measure_back = [&](const std::vector<Vec3>& limit) {
+    if (target_surface == nullptr) return;
+    back = target_surface->closest(limit, control);
+    area_share.assign(limit.size(), 0.0);
+    double total = 0;
+    for (const auto& t : st.triangles) {
+      const double third = norm(cross(limit[t[1]] - limit[t[0]], limit[t[2]] - limit[t[0]])) / 6;
+      for (const std::int32_t v : t) area_share[v] += third;
+      total += 3 * third;
+    }
+    if (total > 0)
+      for (double& a : area_share) a /= total;
+  };
   auto measure = [&](const std::vector<Footpoint>& fp, int iteration, std::chrono::steady_clock::time_point t0) {
     IterationReport r;
     r.iteration = iteration;
@@ -304,6 +327,9 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
       r.max = std::max(r.max, f.distance);
     }
     r.rms = std::sqrt(sum / static_cast<double>(fp.size()));
+    double back_sum = 0;
+    for (std::size_t v = 0; v < back.size(); ++v) back_sum += area_share[v] * back[v].distance * back[v].distance;
+    r.surface_rms = std::sqrt(back_sum);
     r.seconds = seconds_since(t0);
     res.iterations.push_back(r);
     if (on_iteration) on_iteration(r);
@@ -337,7 +363,10 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
   auto t0 = std::chrono::steady_clock::now();
   std::vector<Vec3> surface = st.evaluate(control_points());
   std::vector<Footpoint> fp = footpoints(surface, st.triangles, targets);
+  measure_back(surface);
   IterationReport last = measure(fp, 0, t0), best = last;
+  // What the iterations decrease: both directions alike when both are fitted.
+  const auto objective = [](const IterationReport& r) { return std::hypot(r.rms, r.surface_rms); };
   std::vector<double> best_x = x;
   // The loss scale from the data: 2.5 robust standard deviations (1.4826 x the median distance).
   double scale = options.loss_scale;
@@ -351,6 +380,7 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
   const double smooth =
       res.smooth * static_cast<double>(targets.size()) / static_cast<double>(base.points.size());
   for (int it = 1; it <= options.max_iterations; ++it) {
+    control.step(stage, static_cast<double>(it - 1) / options.max_iterations);
     t0 = std::chrono::steady_clock::now();
     ceres::Problem::Options po;
     po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
@@ -379,6 +409,24 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
       if (options.loss == Loss::cauchy) loss = new ceres::CauchyLoss(scale);
       problem.AddResidualBlock(new PointToPlane(std::move(c), f.normal, targets[i], tangential), loss, blocks);
     }
+    // Surface to target: each limit vertex pulled to its nearest point of the target (point to
+    // point: where the nearest point is an edge or a rim the plane alone would let the surface
+    // slide off), weighted by its share of the area so that the surface counts as much as the
+    // targets do. Without it, surface that no target's footpoint lands on is free: on a spool
+    // the fit stretched webs across its core, 10% of the diagonal from any target.
+    for (std::size_t v = 0; v < back.size(); ++v) {
+      const double weight = options.surface_weight * area_share[v] * static_cast<double>(targets.size());
+      if (!(weight > 0)) continue;
+      std::vector<double> c(st.weight.begin() + st.offset[v], st.weight.begin() + st.offset[v + 1]);
+      std::vector<double*> blocks;
+      for (std::int32_t s = st.offset[v]; s < st.offset[v + 1]; ++s)
+        blocks.push_back(&x[3 * static_cast<std::size_t>(st.index[s])]);
+      ceres::LossFunction* loss = nullptr;
+      if (options.loss == Loss::huber) loss = new ceres::HuberLoss(scale);
+      if (options.loss == Loss::cauchy) loss = new ceres::CauchyLoss(scale);
+      problem.AddResidualBlock(new PointToPlane(std::move(c), back[v].normal, back[v].point, 1.0),
+                               new ceres::ScaledLoss(loss, weight, ceres::TAKE_OWNERSHIP), blocks);
+    }
     if (smooth > 0) {
       for (std::size_t j = 0; j < base.points.size(); ++j) {
         if (adj[j].empty()) continue;
@@ -401,9 +449,10 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
     ceres::Solve(so, &problem, &summary);
     surface = st.evaluate(control_points());
     fp = footpoints(surface, st.triangles, targets);
+    measure_back(surface);
     const IterationReport r = measure(fp, it, t0);
-    const bool stalled = last.rms - r.rms < options.min_improvement * last.rms;
-    if (r.rms < best.rms) {
+    const bool stalled = objective(last) - objective(r) < options.min_improvement * objective(last);
+    if (objective(r) < objective(best)) {
       best = r;
       best_x = x;
     }

@@ -6,12 +6,15 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Orthogonal_k_neighbor_search.h>
 #include <CGAL/Search_traits_3.h>
+#include <CGAL/Search_traits_adapter.h>
+#include <CGAL/property_map.h>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <unordered_map>
+#include <utility>
 
 namespace rgbmesh::fit::detail {
 namespace {
@@ -52,7 +55,68 @@ double residual_of_quadric(const std::vector<Eigen::Vector3d>& near) {
   return std::sqrt(squared_residuals / static_cast<double>(near.size() - terms));
 }
 
+// Indices into the point vector, searched through a property map: the tree reports which point
+// is near, not only where.
+using IndexedPoints = std::vector<Kernel::Point_3>;
+using IndexMap = CGAL::Pointer_property_map<Kernel::Point_3>::const_type;
+using IndexTraits = CGAL::Search_traits_adapter<std::size_t, IndexMap, CGAL::Search_traits_3<Kernel>>;
+using IndexSearch = CGAL::Orthogonal_k_neighbor_search<IndexTraits>;
+
 }  // namespace
+
+struct PointIndex::Tree {
+  IndexedPoints points;
+  std::unique_ptr<IndexSearch::Tree> tree;
+};
+
+PointIndex::PointIndex(const std::vector<Vec3>& points) : tree_(std::make_unique<Tree>()) {
+  tree_->points.reserve(points.size());
+  for (const Vec3& p : points) tree_->points.emplace_back(p.x, p.y, p.z);
+  std::vector<std::size_t> ids(points.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = i;
+  tree_->tree = std::make_unique<IndexSearch::Tree>(
+      ids.begin(), ids.end(), IndexSearch::Tree::Splitter(),
+      IndexTraits(CGAL::make_property_map(std::as_const(tree_->points))));
+  tree_->tree->build();  // built now, so that const queries from several threads do not race
+}
+
+PointIndex::~PointIndex() = default;
+PointIndex::PointIndex(PointIndex&&) noexcept = default;
+PointIndex& PointIndex::operator=(PointIndex&&) noexcept = default;
+
+std::size_t PointIndex::size() const { return tree_->points.size(); }
+
+void PointIndex::nearest(const Vec3& query, std::size_t k, std::vector<std::pair<std::size_t, double>>& out) const {
+  out.clear();
+  if (tree_->points.empty() || k == 0) return;
+  const IndexSearch search(*tree_->tree, Kernel::Point_3(query.x, query.y, query.z),
+                           static_cast<unsigned>(std::min(k, tree_->points.size())), 0, true,
+                           IndexSearch::Distance(CGAL::make_property_map(std::as_const(tree_->points))));
+  for (const auto& [id, squared] : search) out.emplace_back(id, std::sqrt(squared));
+}
+
+std::pair<std::size_t, double> PointIndex::nearest(const Vec3& query) const {
+  std::vector<std::pair<std::size_t, double>> one;
+  nearest(query, 1, one);
+  return one.empty() ? std::pair<std::size_t, double>(0, INFINITY) : one.front();
+}
+
+std::vector<double> local_spacing(const std::vector<Vec3>& points, const PointIndex& index) {
+  std::vector<double> spacing(points.size(), 0.0);
+  std::vector<std::pair<std::size_t, double>> near;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    index.nearest(points[i], 7, near);
+    double sum = 0;
+    int counted = 0;
+    for (const auto& [j, d] : near) {
+      if (j == i) continue;
+      sum += d;
+      ++counted;
+    }
+    spacing[i] = counted > 0 ? sum / counted : 0.0;
+  }
+  return spacing;
+}
 
 CloudScale measure_scale(const std::vector<Vec3>& points, int neighbours) {
   CloudScale scale;

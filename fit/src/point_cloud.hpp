@@ -2,11 +2,37 @@
 // Point-cloud measures shared by the reconstruction and the fit (private to rgbmesh::fit): the
 // spacing and noise of a cloud, and cell averages that reduce its noise.
 
+#include <cstddef>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "rgbmesh/vec3.hpp"
 
 namespace rgbmesh::fit::detail {
+
+// Nearest-neighbour queries on a fixed set of points (CGAL's kd-tree). Queries are const and
+// may run on several threads at once.
+class PointIndex {
+ public:
+  explicit PointIndex(const std::vector<Vec3>& points);
+  ~PointIndex();
+  PointIndex(PointIndex&&) noexcept;
+  PointIndex& operator=(PointIndex&&) noexcept;
+
+  // The k nearest points (fewer if there are fewer) as (index, distance), nearest first.
+  void nearest(const Vec3& query, std::size_t k, std::vector<std::pair<std::size_t, double>>& out) const;
+  // The nearest point's index and distance.
+  std::pair<std::size_t, double> nearest(const Vec3& query) const;
+  std::size_t size() const;
+
+ private:
+  struct Tree;
+  std::unique_ptr<Tree> tree_;
+};
+
+// Per point: the mean distance to its 6 nearest other points (0 for a point alone).
+std::vector<double> local_spacing(const std::vector<Vec3>& points, const PointIndex& index);
 
 struct CloudScale {
   double spacing = 0;  // median over the points of the mean distance to their 6 nearest

@@ -10,12 +10,14 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "bindings.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/fit/base.hpp"
 #include "rgbmesh/fit/fit.hpp"
+#include "rgbmesh/fit/fit_target.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/vtk_io.hpp"
 
@@ -89,8 +91,9 @@ py::dict iteration_dict(const fit::IterationReport& it) {
 
 py::dict run_fit(const py::object& target, const py::object& triangles, const py::object& normals, const py::object& base,
                  std::size_t base_faces, int levels, const std::string& loss, double smooth, int iterations,
-                 const py::object& callback) {
-  fit::FitOptions o;
+                 const py::object& callback, const std::string& reconstruction, bool ignore_faces, bool check) {
+  fit::TargetFitOptions options;
+  fit::FitOptions& o = options.fit;
   o.loss = loss_of(loss);
   if (levels < 1 || levels > 6) throw InputError("levels: must be in [1, 6], got " + std::to_string(levels));
   if (iterations < 1) throw InputError("iterations: must be at least 1");
@@ -117,25 +120,37 @@ py::dict run_fit(const py::object& target, const py::object& triangles, const py
   }
   if (cloud.points.empty()) throw InputError("target: no points");
 
-  fit::Base b;
-  if (!base.is_none()) b = given_base(base);
-  fit::FitResult r;
+  options.base.faces = base_faces;
+  options.base.ignore_faces = ignore_faces;
+  if (!fit::reconstruction_method_from_name(reconstruction, options.base.reconstruction.method))
+    throw InputError("reconstruction: '" + reconstruction + "' is not automatic, poisson or advancing-front");
+  std::optional<fit::Base> given;
+  if (!base.is_none()) given = given_base(base);
+  fit::TargetFit f;
   {
     py::gil_scoped_release release;
-    if (base.is_none()) {
-      PolygonSoup soup;
-      soup.points = cloud.points;
-      soup.faces = cloud.faces;
-      fit::BaseOptions bo;
-      bo.faces = base_faces;
-      b = fit::make_base(soup, cloud.normals, bo);
-    }
-    r = fit::fit(b.mesh, cloud.points, o, [&](const fit::IterationReport& it) {
+    PolygonSoup soup;
+    soup.points = cloud.points;
+    soup.faces = cloud.faces;
+    fit::StageControl control;
+    control.on_step = [](const std::string&, double) {
       py::gil_scoped_acquire gil;
-      if (!callback.is_none()) callback(iteration_dict(it));
       throw_if_interrupted();
-    });
+    };
+    f = fit::prepare_target_fit(soup, cloud.normals, given, options, control);
+    fit::run_target_fit(
+        f, options,
+        [&](const fit::IterationReport& it) {
+          py::gil_scoped_acquire gil;
+          if (!callback.is_none()) callback(iteration_dict(it));
+          throw_if_interrupted();
+        },
+        control);
   }
+  if (check && !f.verdict.accepted)
+    throw InputError(f.verdict.reason + " (check=False returns the fit anyway, with accepted = False)");
+  const fit::Base& b = f.base;
+  const fit::FitResult& r = f.result;
   py::dict out;
   out["mesh"] = RgbMesh::from_triangles(r.control_points, b.mesh.triangles);
   out["base"] = RgbMesh::from_triangles(b.mesh.points, b.mesh.triangles);
@@ -149,10 +164,16 @@ py::dict run_fit(const py::object& target, const py::object& triangles, const py
   py::list its;
   for (const auto& it : r.iterations) its.append(iteration_dict(it));
   out["iterations"] = its;
+  out["accepted"] = f.verdict.accepted;
+  out["reason"] = f.verdict.reason;
+  out["surface_to_target_rms"] = f.distances.to_target_rms;
+  out["surface_to_target_max"] = f.distances.to_target_max;
+  out["surface_to_target"] = array_of<double>(f.distances.to_target.size(), 1, f.distances.to_target.data());
+  out["target_is_surface"] = f.target_is_surface;
+  out["targets"] = array_of<double>(f.targets.size(), 3, f.targets.empty() ? nullptr : &f.targets[0].x);
   py::list notes;
   for (const auto& n : cloud.notes) notes.append(n);
-  for (const auto& n : b.notes) notes.append(n);
-  for (const auto& n : r.notes) notes.append(n);
+  for (const auto& n : f.notes) notes.append(n);
   out["notes"] = notes;
   out["distances"] = array_of<double>(r.distance.size(), 1, r.distance.data());
   const std::vector<Vec3> limit = r.stencils.evaluate(r.control_points);
@@ -168,15 +189,19 @@ void bind_fit(py::module_& m) {
   m.def("fit", &run_fit, py::arg("target"), py::kw_only(), py::arg("target_triangles") = py::none(),
         py::arg("normals") = py::none(), py::arg("base") = py::none(), py::arg("base_faces") = 1000,
         py::arg("levels") = 3, py::arg("loss") = "huber", py::arg("smooth") = 1e-3, py::arg("iterations") = 30,
-        py::arg("callback") = py::none(),
+        py::arg("callback") = py::none(), py::arg("reconstruction") = "automatic", py::arg("ignore_faces") = false,
+        py::arg("check") = true,
         "Fits a Loop subdivision surface to target points (an (n, 3) array, with optional target_triangles and "
         "normals, or a file rgbmesh fit reads), as rgbmesh fit does: the base is `base` (a level-0 Mesh, "
         "(points, triangles) or a file) or made from the target (its faces decimated to about base_faces "
         "triangles, or a surface reconstructed from a point cloud); its control points move so that the limit "
         "surface at `levels` passes through the targets. callback(iteration) after every iteration. Returns a "
         "dict: mesh (the fitted base), base (the starting one), rms, max, diagonal, iterations, notes, distances "
-        "(per target), limit_points and limit_triangles (the fitted limit surface), base_source, topology, "
-        "smooth, seconds.");
+        "(per target, to the surface), targets (the points fitted: a mesh target's vertices and points on its "
+        "triangles), surface_to_target (per limit point) with its rms and max, accepted and reason (the "
+        "two-sided check; with check=True, the default, a rejected fit raises ValueError), limit_points and "
+        "limit_triangles (the fitted limit surface), base_source, topology, smooth, seconds. reconstruction: "
+        "automatic, poisson or advancing-front; ignore_faces: fit a mesh target's vertices as a point cloud.");
 }
 
 }  // namespace rgbmesh::python

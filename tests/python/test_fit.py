@@ -61,9 +61,21 @@ def test_a_scan_s_faces_are_decimated_into_the_base_as_the_tool_does(tmp_path):
 
 
 def test_a_point_cloud_gets_a_reconstructed_base():
-    r = rgbmesh.fit(public("oni.pwn"), base_faces=300, iterations=3)
+    r = rgbmesh.fit(public("kitten.xyz"), base_faces=300, iterations=3)
     assert r["base_source"] == "reconstructed"
     assert r["mesh"].validate() == "" and r["rms"] < 0.01 * r["diagonal"]
+    assert r["accepted"] and r["reason"] == ""
+    assert r["surface_to_target"].shape == (len(r["limit_points"]),)
+    assert r["surface_to_target_rms"] < 0.005 * r["diagonal"]
+
+
+def test_a_fit_that_fails_the_two_sided_check_raises_unless_asked_for():
+    # oni.pwn: a mask, whose fitted surface strays from the points where the scan is thin.
+    with pytest.raises(ValueError, match="surface-to-target"):
+        rgbmesh.fit(public("oni.pwn"), base_faces=300, iterations=3)
+    r = rgbmesh.fit(public("oni.pwn"), base_faces=300, iterations=3, check=False)
+    assert not r["accepted"] and "surface-to-target" in r["reason"]
+    assert r["surface_to_target_rms"] > 0.005 * r["diagonal"]
 
 
 def test_bad_input_is_refused_with_the_reason():

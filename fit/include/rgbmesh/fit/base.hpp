@@ -2,7 +2,7 @@
 /// \file
 /// The base mesh of a fit, built from the target when none is given: a valid 2-manifold with the
 /// target's topology, reached by topology-preserving decimation of the target's faces or, for a
-/// point cloud, by Poisson surface reconstruction followed by the same decimation.
+/// point cloud, by surface reconstruction (reconstruct.hpp) followed by the same decimation.
 ///
 /// Every result passes RgbMesh::from_triangles and validate(); problems are InputErrors whose
 /// message names the stage ("decimating the target to 1,000 faces: ...", "reconstructing a
@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "rgbmesh/fit/control.hpp"
+#include "rgbmesh/fit/reconstruct.hpp"
 #include "rgbmesh/soup.hpp"
 #include "rgbmesh/vec3.hpp"
 
@@ -50,32 +52,7 @@ std::string with_thousands(std::size_t n);
 /// at most `faces` triangles comes back unchanged, with a note. `mesh` must be a valid base (as
 /// from prepare_triangle_mesh). InputError "decimating <name> to N faces: ..." otherwise.
 TriangleMeshData decimate(const TriangleMeshData& mesh, std::size_t faces,
-                          const std::string& name = "the target");
-
-struct ReconstructionOptions {
-  int neighbours = 18;  ///< for normal estimation and orientation (jet fitting, MST), and the noise
-  /// Points whose noise is above this fraction of their spacing (0: never) are averaged over grid
-  /// cells, down to a third of it. The noise is measured about local quadric fits: CGAL's scans
-  /// and meshes measure 0.01 to 0.22 (coarse meshes' vertices, whose detail is at their spacing),
-  /// its noisy sphere_20k 0.61.
-  double noise_to_spacing = 0.3;
-  /// About this many triangles, or more where the mesher needs them (the surface is then
-  /// decimated to the base's size).
-  std::size_t faces = 4000;
-  /// Surface mesher criteria, as in CGAL's Poisson reconstruction: smallest facet angle (degrees),
-  /// largest Delaunay ball radius and largest distance to the implicit surface, both in units of
-  /// the points' average spacing (the radius bound is lowered when needed for `faces`).
-  double angle = 20, radius = 30, distance = 0.375;
-};
-
-/// A closed surface through a point cloud: normals from the file or estimated (jet fitting, then
-/// oriented along a minimum spanning tree; points that cannot be oriented are left out, with a
-/// note); noisy points averaged over grid cells (a note says so); Poisson's implicit function, its
-/// zero level set meshed as a closed manifold; the largest component is kept (a note says how
-/// many others were dropped), checked like a base and oriented outwards. `normals` is empty or one per point.
-/// InputError "reconstructing a surface from N points: ..." when it fails.
-TriangleMeshData reconstruct_surface(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
-                                     const ReconstructionOptions& options = {});
+                          const std::string& name = "the target", const StageControl& control = {});
 
 enum class BaseSource {
   given,          ///< --base
@@ -87,7 +64,10 @@ const char* to_string(BaseSource source);
 
 struct BaseOptions {
   std::size_t faces = 1000;  ///< wanted triangles
-  bool triangulate = false;  ///< fan-split the target's polygons (SoupOptions::triangulate)
+  /// How the target's faces become triangles (SoupOptions: triangulate, repair).
+  SoupOptions soup;
+  /// Use the target's points only, as a point cloud, even when it has faces.
+  bool ignore_faces = false;
   /// For point clouds; its `faces` is raised to 4 x `faces`, so that decimation has a finer
   /// surface to choose the base's vertices from.
   ReconstructionOptions reconstruction;
@@ -98,13 +78,19 @@ struct Base {
   BaseSource source = BaseSource::given;
   Topology topology;
   double reconstruction_seconds = 0, decimation_seconds = 0;
+  /// For a reconstructed base: the method used, and the fraction of the reconstructed surface's
+  /// area that no point supports (reconstruct.hpp).
+  ReconstructionMethod reconstruction = ReconstructionMethod::automatic;
+  double unsupported = 0;
   std::vector<std::string> notes;  ///< every note of every stage, in order
 };
 
 /// The base for a target given as points (with optional normals) and faces (possibly none).
-/// Faces that make a valid surface (prepare_triangle_mesh) are decimated; otherwise (no faces,
-/// or faces that are not a manifold surface: said in one note) the surface is reconstructed
-/// from the points and decimated.
-Base make_base(const PolygonSoup& target, const std::vector<Vec3>& normals, const BaseOptions& options);
+/// A target with faces is a surface: its faces must make a valid mesh (prepare_triangle_mesh
+/// with options.soup: polygons need `triangulate`, defects `repair`; the InputError says so),
+/// which is decimated. A target without faces (or with options.ignore_faces) is a point cloud:
+/// its surface is reconstructed and decimated.
+Base make_base(const PolygonSoup& target, const std::vector<Vec3>& normals, const BaseOptions& options,
+               const StageControl& control = {});
 
 }  // namespace rgbmesh::fit

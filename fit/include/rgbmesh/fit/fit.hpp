@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "rgbmesh/fit/base.hpp"
+#include "rgbmesh/fit/control.hpp"
+#include "rgbmesh/fit/distances.hpp"
 #include "rgbmesh/soup.hpp"
 #include "rgbmesh/vec3.hpp"
 
@@ -33,7 +35,7 @@ struct LimitStencils {
 /// points, so refining probe meshes whose base coordinates are indicator functions of colour
 /// classes (base vertices farther apart than any stencil's reach) reveals every weight; three
 /// classes per run, one per coordinate. Checked against a refinement with the real base points.
-LimitStencils limit_stencils(const TriangleMeshData& base, int level);
+LimitStencils limit_stencils(const TriangleMeshData& base, int level, const StageControl& control = {});
 
 enum class Loss { none, huber, cauchy };
 
@@ -50,11 +52,17 @@ struct FitOptions {
   /// spacing get `smooth` multiplied by (noise / (r/2 spacing))², at least 4 (see fit.cpp); 0:
   /// never.
   double noisy_above = 0.3;
+  /// Weight of the surface-to-target terms, when fit() is given the target's surface: 1 weighs
+  /// the surface's area like the targets (see fit()).
+  double surface_weight = 1;
 };
 
 struct IterationReport {
   int iteration = 0;
   double rms = 0, max = 0;  ///< distances from the targets to the limit surface
+  /// From the limit surface to the target's surface (area-weighted RMS over the limit
+  /// vertices), when fit() was given it; 0 otherwise.
+  double surface_rms = 0;
   double seconds = 0;
 };
 
@@ -90,7 +98,16 @@ TriangleDistances distances_per_triangle(const FitResult& result);
 /// there, ε = tangential_weight and ρ the loss (point-to-plane after Marinov and Kobbelt, with
 /// a little point-to-point for stability). Noisy targets (options.noisy_above) get a larger
 /// smoothness weight.
+/// `control` is called between iterations and within long steps (StageControl).
+///
+/// With `target_surface` (the surface the targets sample: a mesh target's triangles, a cloud's
+/// points as discs, see distances.hpp) the fit is two-sided: each limit vertex v also adds
+/// surface_weight · #targets · (its share of the limit surface's area) · ρ(|s_v(P) - c_v|²), c_v
+/// its nearest point on the target, so that no part of the surface is free to go where no
+/// target is (point-to-surface fitting alone is blind to it). The iterations then stop on the
+/// combined RMS of both directions.
 FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, const FitOptions& options,
-              const std::function<void(const IterationReport&)>& on_iteration = {});
+              const std::function<void(const IterationReport&)>& on_iteration = {},
+              const StageControl& control = {}, const TargetSurface* target_surface = nullptr);
 
 }  // namespace rgbmesh::fit
