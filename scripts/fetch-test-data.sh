@@ -26,6 +26,9 @@ files=(
   data/points_3/hippo1.ply                # point cloud, 6,104 points, binary PLY
   data/points_3/oni.pwn                   # point cloud, 1,435 points with normals
   data/points_3/blobby.xyz                # point cloud, 3,288 points
+  data/points_3/before_upsample.xyz       # open creased sheet, 850 points with normals
+  data/points_3/fin90_with_PCA_normals.xyz  # folded CAD part, 757 points, principal-direction normals
+  data/points_3/points.xyz                # 49 points: too few for a surface
 )
 
 tmp=$(mktemp -d)

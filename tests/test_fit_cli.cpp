@@ -2,6 +2,7 @@
 // files it writes (targets.vtp's distances are the report's figures; limit_surface.vtp's cell
 // data), the report's stages, one-line errors with exit code 2, and the output-folder rule.
 
+#include <vtkCell.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkPointData.h>
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "cli_fixture.hpp"
 #include "public_data.hpp"
@@ -142,6 +144,133 @@ TEST_F(FitCli, ARunRemovesThePreviousRunsOutputsOnly) {
   EXPECT_FALSE(fs::exists(path("f/cycle_003.vtp")));
   EXPECT_TRUE(fs::exists(path("f/mine.txt")));
   EXPECT_TRUE(fs::exists(path("f/targets.vtp")));
+}
+
+// An OFF file of the unit cube's 12 triangles (outward), and of a tetrahedron inside it.
+void write_cube_and_tetrahedron(const std::string& cube, const std::string& tetrahedron) {
+  std::ofstream c(cube);
+  c << "OFF\n8 12 0\n";
+  for (int i = 0; i < 8; ++i) c << (i & 1) << " " << ((i >> 1) & 1) << " " << ((i >> 2) & 1) << "\n";
+  for (const char* f : {"0 2 1", "1 2 3", "4 5 6", "5 7 6", "0 1 4", "1 5 4", "2 6 3", "3 6 7", "0 4 2", "2 4 6",
+                        "1 3 5", "3 7 5"})
+    c << "3 " << f << "\n";
+  std::ofstream t(tetrahedron);
+  t << "OFF\n4 4 0\n0.4 0.4 0.4\n0.6 0.4 0.4\n0.4 0.6 0.4\n0.4 0.4 0.6\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+}
+
+TEST_F(FitCli, BothDirectionsAreReportedAndFiled) {
+  const std::string cloud = write_sphere_cloud("sphere.xyz", 2000);
+  const RunResult r = run("fit --target " + cloud + " --out " + path("f") + " --report " + path("f.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("targets to surface: rms "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("surface to target:  rms "), std::string::npos) << r.out;
+  const std::string report = read_text(path("f.json"));
+  EXPECT_NE(report.find("\"status\": \"accepted\""), std::string::npos) << report;
+  // limit_surface.vtp's distance_to_target gives the report's figures: the largest, and the RMS
+  // weighted by the vertices' areas (a third of their triangles').
+  const vtkSmartPointer<vtkPolyData> limit = read_vtp(path("f/limit_surface.vtp"));
+  vtkDataArray* d = limit->GetPointData()->GetArray("distance_to_target");
+  ASSERT_NE(d, nullptr);
+  std::vector<double> area(static_cast<std::size_t>(limit->GetNumberOfPoints()), 0.0);
+  for (vtkIdType t = 0; t < limit->GetNumberOfCells(); ++t) {
+    double p[3][3];
+    vtkCell* cell = limit->GetCell(t);
+    for (int k = 0; k < 3; ++k) limit->GetPoint(cell->GetPointId(k), p[k]);
+    const Vec3 a(p[0][0], p[0][1], p[0][2]), b(p[1][0], p[1][1], p[1][2]), c(p[2][0], p[2][1], p[2][2]);
+    for (int k = 0; k < 3; ++k) area[static_cast<std::size_t>(cell->GetPointId(k))] += norm(cross(b - a, c - a)) / 6;
+  }
+  double sum = 0, total = 0, max = 0;
+  for (vtkIdType v = 0; v < d->GetNumberOfTuples(); ++v) {
+    sum += area[static_cast<std::size_t>(v)] * d->GetComponent(v, 0) * d->GetComponent(v, 0);
+    total += area[static_cast<std::size_t>(v)];
+    max = std::max(max, d->GetComponent(v, 0));
+  }
+  const std::size_t back = report.find("\"surface_to_target\"");
+  ASSERT_NE(back, std::string::npos) << report;
+  EXPECT_NEAR(std::sqrt(sum / total), json_number(report, "rms", back), 1e-6 * json_number(report, "rms", back));
+  EXPECT_DOUBLE_EQ(max, json_number(report, "max", back));
+  // The cloud is on a sphere of radius 2: both directions are small, and honest: the surface's
+  // distances to the cloud are those to the sphere, to the sampling's resolution.
+  EXPECT_LT(json_number(report, "rms_relative", back), 0.002);
+  const vtkSmartPointer<vtkPolyData> surface = read_vtp(path("f/limit_surface.vtp"));
+  for (vtkIdType v = 0; v < surface->GetNumberOfPoints(); v += 97) {
+    double p[3];
+    surface->GetPoint(v, p);
+    EXPECT_NEAR(d->GetComponent(v, 0), std::abs(std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 2), 0.01);
+  }
+}
+
+TEST_F(FitCli, ASurfaceFarFromItsTargetIsRejectedAfterItsFilesAreWritten) {
+  // A tetrahedron's control net cannot make a cube: the limit surface is far from the cube's
+  // faces however the points move.
+  write_cube_and_tetrahedron(path("cube.off"), path("tet.off"));
+  const RunResult r = run("fit --target " + path("cube.off") + " --base " + path("tet.off") + " --out " +
+                          path("f") + " --report " + path("f.json"));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("rgbmesh: error: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("% of the diagonal"), std::string::npos) << r.err;  // the figures
+  EXPECT_NE(r.err.find("limit_surface.vtp shows where"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  for (const char* file : {"limit_surface.vtp", "targets.vtp", "fitted_base.obj"})
+    EXPECT_TRUE(fs::exists(path("f") + "/" + file)) << file;
+  const std::string report = read_text(path("f.json"));
+  EXPECT_NE(report.find("\"status\": \"rejected\""), std::string::npos) << report;
+  EXPECT_NE(report.find("\"kind\": \"surface\""), std::string::npos) << report;
+}
+
+TEST_F(FitCli, ACoarseCadMeshIsFittedAsItsSurface) {
+  write_cube_and_tetrahedron(path("cube.off"), path("tet.off"));
+  const RunResult r = run("fit --target " + path("cube.off") + " --iterations 10 --out " + path("f") +
+                          " --report " + path("f.json"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string report = read_text(path("f.json"));
+  EXPECT_NE(report.find("\"kind\": \"surface\""), std::string::npos) << report;
+  EXPECT_GT(json_number(report, "fitted_points"), 10000);  // not its 8 vertices alone
+  EXPECT_LT(json_number(report, "max_relative", report.find("\"surface_to_target\"")), 0.03);
+  EXPECT_NE(r.err.find("the target has 12 faces, fewer than the 1,000 asked for"), std::string::npos) << r.err;
+}
+
+TEST_F(FitCli, PolygonTargetsAreRefusedLikeEverywhereElse) {
+  // 3torus.off: quads of a genus-3 surface, once silently reconstructed from its vertices into
+  // a genus-0 blob.
+  const RunResult r = run("fit --target " + public_data("3torus.off") + " --out " + path("f"));
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("--triangulate"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("3torus.off: "), std::string::npos) << r.err;
+  const RunResult t = run("fit --target " + public_data("3torus.off") + " --triangulate --iterations 5 --out " +
+                          path("t") + " --report " + path("t.json"));
+  ASSERT_EQ(t.code, 0) << t.err;
+  EXPECT_EQ(json_number(read_text(path("t.json")), "genus", read_text(path("t.json")).find("\"base\"")), 3);
+}
+
+TEST_F(FitCli, CloudsThatHungFinishWithAFitOrAReasonAndTooFewPointsAreRefused) {
+  // CGAL's before_upsample.xyz (an open, creased sheet) and fin90_with_PCA_normals.xyz (a
+  // folded CAD part with principal-direction normals) kept the surface mesher running for
+  // hours. The first is an open surface: fitted open.
+  const RunResult open = run("fit --target " + public_data("before_upsample.xyz") + " --out " + path("a") +
+                             " --report " + path("a.json"));
+  ASSERT_EQ(open.code, 0) << open.err;
+  const std::string report = read_text(path("a.json"));
+  EXPECT_NE(report.find("\"reconstruction\": \"advancing-front\""), std::string::npos) << report;
+  EXPECT_EQ(json_number(report, "boundary_loops", report.find("\"base\"")), 1);
+  const RunResult folded = run("fit --target " + public_data("fin90_with_PCA_normals.xyz") + " --out " + path("b"));
+  EXPECT_TRUE(folded.code == 0 || folded.code == 2) << folded.err;
+  if (folded.code == 2) {
+    EXPECT_NE(folded.err.find("of the diagonal"), std::string::npos) << folded.err;
+  }
+  // 49 points: no surface is determined between them.
+  const RunResult sparse = run("fit --target " + public_data("points.xyz") + " --out " + path("c"));
+  EXPECT_EQ(sparse.code, 2) << sparse.err;
+  EXPECT_NE(sparse.err.find("too sparse to determine a surface"), std::string::npos) << sparse.err;
+  EXPECT_NE(sparse.err.find("--base"), std::string::npos) << sparse.err;
+}
+
+TEST_F(FitCli, AStagePastTheMemoryCeilingStopsWithExitCode3NamingIt) {
+  const std::string cloud = write_sphere_cloud("sphere.xyz", 60000);
+  const RunResult r = run("--memory-limit 20M fit --target " + cloud + " --out " + path("f"));
+  EXPECT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("more than the memory limit of 20 MB (--memory-limit)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("rgbmesh: error: reconstructing a surface from 60,000 points"), std::string::npos) << r.err;
 }
 
 }  // namespace

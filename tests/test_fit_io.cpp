@@ -68,7 +68,17 @@ TEST_F(PointCloudFiles, ZeroNormalsAreDroppedWithANote) {
   EXPECT_EQ(cloud.points.size(), 3u);
   EXPECT_TRUE(cloud.normals.empty());
   ASSERT_EQ(cloud.notes.size(), 1u);
-  EXPECT_NE(cloud.notes[0].find("3 of 3 normals are zero"), std::string::npos) << cloud.notes[0];
+  EXPECT_NE(cloud.notes[0].find("all 3 of 3 normals are zero"), std::string::npos) << cloud.notes[0];
+}
+
+TEST_F(PointCloudFiles, AFewZeroNormalsAmongGoodOnesAreKeptForTheirUserToSkip) {
+  // Two zero normals among 4,387 once made the whole set unusable (the fit's RMS doubled).
+  const PointCloud cloud =
+      read_point_cloud(write("some.xyz", "0 0 0 0 0 1\n1 0 0 0 0 0\n0 1 0 0 0 1\n1 1 0 0 0 -2\n"));
+  ASSERT_EQ(cloud.normals.size(), 4u);
+  EXPECT_EQ(cloud.normals[0], Vec3(0, 0, 1));
+  EXPECT_EQ(cloud.normals[1], Vec3(0, 0, 0));
+  EXPECT_TRUE(cloud.notes.empty());
 }
 
 TEST_F(PointCloudFiles, MalformedXyzNamesTheFileAndLine) {

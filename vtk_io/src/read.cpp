@@ -233,14 +233,16 @@ PointCloud read_point_cloud(const fs::path& path) {
   for (std::size_t i = 0; i < cloud.points.size(); ++i)
     if (!is_finite(cloud.points[i]))
       throw InputError(path.string() + ": point " + std::to_string(i) + " is not finite");
-  // Some tools write placeholder normals (all zero); a normal that gives no direction makes the
-  // set unusable, since the users of normals need every point's.
+  // Some tools write placeholder normals (all zero), or a few zero or broken ones among good
+  // ones. They are kept, one per point, for the user of normals to skip the unusable ones (the
+  // reconstruction leaves those points out of its equation, and says so); only a set with no
+  // usable normal at all is dropped.
   if (!cloud.normals.empty()) {
     std::size_t unusable = 0;
     for (const Vec3& n : cloud.normals) unusable += !is_finite(n) || norm(n) == 0;
-    if (unusable > 0 || cloud.normals.size() != cloud.points.size()) {
-      cloud.notes.push_back(path.string() + ": " + std::to_string(unusable) + " of " +
-                            std::to_string(cloud.normals.size()) +
+    if (cloud.normals.size() != cloud.points.size() || unusable == cloud.normals.size()) {
+      cloud.notes.push_back(path.string() + ": " + (unusable == cloud.normals.size() ? "all " : "") +
+                            std::to_string(unusable) + " of " + std::to_string(cloud.normals.size()) +
                             " normals are zero or not finite: the file's normals are ignored");
       cloud.normals.clear();
     }

@@ -87,7 +87,8 @@ std::string supported_point_cloud_extensions();
 /// skipped instead of rejected and a file without faces is fine. Also reads .xyz and .pwn:
 /// "x y z" or "x y z nx ny nz" per line. InputError naming the file (and the line, for text
 /// formats) for any reading error, no points, or a non-finite coordinate. Normals that are zero
-/// or not finite make the whole set unusable: they are dropped, with a note.
+/// or not finite are kept as they are (users of the normals skip them); a set in which none is
+/// usable is dropped, with a note.
 PointCloud read_point_cloud(const std::filesystem::path& path);
 
 /// How the binary data of VTK XML files (.vtp, .vtu) is compressed.
