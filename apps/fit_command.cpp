@@ -248,6 +248,12 @@ int run_fit(const FitArgs& a) {
   }
   for (const std::string& note : f.notes) std::cerr << "rgbmesh: note: " << note << "\n";
   const std::size_t notes_before_fit = f.notes.size();
+  const double needed = fit::estimated_fit_bytes(f.targets.size(), f.base.mesh.triangles.size(), a.levels);
+  if (needed > static_cast<double>(ceiling.headroom()))
+    throw ResourceError("fitting " + fit::with_thousands(f.targets.size()) + " targets at level " +
+                        std::to_string(a.levels) + " needs about " + human_bytes(needed) + ", more than the " +
+                        human_bytes(static_cast<double>(ceiling.headroom())) + " free under the memory limit of " +
+                        ceiling.describe() + ": average the points first, or lower --levels or --base-faces");
   prepare_output_directory(a.out);
 
   std::printf(

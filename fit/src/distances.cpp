@@ -182,6 +182,7 @@ TwoSidedDistances two_sided_distances(const FitResult& result, const TargetSurfa
                                       const StageControl& control) {
   TwoSidedDistances d;
   d.diagonal = result.diagonal;
+  d.noisy_targets = result.noisy_targets;
   d.to_surface_rms = result.rms;
   d.to_surface_max = result.max;
   if (!result.distance.empty()) {
@@ -209,8 +210,9 @@ TwoSidedDistances two_sided_distances(const FitResult& result, const TargetSurfa
 
 Verdict judge(const TwoSidedDistances& d, const AcceptanceRule& rule) {
   Verdict v;
-  const double rms_allowed = std::max(rule.rms * d.diagonal, rule.rms_ratio * d.to_surface_rms);
-  const double max_allowed = std::max(rule.max * d.diagonal, rule.max_ratio * d.to_surface_p99);
+  const double noise = d.noisy_targets ? 1.0 : 0.0;
+  const double rms_allowed = std::max(rule.rms * d.diagonal, noise * rule.rms_ratio * d.to_surface_rms);
+  const double max_allowed = std::max(rule.max * d.diagonal, noise * rule.max_ratio * d.to_surface_p99);
   const auto relative = [&](double x) { return percent(x / d.diagonal); };
   if (d.to_surface_p99 > rule.targets_p99 * d.diagonal)
     v.reason = "the fitted surface does not reach the targets: a hundredth of them lie farther than " +

@@ -347,6 +347,8 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
   if (options.noisy_above > 0) {
     const detail::CloudScale cloud = detail::measure_scale(targets, 18);
     const double ratio = cloud.spacing > 0 ? cloud.noise / cloud.spacing : 0;
+    res.noise_to_spacing = ratio;
+    res.noisy_targets = ratio > options.noisy_above;
     if (ratio > options.noisy_above) {
       smooth_factor = (ratio / (options.noisy_above / 2)) * (ratio / (options.noisy_above / 2));
       char text[200];
@@ -479,6 +481,11 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
   res.rms = std::sqrt(sum / static_cast<double>(targets.size()));
   res.seconds = seconds_since(t_start);
   return res;
+}
+
+double estimated_fit_bytes(std::size_t targets, std::size_t base_faces, int levels) {
+  const double limit_vertices = 0.5 * static_cast<double>(base_faces) * std::pow(4.0, levels);
+  return 3500.0 * (static_cast<double>(targets) + limit_vertices);
 }
 
 TriangleDistances distances_per_triangle(const FitResult& result) {

@@ -72,6 +72,7 @@ class TargetSurface {
 
 struct TwoSidedDistances {
   double diagonal = 0;  ///< of the targets' bounding box (FitResult::diagonal)
+  bool noisy_targets = false;  ///< FitResult::noisy_targets
   /// Targets to the fitted limit surface: the fit's own figures (FitResult::rms and max), and
   /// the 99th percentile, which outliers of a scan do not move.
   double to_surface_rms = 0, to_surface_max = 0, to_surface_p99 = 0;
@@ -86,10 +87,10 @@ TwoSidedDistances two_sided_distances(const FitResult& result, const TargetSurfa
                                       const StageControl& control = {});
 
 /// When a fit is reported as one. The surface-to-target distances must stay within
-/// `rms` and `max` times the diagonal, or within `rms_ratio` and `max_ratio` times the
-/// target-to-surface RMS and 99th percentile where the targets themselves are that far (a noisy
-/// scan: no smooth surface is nearer to its points than their noise, and the points' own
-/// spread shows in both directions alike). And the surface must reach the targets: their 99th
+/// `rms` and `max` times the diagonal; for noisy targets (TwoSidedDistances::noisy_targets)
+/// within `rms_ratio` and `max_ratio` times the target-to-surface RMS and 99th percentile where
+/// those are larger (a noisy scan: no smooth surface is nearer to its points than their noise,
+/// and the points' own spread shows in both directions alike). And the surface must reach the targets: their 99th
 /// percentile distance to it at most `targets_p99` times the diagonal (outliers, a hundredth of
 /// the points, may be anywhere).
 struct AcceptanceRule {
