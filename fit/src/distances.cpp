@@ -70,8 +70,11 @@ std::vector<Vec3> surface_samples(const TriangleMeshData& mesh, std::size_t coun
 }
 
 std::size_t target_sample_count(std::size_t target_vertices, std::size_t base_faces, int levels) {
+  // A quarter of the limit surface's triangles: the surface-to-target terms hold every limit
+  // vertex to the target already, and four times as many samples changed the fits of CGAL's
+  // fandisk and pinion by under 3% of their distances for 2.7 times the time.
   const double limit_triangles = static_cast<double>(base_faces) * std::pow(4.0, levels);
-  return std::max(target_vertices, static_cast<std::size_t>(std::min(limit_triangles, 250000.0)));
+  return std::max(target_vertices, static_cast<std::size_t>(std::min(limit_triangles / 4, 250000.0)));
 }
 
 struct TargetSurface::Impl {

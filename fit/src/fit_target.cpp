@@ -44,7 +44,11 @@ void run_target_fit(TargetFit& f, const TargetFitOptions& options,
   // A cloud's targets are its points, so the surface they sample is measured from them.
   const TargetSurface surface =
       f.target_is_surface ? TargetSurface::from_mesh(f.target_surface) : TargetSurface::from_points(f.targets);
-  f.result = fit(f.base.mesh, f.targets, options.fit, on_iteration, control, &surface);
+  // A mesh target is exact: what the noise measure would see in its samples is its edges and
+  // corners, which more smoothing would only round off further.
+  FitOptions fit_options = options.fit;
+  if (f.target_is_surface) fit_options.noisy_above = 0;
+  f.result = fit(f.base.mesh, f.targets, fit_options, on_iteration, control, &surface);
   f.notes.insert(f.notes.end(), f.result.notes.begin(), f.result.notes.end());
   f.distances = two_sided_distances(f.result, surface, control);
   // A mesh target is an exact surface: no allowance for noise in its points.

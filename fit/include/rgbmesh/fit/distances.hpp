@@ -30,9 +30,9 @@ struct FitResult;
 std::vector<Vec3> surface_samples(const TriangleMeshData& mesh, std::size_t count);
 
 /// How many points surface_samples should spread over a mesh target fitted by a base of
-/// `base_faces` triangles at `levels` levels: as many as the limit surface has triangles
-/// (base_faces * 4^levels), so that every one of them sees targets, at most 250,000, and never
-/// fewer than the target's vertices.
+/// `base_faces` triangles at `levels` levels: a quarter as many as the limit surface has
+/// triangles (base_faces * 4^(levels - 1)), at most 250,000, and never fewer than the target's
+/// vertices.
 std::size_t target_sample_count(std::size_t target_vertices, std::size_t base_faces, int levels);
 
 /// The target as a surface to measure distances to.
