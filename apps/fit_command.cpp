@@ -11,6 +11,7 @@
 #include "rgbmesh/fit/fit.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
+#include "rgbmesh/repair/repair.hpp"
 #include "rgbmesh/vtk_io.hpp"
 #include "write_progress.hpp"
 
@@ -41,8 +42,7 @@ fit::FitOptions fit_options(const FitArgs& a) {
 
 // The base: --base as given, or built from the target.
 fit::Base base_for(const FitArgs& a, const PointCloud& target) {
-  SoupOptions soup_options;
-  soup_options.triangulate = a.triangulate;
+  const SoupOptions soup_options = repair::soup_options(a.triangulate, a.repair);
   if (!a.base.empty()) {
     fit::Base base;
     base.mesh = read_mesh(a.base, soup_options);
@@ -59,10 +59,15 @@ fit::Base base_for(const FitArgs& a, const PointCloud& target) {
   PolygonSoup soup;
   soup.points = target.points;
   soup.faces = target.faces;
+  std::vector<std::string> repaired;  // the repair's notes, first among the base's
+  if (a.repair && !soup.faces.empty()) soup = repair::repaired_soup(soup, a.triangulate, repaired);
   fit::BaseOptions options;
   options.faces = a.base_faces;
   options.triangulate = a.triangulate;
-  return fit::make_base(soup, target.normals, options);
+  // (A repair changes the points: the file's normals then belong to none of them.)
+  fit::Base base = fit::make_base(soup, soup.points.size() == target.normals.size() ? target.normals : std::vector<Vec3>{}, options);
+  for (auto note = repaired.rbegin(); note != repaired.rend(); ++note) base.notes.insert(base.notes.begin(), a.target + ": " + *note);
+  return base;
 }
 
 // Exactly the double (the JSON helper rounds to 6 digits): the report's figures must match

@@ -13,6 +13,7 @@ struct FitArgs {
   std::string target;        // points: a point cloud (.xyz, .pwn, or a mesh format without faces) or a mesh
   std::string base;          // empty: built from the target (decimated, or reconstructed and decimated)
   bool triangulate = false;  // fan-split the polygons of --target's and --base's faces
+  bool repair = false;       // repair --target's faces and --base first (rgbmesh::repair)
   std::size_t base_faces = 1000;
   int levels = 3;
   std::string loss = "huber";  // huber, cauchy, none
