@@ -85,16 +85,43 @@ std::string thousands(std::size_t n) {
   return out;
 }
 
-// How many distinct positions the points have (-0 and +0 are one; the points are finite).
-std::size_t distinct_positions(std::vector<Vec3> points) {
-  const auto less = [](const Vec3& a, const Vec3& b) {
+// The note for faces that meet along an edge only through equal positions, not through shared
+// vertices: such faces are separate pieces to the mesh (OFF, OBJ and PLY exporters often give
+// every face its own vertices), while the user sees one surface. Vertices that only share a
+// position (a pinch split into its fans) are fine. Empty when there are none.
+std::string unjoined_note(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles) {
+  // Position ids: the points sorted (-0 and +0 are one; the points are finite).
+  std::vector<std::int32_t> order(points.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::int32_t>(i);
+  const auto less = [&](std::int32_t i, std::int32_t j) {
+    const Vec3 &a = points[i], &b = points[j];
     if (a.x != b.x) return a.x < b.x;
     if (a.y != b.y) return a.y < b.y;
     return a.z < b.z;
   };
-  std::sort(points.begin(), points.end(), less);
-  const auto equal = [](const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
-  return static_cast<std::size_t>(std::unique(points.begin(), points.end(), equal) - points.begin());
+  std::sort(order.begin(), order.end(), less);
+  std::vector<std::int32_t> position(points.size());
+  std::int32_t positions = 0;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    if (i > 0 && less(order[i - 1], order[i])) ++positions;
+    position[order[i]] = positions;
+  }
+  ++positions;
+  if (static_cast<std::size_t>(positions) == points.size()) return "";
+  std::vector<std::pair<std::int32_t, std::int32_t>> by_vertex, by_position;
+  for (const Triangle& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t a = t[k], b = t[(k + 1) % 3];
+      by_vertex.emplace_back(std::min(a, b), std::max(a, b));
+      by_position.emplace_back(std::min(position[a], position[b]), std::max(position[a], position[b]));
+    }
+  for (auto* edges : {&by_vertex, &by_position}) {
+    std::sort(edges->begin(), edges->end());
+    edges->erase(std::unique(edges->begin(), edges->end()), edges->end());
+  }
+  if (by_position.size() == by_vertex.size()) return "";
+  return thousands(points.size()) + " vertices at " + thousands(static_cast<std::size_t>(positions)) +
+         " positions: faces that meet only at equal positions are not joined (--repair merges them)";
 }
 
 // The triangles re-oriented as the checks found, and the points without the unreferenced ones
@@ -172,12 +199,7 @@ TriangleMeshData prepare_triangle_mesh(const PolygonSoup& soup, const SoupOption
       detail::check_surface(soup.points, triangles, name, detail::AreaCheck::zero_area_is_degenerate);
   finish(soup.points, std::move(triangles), surface, out);
 
-  // Faces joined only through equal positions are separate pieces to the mesh (OFF, OBJ and PLY
-  // exporters often give every face its own vertices): said, since the user sees one surface.
-  const std::size_t positions = distinct_positions(out.points);
-  if (positions < out.points.size())
-    out.notes.push_back(thousands(out.points.size()) + " vertices at " + thousands(positions) +
-                        " positions: faces that meet only at equal positions are not joined (--repair merges them)");
+  if (std::string note = unjoined_note(out.points, out.triangles); !note.empty()) out.notes.push_back(note);
   return out;
 }
 
