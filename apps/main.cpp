@@ -200,6 +200,20 @@ void print_point_cloud(const std::string& name, const PointCloud& cloud, bool js
             << ", " << hi.z << "), diagonal " << norm(hi - lo) << "\n";
 }
 
+// rgbmesh info: a mesh's statistics, or what a point cloud is.
+void run_info(const std::string& path, bool json, bool triangulate, bool repair) {
+  RgbMesh mesh;
+  try {
+    mesh = load_mesh(path, triangulate, repair);
+  } catch (const InputError&) {
+    const std::optional<PointCloud> cloud = point_cloud_instead(path);
+    if (!cloud) throw;
+    print_point_cloud(path, *cloud, json);
+    return;
+  }
+  print_statistics(path, mesh, json);
+}
+
 // [{"stage": "--uniform 4", "splits": N, "removals": N, "seconds": S}, ...]
 std::string stages_json(const StageTotals& t) {
   std::string out = "[";
@@ -530,16 +544,7 @@ int main(int argc, char** argv) {
     if (processes.rank != 0 && !adapt_cmd->parsed() && (info->parsed() || convert->parsed() || refine->parsed() || fit_cmd->parsed()))
       return 0;
     if (info->parsed()) {
-      RgbMesh mesh;
-      try {
-        mesh = load_mesh(info_path, info_triangulate, info_repair);
-      } catch (const InputError&) {
-        const std::optional<PointCloud> cloud = point_cloud_instead(info_path);
-        if (!cloud) throw;
-        print_point_cloud(info_path, *cloud, info_json);
-        return 0;
-      }
-      print_statistics(info_path, mesh, info_json);
+      run_info(info_path, info_json, info_triangulate, info_repair);
       return 0;
     }
     if (convert->parsed()) {

@@ -98,11 +98,13 @@ void clean_soup(Soup& soup, RepairReport& report) {
 // closed two-sided surface has no rim. A pair of zero-area triangles always goes: it covers
 // nothing from either side (OpenSCAD writes such pairs where a vertex lies on an edge).
 void resolve_back_to_back(Soup& soup, RepairReport& report) {
-  std::map<Key, std::vector<std::size_t>> copies;
-  for (std::size_t t = 0; t < soup.polygons.size(); ++t) copies[key_of(soup.polygons[t])].push_back(t);
+  std::vector<std::pair<Key, std::size_t>> keys;  // sorted: the copies of a triangle side by side
+  keys.reserve(soup.polygons.size());
+  for (std::size_t t = 0; t < soup.polygons.size(); ++t) keys.emplace_back(key_of(soup.polygons[t]), t);
+  std::sort(keys.begin(), keys.end());
   std::vector<std::array<std::size_t, 2>> pairs;  // after clean_soup: at most one copy per orientation
-  for (const auto& [key, triangles] : copies)
-    if (triangles.size() == 2) pairs.push_back({triangles[0], triangles[1]});
+  for (std::size_t i = 0; i + 1 < keys.size(); ++i)
+    if (keys[i].first == keys[i + 1].first) pairs.push_back({keys[i].second, keys[i + 1].second});
   if (pairs.empty()) return;
 
   std::map<Edge, std::vector<std::size_t>> pairs_of_edge;  // the pairs along each of their edges
