@@ -59,6 +59,7 @@ fit::Base base_for(const FitArgs& a, const PointCloud& target) {
   PolygonSoup soup;
   soup.points = target.points;
   soup.faces = target.faces;
+  soup.numbered_vertices = target.numbered_vertices;
   std::vector<std::string> repaired;  // the repair's notes, first among the base's
   if (a.repair && !soup.faces.empty()) soup = repair::repaired_soup(soup, a.triangulate, repaired);
   fit::BaseOptions options;

@@ -410,6 +410,7 @@ PolygonSoup repaired_soup(const PolygonSoup& soup, bool triangulate, std::vector
   }
   notes.insert(notes.end(), mesh.notes.begin(), mesh.notes.end());
   PolygonSoup out;
+  out.numbered_vertices = false;  // the repaired mesh's numbers are not the file's
   out.points = std::move(mesh.points);
   for (const auto& t : mesh.triangles) out.faces.push_back({t[0], t[1], t[2]});
   return out;

@@ -230,6 +230,7 @@ PointCloud read_point_cloud(const fs::path& path) {
   PolygonSoup soup = read_soup(path, point_cloud_extensions, "point-cloud", options, cloud.normals);
   cloud.points = std::move(soup.points);
   cloud.faces = std::move(soup.faces);
+  cloud.numbered_vertices = soup.numbered_vertices;
   if (cloud.points.empty()) throw InputError(path.string() + ": no points");
   for (std::size_t i = 0; i < cloud.points.size(); ++i)
     if (!is_finite(cloud.points[i]))

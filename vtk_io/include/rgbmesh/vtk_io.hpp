@@ -79,6 +79,8 @@ struct PointCloud {
   /// The file's surface polygons exactly as read_polygon_soup gives them (unchecked: the caller
   /// decides whether they make a surface); empty for a point cloud.
   std::vector<std::vector<std::int64_t>> faces;
+  /// As PolygonSoup::numbered_vertices: false for STL, whose messages name positions.
+  bool numbered_vertices = true;
   std::vector<std::string> notes;  ///< what was ignored, one line each
 };
 
