@@ -66,8 +66,10 @@ fit::Base base_for(const FitArgs& a, const PointCloud& target) {
   options.faces = a.base_faces;
   options.triangulate = a.triangulate;
   // (A repair changes the points: the file's normals then belong to none of them.)
-  fit::Base base = fit::make_base(soup, soup.points.size() == target.normals.size() ? target.normals : std::vector<Vec3>{}, options);
-  for (auto note = repaired.rbegin(); note != repaired.rend(); ++note) base.notes.insert(base.notes.begin(), a.target + ": " + *note);
+  const bool same_points = soup.points.size() == target.normals.size();
+  fit::Base base = fit::make_base(soup, same_points ? target.normals : std::vector<Vec3>{}, options);
+  for (auto note = repaired.rbegin(); note != repaired.rend(); ++note)
+    base.notes.insert(base.notes.begin(), a.target + ": " + *note);
   return base;
 }
 

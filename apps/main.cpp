@@ -312,7 +312,8 @@ int main(int argc, char** argv) {
   std::string info_path;
   bool info_json = false, info_triangulate = false, info_repair = false;
   info->add_option("MESH", info_path,
-                   "Input mesh (" + supported_input_extensions() + "), or a point cloud (.xyz, .pwn, a file without faces)")
+                   "Input mesh (" + supported_input_extensions() +
+                       "), or a point cloud (.xyz, .pwn, a file without faces)")
       ->required();
   info->add_flag("--json", info_json, "Print one JSON object instead of text");
   info->add_flag("--triangulate", info_triangulate, "Fan-split polygons with more than three vertices");
@@ -473,7 +474,8 @@ int main(int argc, char** argv) {
       ->check(number_in("an integer in [4, 10^8]", [](double x) { return x >= 4 && x <= 1e8; }))
       ->excludes(fit_base);
   fit_cmd->add_flag("--triangulate", fit_args.triangulate, "Fan-split polygons of the --target and --base faces");
-  fit_cmd->add_flag("--repair", fit_args.repair, "Repair the --target faces and the --base mesh first (as info --repair)");
+  fit_cmd->add_flag("--repair", fit_args.repair,
+                    "Repair the --target faces and the --base mesh first (as info --repair)");
   fit_cmd->add_option("--levels", fit_args.levels, "Uniform level of the limit surface used in the fit")
       ->capture_default_str()
       ->check(number_in("an integer in [1, 6]", [](double x) { return x >= 1 && x <= 6; }));

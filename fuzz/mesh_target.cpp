@@ -29,7 +29,8 @@ namespace {
 void check_repaired(const PolygonSoup& soup) {
 #if defined(RGBMESH_FUZZ_REPAIR)
   TriangleMeshData repaired;
-  if (!fuzz::accepted([&] { repaired = prepare_triangle_mesh(soup, repair::soup_options(true, true)); })) return;
+  const SoupOptions options = repair::soup_options(true, true);
+  if (!fuzz::accepted([&] { repaired = prepare_triangle_mesh(soup, options); })) return;
   RgbMesh mesh;
   try {
     mesh = RgbMesh::from_triangles(repaired.points, repaired.triangles);

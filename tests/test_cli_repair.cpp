@@ -50,7 +50,9 @@ double volume_of(const OffMesh& m) {
   double v = 0;
   for (const auto& t : m.triangles) {
     const auto &a = m.points[t[0]], &b = m.points[t[1]], &c = m.points[t[2]];
-    v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+    v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+          a[2] * (b[0] * c[1] - b[1] * c[0])) /
+         6;
   }
   return v;
 }
@@ -117,8 +119,9 @@ TEST_F(CliRepair, TrefoilFacesAreJoinedByRepair) {
   const std::string tref = public_data("geomview/tref.off");
   const Info plain = info("--triangulate " + tref);
   ASSERT_EQ(plain.code, 0) << plain.err;
-  EXPECT_NE(plain.err.find("1,280 vertices at 328 positions: faces that meet only at equal positions are not joined "
-                           "(--repair merges them)"),
+  EXPECT_NE(plain.err.find(
+                "1,280 vertices at 328 positions: faces that meet only at equal positions are not joined "
+                "(--repair merges them)"),
             std::string::npos)
       << plain.err;
   EXPECT_EQ(plain["components"], 320);
@@ -145,9 +148,12 @@ TEST_F(CliRepair, TrefoilFacesAreJoinedByRepair) {
     for (const long v : loops[l])
       for (int k = 0; k < 3; ++k) centre[l][k] += m.points[v][k] / 8;
     for (const long v : loops[l])
-      radius[l] += std::hypot(m.points[v][0] - centre[l][0], m.points[v][1] - centre[l][1], m.points[v][2] - centre[l][2]) / 8;
+      radius[l] += std::hypot(m.points[v][0] - centre[l][0], m.points[v][1] - centre[l][1],
+                              m.points[v][2] - centre[l][2]) /
+                   8;
   }
-  EXPECT_LT(std::hypot(centre[0][0] - centre[1][0], centre[0][1] - centre[1][1], centre[0][2] - centre[1][2]), 1e-3);
+  EXPECT_LT(std::hypot(centre[0][0] - centre[1][0], centre[0][1] - centre[1][1], centre[0][2] - centre[1][2]),
+            1e-3);
   EXPECT_NEAR(radius[0], radius[1], 1e-3);
 }
 
@@ -156,13 +162,17 @@ TEST_F(CliRepair, ZeroAreaTriangleOfOpenScad) {
   // [0, 10]^3 with a ninth vertex (0, 0, 5) on the edge from (0, 0, 0) to (0, 0, 10), and the
   // triangle of those three collinear points among its 14.
   const std::string stl = public_data("openscad/issue1580-zero-area-triangle.stl");
-  for (const std::string& args : {"info " + stl, "refine " + stl + " - --uniform 1", "convert " + stl + " " + path("x.vtp")}) {
+  for (const std::string& args :
+       {"info " + stl, "refine " + stl + " - --uniform 1", "convert " + stl + " " + path("x.vtp")}) {
     const RunResult r = run(args);
-    expect_refused(r, "is degenerate: it has zero area (its corners (0, 0, 0), (0, 0, 5), (0, 0, 10) are collinear) "
-                      "(--repair collapses degenerate triangles)");
+    expect_refused(
+        r,
+        "is degenerate: it has zero area (its corners (0, 0, 0), (0, 0, 5), (0, 0, 10) are collinear) "
+        "(--repair collapses degenerate triangles)");
     EXPECT_EQ(r.err.find("vertices "), std::string::npos) << "an STL file has no vertex numbers: " << r.err;
   }
-  expect_refused(run("adapt --mesh " + stl + " --out " + path("a")), "(--repair collapses degenerate triangles)");
+  expect_refused(run("adapt --mesh " + stl + " --out " + path("a")),
+                 "(--repair collapses degenerate triangles)");
 
   const Info fixed = info("--repair " + stl);
   ASSERT_EQ(fixed.code, 0) << fixed.err;
@@ -205,13 +215,15 @@ TEST_F(CliRepair, PigPatchesMeetingAtVertices) {
   // fans in all. Split into their fans: 9,085 vertices, 17 components, 21 boundary loops.
   const std::string pig = public_data("pig.stl");
   const RunResult r = run("info " + pig);
-  expect_refused(r, "is non-manifold: its triangles form 2 separate fans (--repair splits non-manifold vertices)");
+  expect_refused(
+      r, "is non-manifold: its triangles form 2 separate fans (--repair splits non-manifold vertices)");
   EXPECT_EQ(r.err.find(": vertex "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("the vertex at ("), std::string::npos) << r.err;
 
   const Info fixed = info("--repair " + pig);
   ASSERT_EQ(fixed.code, 0) << fixed.err;
-  EXPECT_NE(fixed.err.find("repaired: split 421 non-manifold vertices into 864"), std::string::npos) << fixed.err;
+  EXPECT_NE(fixed.err.find("repaired: split 421 non-manifold vertices into 864"), std::string::npos)
+      << fixed.err;
   EXPECT_EQ(fixed["vertices"], 9085);
   EXPECT_EQ(fixed["triangles"], 16848);
   EXPECT_EQ(fixed["components"], 17);
@@ -317,7 +329,8 @@ TEST_F(CliRepair, AssimpModels) {
   EXPECT_EQ(i["boundary_loops"], 0);
   EXPECT_EQ(i["euler_characteristic"], 2);
   // Polygons still need --triangulate, and the message says so.
-  expect_refused(run("info --repair " + cube), "(use --triangulate to fan-split polygons; a repair needs it too)");
+  expect_refused(run("info --repair " + cube),
+                 "(use --triangulate to fan-split polygons; a repair needs it too)");
 
   // Wuson.off: numbered vertices keep their numbers in messages; --repair makes it valid.
   const std::string wuson = public_data("assimp/Wuson.off");
@@ -343,8 +356,10 @@ TEST_F(CliRepair, GeomviewModels) {
 TEST_F(CliRepair, InfoOnPointClouds) {
   RunResult r = run("info " + public_data("kitten.xyz"));
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(r.out.rfind(public_data("kitten.xyz") + ": a point cloud of 5,210 points (with normals), no faces: "
-                                                    "rgbmesh fit --target " + public_data("kitten.xyz") + " fits a surface to it\n",
+  EXPECT_EQ(r.out.rfind(public_data("kitten.xyz") +
+                            ": a point cloud of 5,210 points (with normals), no faces: "
+                            "rgbmesh fit --target " +
+                            public_data("kitten.xyz") + " fits a surface to it\n",
                         0),
             0u)
       << r.out;
@@ -360,8 +375,8 @@ TEST_F(CliRepair, InfoOnPointClouds) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("a point cloud of 4 points"), std::string::npos) << r.out;
   // The tool's own point clouds: fit's targets.vtp (vertex cells only).
-  ASSERT_EQ(run("fit --target " + public_data("oni.pwn") + " --base-faces 100 --levels 1 --iterations 1 --out " +
-                path("fit"))
+  ASSERT_EQ(run("fit --target " + public_data("oni.pwn") +
+                " --base-faces 100 --levels 1 --iterations 1 --out " + path("fit"))
                 .code,
             0);
   const Info targets = info(path("fit/targets.vtp"));
@@ -375,7 +390,8 @@ TEST_F(CliRepair, InfoOnPointClouds) {
 TEST_F(CliRepair, FitRepairsTheTargetFacesAndTheBase) {
   const std::string stl = public_data("openscad/issue1580-zero-area-triangle.stl");
   const std::string common = " --levels 1 --iterations 2 --out " + path("fit");
-  expect_refused(run("fit --target " + stl + " --base " + stl + common), "(--repair collapses degenerate triangles)");
+  expect_refused(run("fit --target " + stl + " --base " + stl + common),
+                 "(--repair collapses degenerate triangles)");
   RunResult r = run("fit --repair --target " + stl + " --base " + stl + common);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("repaired: collapsed 1 zero-area triangle"), std::string::npos) << r.err;
@@ -389,7 +405,8 @@ TEST_F(CliRepair, FitRepairsTheTargetFacesAndTheBase) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("base (decimated)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("17 components, genus 0, 21 boundary loops"), std::string::npos) << r.out;
-  EXPECT_NE(r.err.find(pig + ": repaired: split 421 non-manifold vertices into 864"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(pig + ": repaired: split 421 non-manifold vertices into 864"), std::string::npos)
+      << r.err;
 }
 
 TEST_F(CliRepair, AFileWithAnRgbStateIsRestoredNotRepaired) {
@@ -398,10 +415,12 @@ TEST_F(CliRepair, AFileWithAnRgbStateIsRestoredNotRepaired) {
   const Info i = info("--repair " + path("r.vtp"));
   ASSERT_EQ(i.code, 0) << i.err;
   EXPECT_EQ(i["max_level"], 2);
-  EXPECT_NE(i.err.find("r.vtp: the file has an RGB state: restored exactly, not repaired"), std::string::npos) << i.err;
+  EXPECT_NE(i.err.find("r.vtp: the file has an RGB state: restored exactly, not repaired"), std::string::npos)
+      << i.err;
   // A resumed run's mesh is its last cycle's: --repair is refused.
   ASSERT_EQ(run("adapt --cycles 2 --out " + path("run")).code, 0);
-  expect_refused(run("adapt --resume " + path("run") + " --cycles 3 --repair"), "--repair: does not apply with --resume");
+  expect_refused(run("adapt --resume " + path("run") + " --cycles 3 --repair"),
+                 "--repair: does not apply with --resume");
 }
 
 TEST_F(CliRepair, EveryReadingSubcommandHasRepair) {

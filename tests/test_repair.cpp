@@ -58,7 +58,8 @@ PolygonSoup apart(const PolygonSoup& joined) {
 PolygonSoup box(double x0, double x1) {
   PolygonSoup s;
   for (int i = 0; i < 8; ++i) s.points.push_back({i & 1 ? x1 : x0, i & 2 ? 1.0 : 0.0, i & 4 ? 1.0 : 0.0});
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& q : quads) {
     s.faces.push_back({q[0], q[1], q[2]});
     s.faces.push_back({q[0], q[2], q[3]});
@@ -158,7 +159,8 @@ TEST(Repair, DuplicatePositionsOfATorusGiveGenusOne) {
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < k; ++j) {
       const double u = 2 * M_PI * i / n, v = 2 * M_PI * j / k;
-      joined.points.push_back({(2 + std::cos(v)) * std::cos(u), (2 + std::cos(v)) * std::sin(u), std::sin(v)});
+      joined.points.push_back(
+          {(2 + std::cos(v)) * std::cos(u), (2 + std::cos(v)) * std::sin(u), std::sin(v)});
     }
   const auto at = [&](int i, int j) { return static_cast<std::int64_t>(((i + n) % n) * k + (j + k) % k); };
   for (int i = 0; i < n; ++i)
@@ -192,7 +194,8 @@ TEST(Repair, ZeroAreaTriangleIsCollapsedWithoutAHole) {
     prepare_triangle_mesh(soup);
     ADD_FAILURE() << "accepted a zero-area triangle";
   } catch (const MeshDefectError& e) {
-    EXPECT_EQ(std::string(e.what()), "triangle 9 is degenerate: it has zero area (vertices 0, 2, 6 are collinear)");
+    EXPECT_EQ(std::string(e.what()),
+              "triangle 9 is degenerate: it has zero area (vertices 0, 2, 6 are collinear)");
     EXPECT_STREQ(e.hint(), "collapses degenerate triangles");
   }
   const TriangleMeshData m = prepare_triangle_mesh(soup, repairing());
@@ -239,7 +242,8 @@ TEST(Repair, NeedleIsCollapsedWithinTheBound) {
     for (const Vec3& q : o.points) nearest = std::min(nearest, distance(p, q));
     EXPECT_LE(nearest, 1e-9);
   }
-  EXPECT_EQ(repair_note(m).rfind("repaired: collapsed 2 needle triangles (no point moved by more than 3.46e-06)", 0),
+  EXPECT_EQ(repair_note(m).rfind(
+                "repaired: collapsed 2 needle triangles (no point moved by more than 3.46e-06)", 0),
             0u)
       << repair_note(m);
   expect_valid(m);
@@ -299,7 +303,8 @@ TEST(Repair, BackToBackTrianglesBetweenTouchingPartsAreRemoved) {
   EXPECT_EQ(c.boundary_edges, 0u);
   EXPECT_EQ(c.euler, 2);
   EXPECT_NEAR(std::abs(volume_of(m)), 2.0, 1e-12);
-  EXPECT_NE(repair_note(m).find("removed 2 back-to-back pairs of triangles"), std::string::npos) << repair_note(m);
+  EXPECT_NE(repair_note(m).find("removed 2 back-to-back pairs of triangles"), std::string::npos)
+      << repair_note(m);
   expect_valid(m);
 }
 
@@ -322,7 +327,8 @@ TEST(Repair, BackToBackZeroAreaPairIsRemoved) {
   // edge (1, 2), closed by a zero-area triangle (0, 1, 2) and its reverse.
   PolygonSoup s;
   s.points = {{0, 2, 0}, {0, 4, 0}, {0, 0, 0}, {0, 2, -4}, {2, 2, 0}, {-2, 2, 0}};
-  s.faces = {{0, 1, 2}, {2, 1, 0}, {2, 0, 4}, {0, 1, 4}, {0, 5, 1}, {0, 2, 5}, {2, 3, 5}, {4, 3, 2}, {1, 5, 3}, {4, 1, 3}};
+  s.faces = {{0, 1, 2}, {2, 1, 0}, {2, 0, 4}, {0, 1, 4}, {0, 5, 1},
+             {0, 2, 5}, {2, 3, 5}, {4, 3, 2}, {1, 5, 3}, {4, 1, 3}};
   EXPECT_THROW(prepare_triangle_mesh(s), MeshDefectError);
   const TriangleMeshData m = prepare_triangle_mesh(s, repairing());
   const Counts c = counts_of(m);
@@ -420,9 +426,10 @@ TEST(Repair, WhatARepairCannotDoIsStillRefused) {
     prepare_triangle_mesh(s, repairing());
     ADD_FAILURE() << "accepted a quad";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "face 8 has 4 vertices; only triangles are supported (use --triangulate to fan-split polygons; a "
-              "repair needs it too)");
+    EXPECT_EQ(
+        std::string(e.what()),
+        "face 8 has 4 vertices; only triangles are supported (use --triangulate to fan-split polygons; a "
+        "repair needs it too)");
   }
   // Nothing left: a lone zero-area triangle.
   s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
@@ -444,8 +451,8 @@ TEST(Repair, ReportCountsWhatItDid) {
   std::vector<Vec3> points = s.points;
   std::vector<std::array<std::int32_t, 3>> triangles;
   for (const Face& f : s.faces)
-    triangles.push_back({static_cast<std::int32_t>(f[0]), static_cast<std::int32_t>(f[1]),
-                         static_cast<std::int32_t>(f[2])});
+    triangles.push_back(
+        {static_cast<std::int32_t>(f[0]), static_cast<std::int32_t>(f[1]), static_cast<std::int32_t>(f[2])});
   const rgbmesh::repair::RepairReport r = rgbmesh::repair::repair_triangles(points, triangles);
   EXPECT_EQ(r.merged_vertices, 18u);
   EXPECT_EQ(r.reoriented_triangles, 1u);

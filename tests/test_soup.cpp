@@ -589,8 +589,9 @@ TEST(Soup, WithoutVertexNumbersMessagesNamePositions) {
   EXPECT_EQ(error_of(s), "the edge from (0, 0, 0) to (1, 0, 0) is shared by 3 triangles: 0, 1, 2");
   s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
   s.faces = {{0, 1, 2}};
-  EXPECT_EQ(error_of(s), "triangle 0 is degenerate: it has zero area (its corners (0, 0, 0), (1, 0, 0), (2, 0, 0) "
-                         "are collinear)");
+  EXPECT_EQ(error_of(s),
+            "triangle 0 is degenerate: it has zero area (its corners (0, 0, 0), (1, 0, 0), (2, 0, 0) "
+            "are collinear)");
   s.faces = {{0, 1, 1}};
   EXPECT_EQ(error_of(s), "triangle 0 is degenerate: it repeats the vertex at (1, 0, 0)");
   s = octahedron();
@@ -603,8 +604,9 @@ TEST(Soup, WithoutVertexNumbersMessagesNamePositions) {
   // Single-precision coordinates are written as the file has them, not as 18.732500076293945.
   s.points = {{0, 0, 0}, {static_cast<double>(18.7325f), 0, 0}, {40, 0, 0}};
   s.faces = {{0, 1, 2}};
-  EXPECT_EQ(error_of(s), "triangle 0 is degenerate: it has zero area (its corners (0, 0, 0), (18.7325, 0, 0), (40, 0, 0) "
-                         "are collinear)");
+  EXPECT_EQ(error_of(s),
+            "triangle 0 is degenerate: it has zero area (its corners (0, 0, 0), (18.7325, 0, 0), (40, 0, 0) "
+            "are collinear)");
 }
 
 // Faces that meet only at equal positions are separate pieces: said in a note.
@@ -616,7 +618,8 @@ TEST(Soup, DuplicatePositionsAreNoted) {
   const TriangleMeshData m = prepare_triangle_mesh(s);
   ASSERT_EQ(m.notes.size(), 1u);
   EXPECT_EQ(m.notes[0],
-            "6 vertices at 4 positions: faces that meet only at equal positions are not joined (--repair merges them)");
+            "6 vertices at 4 positions: faces that meet only at equal positions are not joined (--repair "
+            "merges them)");
   EXPECT_TRUE(prepare_triangle_mesh(square()).notes.empty());
 }
 

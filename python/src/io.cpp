@@ -26,7 +26,8 @@ void bind_io(py::module_& m) {
 #if defined(RGBMESH_PYTHON_REPAIR)
           o = repair::soup_options(triangulate, true);
 #else
-          throw InputError("repair=True: this build has no rgbmesh::repair (RGBMESH_WITH_REPAIR, needs CGAL)");
+          throw InputError(
+              "repair=True: this build has no rgbmesh::repair (RGBMESH_WITH_REPAIR, needs CGAL)");
 #endif
         }
         RgbMeshFile file;

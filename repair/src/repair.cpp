@@ -62,7 +62,9 @@ std::string counted(std::size_t n, const char* one, const char* many) {
 
 class UnionFind {
  public:
-  explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), std::size_t{0}); }
+  explicit UnionFind(std::size_t n) : parent_(n) {
+    std::iota(parent_.begin(), parent_.end(), std::size_t{0});
+  }
   std::size_t find(std::size_t x) {
     while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
     return x;
@@ -160,7 +162,9 @@ struct OrientationCounts {
 
 struct CountingVisitor : public PMP::Default_orientation_visitor {
   explicit CountingVisitor(OrientationCounts* into) : counts(into) {}
-  void non_manifold_edge(std::size_t a, std::size_t b, std::size_t) { counts->non_manifold_edges.insert(edge_of(a, b)); }
+  void non_manifold_edge(std::size_t a, std::size_t b, std::size_t) {
+    counts->non_manifold_edges.insert(edge_of(a, b));
+  }
   void non_manifold_vertex(std::size_t, std::size_t fans) {
     ++counts->split_vertices;
     counts->copies += fans;
@@ -171,7 +175,8 @@ struct CountingVisitor : public PMP::Default_orientation_visitor {
 };
 
 // The two triangles along each edge that has exactly two: those orientation may cut apart.
-std::vector<std::pair<Edge, std::array<std::size_t, 2>>> two_sided_edges(const std::vector<Polygon>& polygons) {
+std::vector<std::pair<Edge, std::array<std::size_t, 2>>> two_sided_edges(
+    const std::vector<Polygon>& polygons) {
   std::vector<std::pair<Edge, std::size_t>> sides;
   sides.reserve(3 * polygons.size());
   for (std::size_t t = 0; t < polygons.size(); ++t)
@@ -217,8 +222,9 @@ void orient(Soup& soup, RepairReport& report) {
 
 Mesh mesh_of(const Soup& soup) {
   if (!PMP::is_polygon_soup_a_polygon_mesh(soup.polygons))
-    throw InputError("could not be repaired: the triangles make no surface even with their non-manifold edges "
-                     "and vertices split");
+    throw InputError(
+        "could not be repaired: the triangles make no surface even with their non-manifold edges "
+        "and vertices split");
   Mesh mesh;
   PMP::polygon_soup_to_polygon_mesh(soup.points, soup.polygons, mesh);
   return mesh;
@@ -234,7 +240,8 @@ std::set<Key> triangle_keys(const Mesh& mesh) {
   std::set<Key> keys;
   for (const Mesh::Face_index f : mesh.faces()) {
     Polygon corners;
-    for (const Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) corners.push_back(v);
+    for (const Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
+      corners.push_back(v);
     keys.insert(key_of(corners));
   }
   return keys;
@@ -260,9 +267,9 @@ void collapse_and_flip(Mesh& mesh, double max_move, const RepairOptions& options
   const double pi = std::acos(-1.0);
   const std::set<Key> keys = triangle_keys(mesh);
   before = mesh.number_of_faces();
-  PMP::experimental::remove_almost_degenerate_faces(mesh, std::cos(options.cap_angle_degrees * pi / 180), no_needles,
-                                                    max_move,
-                                                    CGAL::parameters::flip_triangle_height_threshold(max_move));
+  PMP::experimental::remove_almost_degenerate_faces(
+      mesh, std::cos(options.cap_angle_degrees * pi / 180), no_needles, max_move,
+      CGAL::parameters::flip_triangle_height_threshold(max_move));
   report.removed_caps = before - mesh.number_of_faces();
   std::size_t fresh = 0;
   for (const Key& k : triangle_keys(mesh)) fresh += keys.count(k) == 0;
@@ -298,9 +305,9 @@ std::size_t snap_to_zero(std::vector<Vec3>& points, double below) {
 }  // namespace
 
 bool RepairReport::changed() const {
-  return snapped_coordinates + isolated_vertices + merged_vertices + zero_area_triangles + repeated_triangles + back_to_back_removed +
-             back_to_back_kept + non_manifold_edges + cut_edges + split_vertices + reoriented_triangles +
-             needle_triangles + flipped_caps + removed_caps >
+  return snapped_coordinates + isolated_vertices + merged_vertices + zero_area_triangles +
+             repeated_triangles + back_to_back_removed + back_to_back_kept + non_manifold_edges + cut_edges +
+             split_vertices + reoriented_triangles + needle_triangles + flipped_caps + removed_caps >
          0;
 }
 
@@ -314,17 +321,20 @@ std::string RepairReport::note() const {
                                "1e-12 of the diagonal to 0");
   add(isolated_vertices, "dropped " + counted(isolated_vertices, "isolated vertex", "isolated vertices"));
   add(merged_vertices, "merged " + counted(merged_vertices, "duplicate vertex", "duplicate vertices"));
-  add(zero_area_triangles, "collapsed " + counted(zero_area_triangles, "zero-area triangle", "zero-area triangles"));
-  add(repeated_triangles, "removed " + counted(repeated_triangles, "repeated triangle", "repeated triangles"));
-  add(back_to_back_removed,
-      "removed " + counted(back_to_back_removed, "back-to-back pair", "back-to-back pairs") +
-          " of triangles (walls between touching parts)");
-  add(back_to_back_kept, "kept one triangle of " + counted(back_to_back_kept, "back-to-back pair", "back-to-back pairs") +
+  add(zero_area_triangles,
+      "collapsed " + counted(zero_area_triangles, "zero-area triangle", "zero-area triangles"));
+  add(repeated_triangles,
+      "removed " + counted(repeated_triangles, "repeated triangle", "repeated triangles"));
+  add(back_to_back_removed, "removed " +
+                                counted(back_to_back_removed, "back-to-back pair", "back-to-back pairs") +
+                                " of triangles (walls between touching parts)");
+  add(back_to_back_kept, "kept one triangle of " +
+                             counted(back_to_back_kept, "back-to-back pair", "back-to-back pairs") +
                              " (a two-sided sheet)");
   add(non_manifold_edges, "split " + counted(non_manifold_edges, "non-manifold edge", "non-manifold edges"));
   add(cut_edges, "cut the surface open along " + counted(cut_edges, "edge", "edges") + " to orient it");
-  add(split_vertices, "split " + counted(split_vertices, "non-manifold vertex", "non-manifold vertices") + " into " +
-                          std::to_string(vertex_copies));
+  add(split_vertices, "split " + counted(split_vertices, "non-manifold vertex", "non-manifold vertices") +
+                          " into " + std::to_string(vertex_copies));
   add(reoriented_triangles, "re-oriented " + counted(reoriented_triangles, "triangle", "triangles"));
   add(needle_triangles, "collapsed " + counted(needle_triangles, "needle triangle", "needle triangles"));
   add(flipped_caps, "flipped " + counted(flipped_caps, "cap triangle", "cap triangles"));
@@ -350,8 +360,8 @@ RepairReport repair_triangles(std::vector<Vec3>& points, std::vector<std::array<
   for (const Vec3& p : points) soup.points.emplace_back(p.x, p.y, p.z);
   soup.polygons.reserve(triangles.size());
   for (const auto& t : triangles)
-    soup.polygons.push_back({static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]),
-                             static_cast<std::size_t>(t[2])});
+    soup.polygons.push_back(
+        {static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]), static_cast<std::size_t>(t[2])});
 
   clean_soup(soup, report);
   resolve_back_to_back(soup, report);

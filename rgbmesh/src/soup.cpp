@@ -126,8 +126,8 @@ std::string unjoined_note(const std::vector<Vec3>& points, const std::vector<Tri
 
 // The triangles re-oriented as the checks found, and the points without the unreferenced ones
 // (the others in their order): what every passing mesh gets.
-void finish(const std::vector<Vec3>& points, std::vector<Triangle> triangles, const detail::SurfaceCheck& surface,
-            TriangleMeshData& out) {
+void finish(const std::vector<Vec3>& points, std::vector<Triangle> triangles,
+            const detail::SurfaceCheck& surface, TriangleMeshData& out) {
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     if (surface.flip[t]) std::swap(triangles[t][1], triangles[t][2]);
   }
@@ -159,8 +159,8 @@ void finish(const std::vector<Vec3>& points, std::vector<Triangle> triangles, co
 // The caller's repair, then the checks on what it gives. A failure is a plain InputError, not a
 // MeshDefectError: the repair was tried and did not remove the defect. The repaired mesh's
 // vertices are named by position (their numbers are not the file's).
-TriangleMeshData repaired(std::vector<Vec3> points, std::vector<Triangle> triangles, const SoupOptions& options,
-                          std::vector<std::string> notes) {
+TriangleMeshData repaired(std::vector<Vec3> points, std::vector<Triangle> triangles,
+                          const SoupOptions& options, std::vector<std::string> notes) {
   options.repair(points, triangles, notes);
   if (triangles.empty()) throw InputError("could not be repaired: nothing is left of the mesh");
   detail::check_indices(triangles, points.size(), detail::mesh_wording);

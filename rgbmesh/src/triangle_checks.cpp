@@ -164,14 +164,16 @@ void check_duplicates(const std::vector<HalfEdge>& half_edges, const std::vector
   Triangle key = triangles[first];
   std::string corners;
   if (name.by_position()) {
-    corners = "corners " + name.position(key[0]) + ", " + name.position(key[1]) + ", " + name.position(key[2]);
+    corners =
+        "corners " + name.position(key[0]) + ", " + name.position(key[1]) + ", " + name.position(key[2]);
   } else {
     std::sort(key.begin(), key.end());
-    corners = "vertices " + std::to_string(key[0]) + ", " + std::to_string(key[1]) + ", " + std::to_string(key[2]);
+    corners =
+        "vertices " + std::to_string(key[0]) + ", " + std::to_string(key[1]) + ", " + std::to_string(key[2]);
   }
-  throw MeshDefectError("triangles " + name.one(first) + " and " + name.one(second) + " are duplicates (" +
-                            corners + ")",
-                        duplicate_hint);
+  throw MeshDefectError(
+      "triangles " + name.one(first) + " and " + name.one(second) + " are duplicates (" + corners + ")",
+      duplicate_hint);
 }
 
 // Throws on edges with more than two triangles (naming the edge whose third triangle comes
@@ -219,8 +221,9 @@ void check_vertex_fans(std::size_t n_points, const std::vector<Triangle>& triang
   }
   for (std::size_t v = 0; v < n_points; ++v) {
     if (fans[v] > 1)
-      throw MeshDefectError(name.vertex(static_cast<std::int32_t>(v)) + " is non-manifold: its triangles form " +
-                                std::to_string(fans[v]) + " separate fans",
+      throw MeshDefectError(name.vertex(static_cast<std::int32_t>(v)) +
+                                " is non-manifold: its triangles form " + std::to_string(fans[v]) +
+                                " separate fans",
                             vertex_hint);
   }
 }
@@ -272,8 +275,8 @@ std::vector<bool> orientation_flips(const std::vector<Triangle>& triangles, cons
         } else if (flip[n] != wanted) {
           const std::int32_t a = triangles[t][k], b = triangles[t][(k + 1) % 3];
           throw MeshDefectError("the surface is not orientable (Möbius-like): triangle " + name.one(n) +
-                                    " cannot be oriented consistently with triangle " + name.one(t) + " across " +
-                                    name.edge(std::min(a, b), std::max(a, b)),
+                                    " cannot be oriented consistently with triangle " + name.one(t) +
+                                    " across " + name.edge(std::min(a, b), std::max(a, b)),
                                 orientation_hint);
         }
       }

@@ -54,9 +54,9 @@ class TriangleNames {
   std::string one(std::int32_t t) const;                               // "4" or "4 (from face 2)"
   std::string list(const std::vector<std::int32_t>& triangles) const;  // "2, 5, 8 (from faces 1, 4, 6)"
   bool by_position() const { return points_ != nullptr; }
-  std::string vertex(std::int32_t v) const;                   // "vertex 5", "the vertex at (1.5, 2, -3)"
-  std::string edge(std::int32_t a, std::int32_t b) const;     // "edge (0, 1)", "the edge from (...) to (...)"
-  std::string position(std::int32_t v) const;                 // "(1.5, 2, -3)"
+  std::string vertex(std::int32_t v) const;                // "vertex 5", "the vertex at (1.5, 2, -3)"
+  std::string edge(std::int32_t a, std::int32_t b) const;  // "edge (0, 1)", "the edge from (...) to (...)"
+  std::string position(std::int32_t v) const;              // "(1.5, 2, -3)"
 
  private:
   const std::vector<std::int64_t>& source_face_;
@@ -109,13 +109,13 @@ struct HalfEdge {
 enum class AreaCheck : bool { skip, zero_area_is_degenerate };
 
 // The checks of a triangle list whose indices are in range, in this order, throwing
-// MeshDefectError (with what a repair does about it) on the first failure: degenerate triangles (a repeated vertex; with zero_area_is_degenerate also
-// zero area, i.e. collinear or coincident corners); duplicate triangles (same vertex set,
-// whatever the order: this covers two triangles glued back to back, a "pillow"); edges of
-// more than two triangles; vertices whose triangles form several fans; non-orientable
-// surfaces. Returns the half-edges sorted so that the sides of one edge are adjacent, and in
-// `flip` which triangles to reverse for a consistent orientation (each edge-connected
-// component keeps the orientation of its lowest-numbered triangle).
+// MeshDefectError (with what a repair does about it) on the first failure: degenerate triangles (a repeated
+// vertex; with zero_area_is_degenerate also zero area, i.e. collinear or coincident corners); duplicate
+// triangles (same vertex set, whatever the order: this covers two triangles glued back to back, a "pillow");
+// edges of more than two triangles; vertices whose triangles form several fans; non-orientable surfaces.
+// Returns the half-edges sorted so that the sides of one edge are adjacent, and in `flip` which triangles to
+// reverse for a consistent orientation (each edge-connected component keeps the orientation of its
+// lowest-numbered triangle).
 struct SurfaceCheck {
   std::vector<HalfEdge> half_edges;
   std::vector<bool> flip;

@@ -42,7 +42,8 @@ inline bool host_is_big_endian() {
 // that the caller can say how to repair it.
 [[noreturn]] inline void rethrow_for_file(const std::filesystem::path& path, const InputError& e) {
   const std::string message = path.string() + ": " + e.what();
-  if (const auto* defect = dynamic_cast<const MeshDefectError*>(&e)) throw MeshDefectError(message, defect->hint());
+  if (const auto* defect = dynamic_cast<const MeshDefectError*>(&e))
+    throw MeshDefectError(message, defect->hint());
   throw InputError(message);
 }
 

@@ -40,7 +40,8 @@ struct PolygonSoup {
 /// remove, reorder, re-orient triangles), and appends to `notes` one line per kind of change, with
 /// counts. Throws InputError when nothing usable is left. rgbmesh::repair::soup_repair() gives
 /// one (rgbmesh/repair/repair.hpp).
-using SoupRepair = std::function<void(std::vector<Vec3>& points, std::vector<std::array<std::int32_t, 3>>& triangles,
+using SoupRepair = std::function<void(std::vector<Vec3>& points,
+                                      std::vector<std::array<std::int32_t, 3>>& triangles,
                                       std::vector<std::string>& notes)>;
 
 struct SoupOptions {

@@ -48,11 +48,12 @@ struct RepairOptions {
 
 /// What a repair did, by kind; counts are of the input's elements unless said otherwise.
 struct RepairReport {
-  std::size_t snapped_coordinates = 0;   ///< coordinates within 1e-12 of the diagonal of zero, set to zero
-  std::size_t isolated_vertices = 0;     ///< vertices no triangle used, dropped
-  std::size_t merged_vertices = 0;       ///< vertices merged into another at the same position
-  std::size_t zero_area_triangles = 0;   ///< collapsed: coincident or collinear corners
-  std::size_t repeated_triangles = 0;    ///< copies of a triangle with the same corners and orientation, removed
+  std::size_t snapped_coordinates = 0;  ///< coordinates within 1e-12 of the diagonal of zero, set to zero
+  std::size_t isolated_vertices = 0;    ///< vertices no triangle used, dropped
+  std::size_t merged_vertices = 0;      ///< vertices merged into another at the same position
+  std::size_t zero_area_triangles = 0;  ///< collapsed: coincident or collinear corners
+  std::size_t repeated_triangles =
+      0;  ///< copies of a triangle with the same corners and orientation, removed
   std::size_t back_to_back_removed = 0;  ///< pairs of opposite copies between parts that touch, both removed
   std::size_t back_to_back_kept = 0;     ///< pairs of opposite copies on a two-sided sheet, one copy kept
   std::size_t non_manifold_edges = 0;    ///< edges of more than two triangles, split
