@@ -20,6 +20,7 @@
 #include "rgbmesh/adapt/adaptive.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/refinement.hpp"
+#include "rgbmesh/repair/repair.hpp"
 #include "rgbmesh/shapes.hpp"
 #include "rgbmesh/vtk_io.hpp"
 #include "write_progress.hpp"
@@ -491,8 +492,7 @@ int run_adapt(const AdaptArgs& args) {
   const AdaptArgs a = prior ? resumed_args(args, *prior) : args;
   // Mesh, then every setting checked before anything is written. A .vtp or .vtu that rgbmesh
   // wrote (a cycle of an earlier run, a refined mesh) comes back with its RGB state.
-  SoupOptions read_options;
-  read_options.triangulate = a.triangulate;
+  const SoupOptions read_options = repair::soup_options(a.triangulate, a.repair);
   TriangleMeshData base;
   RgbMesh mesh;
   if (prior) {

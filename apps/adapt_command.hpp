@@ -19,6 +19,7 @@ struct AdaptArgs {
   Compression compression = Compression::lz4;  // of the .vtp files (--compression)
   std::string mesh;                   // empty: the embedded icosahedron
   bool triangulate = false;           // fan-split the mesh's polygons
+  bool repair = false;                // repair the mesh first (rgbmesh::repair)
   std::string problem;                // sphere-harmonic, sphere-peak, moving-peak, gaussian;
                                       // empty: sphere-peak, or gaussian with a --mesh
   std::string strategy = "adaptive";  // adaptive, uniform

@@ -16,6 +16,7 @@
 #include "rgbmesh/fit/fit_target.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
+#include "rgbmesh/repair/repair.hpp"
 #include "rgbmesh/vtk_io.hpp"
 #include "write_progress.hpp"
 
@@ -68,8 +69,7 @@ fit::StageControl stage_control(const MemoryCeiling& ceiling) {
 // The base given with --base, if any.
 std::optional<fit::Base> given_base(const FitArgs& a) {
   if (a.base.empty()) return std::nullopt;
-  SoupOptions soup_options;
-  soup_options.triangulate = a.triangulate;
+  const SoupOptions soup_options = repair::soup_options(a.triangulate, a.repair);
   fit::Base base;
   base.mesh = read_mesh(a.base, soup_options);
   for (const std::string& note : base.mesh.notes) base.notes.push_back(a.base + ": " + note);
@@ -87,7 +87,7 @@ fit::TargetFitOptions target_fit_options(const FitArgs& a) {
   fit::TargetFitOptions o;
   o.fit = fit_options(a);
   o.base.faces = a.base_faces;
-  o.base.soup.triangulate = a.triangulate;
+  o.base.soup = repair::soup_options(a.triangulate, a.repair);
   o.base.ignore_faces = a.ignore_faces;
   if (!fit::reconstruction_method_from_name(a.reconstruction, o.base.reconstruction.method))
     throw InputError("--reconstruction: '" + a.reconstruction + "' is not automatic, poisson or advancing-front");
@@ -172,6 +172,7 @@ void write_report(const FitArgs& a, const PointCloud& cloud, const fit::TargetFi
             .add("seconds", it.seconds)
             .str());
   for (const std::string& note : cloud.notes) notes.push_back(JsonObject::quote(note));
+  for (const std::string& note : f.target_notes) notes.push_back(JsonObject::quote(a.target + ": " + note));
   for (const std::string& note : f.notes) notes.push_back(JsonObject::quote(note));
   const std::string target_json = JsonObject()
                                       .add("file", a.target)
@@ -236,16 +237,21 @@ int run_fit(const FitArgs& a) {
   PolygonSoup soup;
   soup.points = cloud.points;
   soup.faces = cloud.faces;
+  soup.numbered_vertices = cloud.numbered_vertices;
   fit::TargetFit f;
   try {
     f = fit::prepare_target_fit(soup, cloud.normals, given, options, control);
+  } catch (const MeshDefectError& e) {
+    // The checks of the target's faces name faces and vertices: the file is named here, and
+    // the defect keeps its kind (the tool adds what --repair would do about it).
+    throw MeshDefectError(a.target + ": " + e.what(), e.hint());
   } catch (const InputError& e) {
-    // The checks of the target's faces name faces and vertices: the file is named here. The
-    // stages' own errors start with the stage.
+    // The stages' own errors start with the stage.
     const std::string what = e.what();
     if (what.rfind("reconstructing", 0) == 0 || what.rfind("decimating", 0) == 0) throw;
-    throw InputError(a.target + ": " + what + " (--ignore-faces fits the target's vertices as a point cloud)");
+    throw InputError(a.target + ": " + what);
   }
+  for (const std::string& note : f.target_notes) std::cerr << "rgbmesh: note: " << a.target << ": " << note << "\n";
   for (const std::string& note : f.notes) std::cerr << "rgbmesh: note: " << note << "\n";
   const std::size_t notes_before_fit = f.notes.size();
   const double needed = fit::estimated_fit_bytes(f.targets.size(), f.base.mesh.triangles.size(), a.levels);

@@ -15,6 +15,7 @@ struct FitArgs {
   bool triangulate = false;  // fan-split the polygons of --target's and --base's faces
   bool ignore_faces = false;  // fit --target's vertices as a point cloud
   std::string reconstruction = "automatic";  // automatic, poisson, advancing-front
+  bool repair = false;       // repair --target's faces and --base first (rgbmesh::repair)
   std::size_t base_faces = 1000;
   int levels = 3;
   std::string loss = "huber";  // huber, cauchy, none

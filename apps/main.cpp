@@ -22,13 +22,17 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "adapt_command.hpp"
 #include "processes.hpp"
 #include "fit_command.hpp"
 #include "json.hpp"
+#include "rgbmesh/fit/base.hpp"
+#include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
+#include "rgbmesh/repair/repair.hpp"
 #include "rgbmesh/soup.hpp"
 #include "rgbmesh/statistics.hpp"
 #include "rgbmesh/vtk_io.hpp"
@@ -53,11 +57,10 @@ double peak_rss_mb() {
 }
 
 // A .vtp or .vtu that rgbmesh wrote comes back with its RGB state (levels, colours, parents),
-// so that info reports it and refine continues from it; any other file is a base mesh.
-RgbMesh load_mesh(const std::string& path, bool triangulate) {
-  SoupOptions options;
-  options.triangulate = triangulate;
-  RgbMeshFile file = read_rgb_mesh(path, options);
+// so that info reports it and refine continues from it; any other file is a base mesh, repaired
+// first when asked.
+RgbMesh load_mesh(const std::string& path, bool triangulate, bool repair) {
+  RgbMeshFile file = read_rgb_mesh(path, repair::soup_options(triangulate, repair));
   for (const auto& note : file.notes) std::cerr << "rgbmesh: note: " << path << ": " << note << "\n";
   return std::move(file.mesh);
 }
@@ -157,6 +160,60 @@ void print_statistics(const std::string& name, const RgbMesh& mesh, bool json) {
   std::cout << "red edges:            " << s.red_edges << "\n";
 }
 
+// A file with points and no faces (.xyz, .pwn, or a mesh format without them) for info: what it
+// is and what to do with it, instead of "the mesh is empty". The file is read as a point cloud
+// only once reading it as a mesh has failed, so meshes are read once.
+std::optional<PointCloud> point_cloud_instead(const std::string& path) {
+  try {
+    PointCloud cloud = read_point_cloud(path);
+    if (cloud.faces.empty()) return cloud;
+  } catch (const InputError&) {
+  }
+  return std::nullopt;
+}
+
+void print_point_cloud(const std::string& name, const PointCloud& cloud, bool json) {
+  for (const auto& note : cloud.notes) std::cerr << "rgbmesh: note: " << note << "\n";
+  Vec3 lo = cloud.points.front(), hi = lo;
+  for (const Vec3& p : cloud.points) {
+    lo = Vec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
+    hi = Vec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
+  }
+  if (json) {
+    std::cout << JsonObject()
+                     .add("mesh", name)
+                     .raw("point_cloud", "true")
+                     .add("points", static_cast<std::uint64_t>(cloud.points.size()))
+                     .raw("normals", cloud.normals.empty() ? "false" : "true")
+                     .add("triangles", static_cast<std::uint64_t>(0))
+                     .raw("bbox_min", vec_json(lo))
+                     .raw("bbox_max", vec_json(hi))
+                     .add("bbox_diagonal", norm(hi - lo))
+                     .str()
+              << "\n";
+    return;
+  }
+  std::cout << name << ": a point cloud of " << fit::with_thousands(cloud.points.size()) << " points ("
+            << (cloud.normals.empty() ? "without" : "with") << " normals), no faces: rgbmesh fit --target " << name
+            << " fits a surface to it\n"
+            << "bounding box:         (" << lo.x << ", " << lo.y << ", " << lo.z << ") .. (" << hi.x << ", " << hi.y
+            << ", " << hi.z << "), diagonal " << norm(hi - lo) << "\n";
+}
+
+// rgbmesh info: a mesh's statistics, or what a point cloud is.
+void run_info(const std::string& path, bool json, bool triangulate, bool repair) {
+  RgbMesh mesh;
+  try {
+    mesh = load_mesh(path, triangulate, repair);
+  } catch (const InputError&) {
+    const std::optional<PointCloud> cloud = point_cloud_instead(path);
+    if (!cloud) throw;
+    print_point_cloud(path, *cloud, json);
+    return;
+  }
+  print_statistics(path, mesh, json);
+}
+
 // [{"stage": "--uniform 4", "splits": N, "removals": N, "seconds": S}, ...]
 std::string stages_json(const StageTotals& t) {
   std::string out = "[";
@@ -243,23 +300,33 @@ int main(int argc, char** argv) {
                      "Output directory of the default job, and of adapt and fit when given before the subcommand")
           ->capture_default_str();
 
+  const std::string repair_help =
+      "Repair the mesh first: merge vertices at equal positions, collapse degenerate and needle triangles, remove "
+      "duplicate ones, split non-manifold edges and vertices, orient consistently (a note says what changed; "
+      "nothing moves by more than 1e-6 of the bounding-box diagonal)";
+
   // info
   auto* info = app.add_subcommand("info",
                                   "Print the statistics of a mesh: counts, boundary loops, Euler "
                                   "characteristic, genus, valences, levels and colors");
   std::string info_path;
-  bool info_json = false, info_triangulate = false;
-  info->add_option("MESH", info_path, "Input mesh (" + supported_input_extensions() + ")")->required();
+  bool info_json = false, info_triangulate = false, info_repair = false;
+  info->add_option("MESH", info_path,
+                   "Input mesh (" + supported_input_extensions() +
+                       "), or a point cloud (.xyz, .pwn, a file without faces)")
+      ->required();
   info->add_flag("--json", info_json, "Print one JSON object instead of text");
   info->add_flag("--triangulate", info_triangulate, "Fan-split polygons with more than three vertices");
+  info->add_flag("--repair", info_repair, repair_help);
 
   // convert
   auto* convert = app.add_subcommand("convert", "Convert a mesh between formats (checked like any input)");
   std::string convert_in, convert_out;
-  bool convert_triangulate = false;
+  bool convert_triangulate = false, convert_repair = false;
   convert->add_option("IN", convert_in, "Input mesh (" + supported_input_extensions() + ")")->required();
   convert->add_option("OUT", convert_out, "Output mesh (" + supported_output_extensions() + ")")->required();
   convert->add_flag("--triangulate", convert_triangulate, "Fan-split polygons with more than three vertices");
+  convert->add_flag("--repair", convert_repair, repair_help);
   add_compression(convert);
 
   // refine
@@ -268,7 +335,7 @@ int main(int argc, char** argv) {
                          "Selective refinement: apply the stages in the order given, then write OUT.\n"
                          "Stages may repeat; --max-level caps the stages after it.");
   std::string refine_in, refine_out;
-  bool refine_stats = false, refine_triangulate = false, refine_limit = false;
+  bool refine_stats = false, refine_triangulate = false, refine_limit = false, refine_repair = false;
   refine->add_option("IN", refine_in, "Input (base) mesh (" + supported_input_extensions() + ")")->required();
   refine->add_option("OUT", refine_out, "Output mesh (" + supported_output_extensions() + "), or - for none")
       ->required();
@@ -310,6 +377,7 @@ int main(int argc, char** argv) {
   refine->add_flag("--stats", refine_stats,
                    "Print one JSON object with counts, timings and peak memory as the last line");
   refine->add_flag("--triangulate", refine_triangulate, "Fan-split polygons with more than three vertices");
+  refine->add_flag("--repair", refine_repair, repair_help);
   refine->add_flag("--limit", refine_limit,
                    "Write the vertices at their Loop limit positions instead of their control points");
   add_compression(refine);
@@ -326,6 +394,7 @@ int main(int argc, char** argv) {
   AdaptArgs adapt_args;
   adapt_cmd->add_option("--mesh", adapt_args.mesh, "Base mesh (default: an embedded icosahedron)");
   adapt_cmd->add_flag("--triangulate", adapt_args.triangulate, "Fan-split the mesh's polygons with more than three vertices");
+  adapt_cmd->add_flag("--repair", adapt_args.repair, repair_help);
   adapt_cmd->add_option("--problem", adapt_args.problem,
                         "sphere-harmonic, sphere-peak, moving-peak (exact solutions on the unit sphere) or gaussian "
                         "(a source on any surface) [default: sphere-peak; gaussian with --mesh]");
@@ -413,6 +482,8 @@ int main(int argc, char** argv) {
                    "How a point cloud's base surface is reconstructed: automatic (Poisson where the points enclose a "
                    "volume, else advancing front), poisson (closed) or advancing-front (open where the points are)")
       ->capture_default_str();
+  fit_cmd->add_flag("--repair", fit_args.repair,
+                    "Repair the --target faces and the --base mesh first (as info --repair)");
   fit_cmd->add_option("--levels", fit_args.levels, "Uniform level of the limit surface used in the fit")
       ->capture_default_str()
       ->check(number_in("an integer in [1, 6]", [](double x) { return x >= 1 && x <= 6; }));
@@ -456,8 +527,13 @@ int main(int argc, char** argv) {
   fit_args.compression = compression;
   for (const char* name : {"--mesh", "--problem", "--strategy", "--marking", "--theta", "--estimator", "--order", "--coarsen", "--min-level",
                            "--cycles", "--steps", "--target-error", "--max-dofs", "--geometry", "--center", "--width",
-                           "--solver", "--out", "--triangulate"}) {
+                           "--solver", "--out", "--triangulate", "--repair"}) {
     if (adapt_cmd->count(name) > 0) adapt_args.given.insert(name);
+  }
+  if (adapt_cmd->parsed() && !adapt_args.resume.empty() && adapt_args.repair) {
+    std::cerr << "rgbmesh: error: --repair: does not apply with --resume (the mesh is the run's last cycle, restored "
+                 "exactly)\n";
+    return 2;
   }
   {
     std::string line = "rgbmesh";
@@ -479,12 +555,12 @@ int main(int argc, char** argv) {
     if (processes.rank != 0 && !adapt_cmd->parsed() && (info->parsed() || convert->parsed() || refine->parsed() || fit_cmd->parsed()))
       return 0;
     if (info->parsed()) {
-      print_statistics(info_path, load_mesh(info_path, info_triangulate), info_json);
+      run_info(info_path, info_json, info_triangulate, info_repair);
       return 0;
     }
     if (convert->parsed()) {
       check_output_path(convert_out);
-      RgbMesh mesh = load_mesh(convert_in, convert_triangulate);
+      RgbMesh mesh = load_mesh(convert_in, convert_triangulate, convert_repair);
       write_rgb_mesh(convert_out, mesh, output_options(convert_out, compression));
       return 0;
     }
@@ -504,7 +580,7 @@ int main(int argc, char** argv) {
         }
       }
       auto t0 = std::chrono::steady_clock::now();
-      RgbMesh mesh = load_mesh(refine_in, refine_triangulate);
+      RgbMesh mesh = load_mesh(refine_in, refine_triangulate, refine_repair);
       const double read_s = seconds_since(t0);
       const StageTotals totals = run_stages(mesh, stages, ceiling, output_bytes_per_vertex(refine_out));
       t0 = std::chrono::steady_clock::now();
@@ -529,6 +605,9 @@ int main(int argc, char** argv) {
     defaults.compression = compression;
     distribute(defaults, processes);
     return run_adapt(defaults);
+  } catch (const MeshDefectError& e) {
+    // The one thing to try next: what --repair would do about this defect.
+    return fail(2, std::string("error: ") + e.what() + " (--repair " + e.hint() + ")");
   } catch (const InputError& e) {
     return fail(2, std::string("error: ") + e.what());
   } catch (const OutputError& e) {

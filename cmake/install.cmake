@@ -1,6 +1,6 @@
 # Install rules and the CMake package: `cmake --install build --prefix P` installs the rgbmesh
 # tool, the public headers, the (static) libraries and P/lib/cmake/rgbmesh/, so that another
-# project can say find_package(rgbmesh REQUIRED [COMPONENTS core fem adapt vtk_io fit parallel]) and link
+# project can say find_package(rgbmesh REQUIRED [COMPONENTS core fem adapt vtk_io fit parallel repair]) and link
 # rgbmesh::core, rgbmesh::fem, ... The package offers the modules that were built here.
 include(CMakePackageConfigHelpers)
 
@@ -11,7 +11,7 @@ set(RGBMESH_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/rgbmesh" CACHE STRIN
 set(RGBMESH_BUILT_COMPONENTS core)
 set(_rgbmesh_install_targets rgbmesh_core)
 set(_rgbmesh_include_dirs "${PROJECT_SOURCE_DIR}/rgbmesh/include")
-foreach(_entry fem:fem adapt:adapt vtk_io:vtk_io fit:fit parallel:parallel)
+foreach(_entry fem:fem adapt:adapt vtk_io:vtk_io fit:fit parallel:parallel repair:repair)
   string(REPLACE ":" ";" _entry "${_entry}")
   list(GET _entry 0 _component)
   list(GET _entry 1 _dir)

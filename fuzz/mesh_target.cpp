@@ -4,7 +4,7 @@
 // validate(); for VTP and VTU also read_rgb_mesh, which restores a saved RGB state. Each stage
 // may refuse the input with an InputError, except from_triangles: what prepare_triangle_mesh
 // makes is a clean triangle mesh, and refusing it is a finding, like a mesh that validate()
-// finds broken.
+// finds broken. Every soup also goes through the repair (check_repaired).
 
 #include <cstdint>
 #include <filesystem>
@@ -14,10 +14,35 @@
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/soup.hpp"
 #include "rgbmesh/vtk_io.hpp"
+#if defined(RGBMESH_FUZZ_REPAIR)
+#include "rgbmesh/repair/repair.hpp"
+#endif
 
 using namespace rgbmesh;
 
 namespace {
+
+// The soup through the repair (rgbmesh::repair, CGAL), as `--repair --triangulate` reads it: a
+// refusal (InputError) is fine, anything else escaping is a finding (a CGAL assertion included:
+// the fuzz build keeps them on), and so is a repaired mesh that from_triangles refuses or
+// validate() finds broken.
+void check_repaired(const PolygonSoup& soup) {
+#if defined(RGBMESH_FUZZ_REPAIR)
+  TriangleMeshData repaired;
+  const SoupOptions options = repair::soup_options(true, true);
+  if (!fuzz::accepted([&] { repaired = prepare_triangle_mesh(soup, options); })) return;
+  RgbMesh mesh;
+  try {
+    mesh = RgbMesh::from_triangles(repaired.points, repaired.triangles);
+  } catch (const InputError& e) {
+    fuzz::finding(std::string("RgbMesh::from_triangles refuses what the repair made: ") + e.what());
+  }
+  const std::string problem = mesh.validate();
+  if (!problem.empty()) fuzz::finding("validate() on a repaired mesh: " + problem);
+#else
+  (void)soup;
+#endif
+}
 
 // VTK XML files may carry a saved RGB state (rgb_state_io.cpp): read_rgb_mesh restores it, or
 // refuses it as inconsistent. What it accepts must be a valid, stable RGB mesh.
@@ -41,6 +66,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     restore_saved_state(input.path());
     if (!fuzz::accepted([&] { soup = read_polygon_soup(input.path()); })) return 0;
   }
+  check_repaired(soup);
   // Triangulating: a soup of triangles gives the same mesh as without, and polygons go on too.
   SoupOptions options;
   options.triangulate = true;

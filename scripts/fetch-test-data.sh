@@ -1,13 +1,20 @@
 #!/usr/bin/env bash
 # Fetches the public meshes and point clouds that the tests use and that this repository does
-# not hold: a selection of CGAL's data set (closed scans, meshes with many holes, high genus,
-# CAD-like parts, point clouds), taken from Debian 12's libcgal-demo package with
-# `apt-get download` (no installation, no root needed once the package lists exist).
+# not hold, taken from Debian 12's packages with `apt-get download` (no installation, no root
+# needed once the package lists exist):
+#   - a selection of CGAL's data set (closed scans, meshes with many holes, high genus, CAD-like
+#     parts, point clouds), from libcgal-demo, into DEST;
+#   - meshes as tools export them, with the defects that --repair handles (issue 23): OpenSCAD's
+#     STL exports (openscad-testing-data) into DEST/openscad, geomview's OFF models (geomview)
+#     into DEST/geomview, assimp's test models (assimp-testmodels) into DEST/assimp.
 #   scripts/fetch-test-data.sh [DEST]     (default: build/public-data)
+# DEST/.complete holds the version of this selection: a folder fetched by an older version is
+# fetched again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dest=${1:-build/public-data}
-[ -f "$dest/.complete" ] && exit 0
+version=2
+[ -f "$dest/.complete" ] && [ "$(cat "$dest/.complete")" = "$version" ] && exit 0
 
 files=(
   data/meshes/cow.off                     # closed scan, 5,804 triangles, genus 0
@@ -21,6 +28,7 @@ files=(
   data/meshes/knot1.off                   # torus knot, genus 1
   data/meshes/blade.off                   # open, 2 boundary loops
   data/meshes/3torus.off                  # quads, genus 3
+  data/meshes/pig.stl                     # 17 patches meeting at 421 non-manifold vertices
   data/points_3/kitten.xyz                # point cloud, 5,210 points (with normals)
   data/points_3/sphere_20k.xyz            # point cloud, 21,000 points
   data/points_3/hippo1.ply                # point cloud, 6,104 points, binary PLY
@@ -30,23 +38,75 @@ files=(
   data/points_3/fin90_with_PCA_normals.xyz  # folded CAD part, 757 points, principal-direction normals
   data/points_3/points.xyz                # 49 points: too few for a surface
 )
+# Meshes as tools export them, by package (extract below says where they go).
+openscad_files=(
+  stl/adns2610_dev_circuit_inv.stl        # a circuit board's outline, genus 14, zero-area triangles
+  scad/bugs/issue1580-zero-area-triangle.stl
+  scad/bugs/issue1580-back-to-back.stl    # a back-to-back pair of zero-area triangles
+  scad/bugs/issue1580-back-to-back2.stl
+  scad/bugs/issue945e.stl                 # coordinates of 1e-16 where 0 is meant: slivers
+  scad/misc/bad-stl-pcbvicebar.stl        # files that once broke OpenSCAD's import; valid
+  scad/misc/bad-stl-tardis.stl
+  scad/misc/bad-stl-wing.stl
+  scad/3D/features/import.stl
+)
+geomview_files=(
+  tref.off                                # a trefoil tube: 320 quads with 1,280 vertices at 328 positions
+  cam.off                                 # two triangles meeting at one vertex
+  br2.off                                 # polygons whose fan-split gives zero-area triangles
+)
+assimp_files=(
+  STL/sphereWithHole.stl                  # non-manifold vertices
+  STL/3DSMaxExport.STL                    # non-manifold edges
+  STL/Spider_binary.stl                   # zero-area triangles, parts
+  PLY/cube_uv.ply                         # a cube with 24 vertices at 8 positions
+  PLY/points.ply                          # 4 points, no faces
+  OBJ/point_cloud.obj                     # 3 points, no faces
+  OFF/Wuson.off                           # duplicate positions, non-manifold vertices
+)
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-if ! (cd "$tmp" && apt-get download libcgal-demo >/dev/null 2>&1); then
-  echo "rgbmesh: updating the package lists to download libcgal-demo"
-  sudo=""
-  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-  $sudo apt-get update -qq
-  (cd "$tmp" && apt-get download libcgal-demo >/dev/null)
-fi
-dpkg-deb --fsys-tarfile "$tmp"/libcgal-demo_*.deb | tar -x -C "$tmp" ./usr/share/doc/libcgal-dev/data.tar.gz
+updated=no
+# Downloads package $1 into $tmp (updating the package lists once if it is not found).
+download() {
+  if ! (cd "$tmp" && apt-get download "$1" >/dev/null 2>&1); then
+    if [ "$updated" = no ]; then
+      echo "rgbmesh: updating the package lists to download $1"
+      sudo=""
+      if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+      $sudo apt-get update -qq
+      updated=yes
+    fi
+    (cd "$tmp" && apt-get download "$1" >/dev/null)
+  fi
+}
+# Extracts files of package $1 found under its folder $2 into DEST/$3:
+#   extract PACKAGE FOLDER TO FILE...
+extract() {
+  local package=$1 from=$2 to=$3
+  shift 3
+  download "$package"
+  local paths=()
+  for f in "$@"; do paths+=("./$from/$f"); done
+  dpkg-deb --fsys-tarfile "$tmp/$package"_*.deb | tar -x -C "$tmp" "${paths[@]}"
+  mkdir -p "$dest/$to"
+  for f in "$@"; do cp "$tmp/$from/$f" "$dest/$to/"; done
+}
+
 mkdir -p "$dest"
+download libcgal-demo
+dpkg-deb --fsys-tarfile "$tmp"/libcgal-demo_*.deb | tar -x -C "$tmp" ./usr/share/doc/libcgal-dev/data.tar.gz
 tar -xzf "$tmp/usr/share/doc/libcgal-dev/data.tar.gz" -C "$tmp" "${files[@]}"
 for f in "${files[@]}"; do cp "$tmp/$f" "$dest/"; done
+extract openscad-testing-data usr/share/openscad/testdata openscad "${openscad_files[@]}"
+extract geomview usr/share/geomview/geom geomview "${geomview_files[@]}"
+extract assimp-testmodels usr/share/assimp/models assimp "${assimp_files[@]}"
+
 cat > "$dest/README" <<'TXT'
-Public test data fetched by scripts/fetch-test-data.sh from Debian's libcgal-demo package
-(CGAL's data set, data/meshes and data/points_3). Not part of rgbmesh; not committed.
+Public test data fetched by scripts/fetch-test-data.sh from Debian's packages: libcgal-demo
+(CGAL's data set, data/meshes and data/points_3) here, openscad-testing-data in openscad/,
+geomview in geomview/, assimp-testmodels in assimp/. Not part of rgbmesh; not committed.
 TXT
-touch "$dest/.complete"
+echo "$version" > "$dest/.complete"
 echo "rgbmesh: test data in $dest"

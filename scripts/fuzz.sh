@@ -134,7 +134,8 @@ for ext in vtp vtu; do
 done
 for ext in obj off ply stl vtk vtp vtu xyz pwn; do
   mkdir -p "$seeds/$ext"
-  for f in "$seeds/valid"/*."$ext" "$root/build/public-data"/*."$ext" "$root/tests/corpus/files"/*."$ext"; do
+  for f in "$seeds/valid"/*."$ext" "$root/build/public-data"/*."$ext" "$root/build/public-data"/*/*."$ext" \
+           "$root/tests/corpus/files"/*."$ext"; do
     # Larger files would be cut to max_len by libFuzzer: a truncated file, not a valid one.
     [ -f "$f" ] && [ "$(stat -c %s "$f")" -le "$max_len" ] && cp "$f" "$seeds/$ext/"
   done

@@ -546,4 +546,81 @@ TEST(FromTriangles, AMillionTrianglesMakeTheirDisk) {
   EXPECT_EQ(m.boundary_loops(), 1);
 }
 
+// The defects a repair fixes are MeshDefectErrors, each with what the repair does about it; a
+// file's own faults are plain InputErrors.
+TEST(Soup, DefectsSayWhatARepairDoes) {
+  const auto hint_of = [](const PolygonSoup& soup) -> std::string {
+    try {
+      prepare_triangle_mesh(soup);
+    } catch (const rgbmesh::MeshDefectError& e) {
+      return e.hint();
+    } catch (const InputError& e) {
+      return std::string("not a defect: ") + e.what();
+    }
+    return "accepted";
+  };
+  PolygonSoup s = square();
+  s.faces[1] = {0, 2, 0};
+  EXPECT_EQ(hint_of(s), "collapses degenerate triangles");
+  s = octahedron();
+  s.faces.push_back({2, 0, 4});
+  EXPECT_EQ(hint_of(s), "removes duplicate triangles");
+  s.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+  s.faces = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+  EXPECT_EQ(hint_of(s), "splits non-manifold edges");
+  s.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}};
+  s.faces = {{0, 1, 2}, {0, 3, 4}};
+  EXPECT_EQ(hint_of(s), "splits non-manifold vertices");
+  s = octahedron();
+  s.faces[5] = {1, 2, 99};
+  EXPECT_EQ(hint_of(s), "not a defect: face 5 references vertex 99 but the file has 6 vertices");
+}
+
+// STL has no vertex numbers (its reader merges the facets' corners by position): messages name
+// positions, and triangles by their number in the file.
+TEST(Soup, WithoutVertexNumbersMessagesNamePositions) {
+  PolygonSoup s;
+  s.numbered_vertices = false;
+  s.points = {{0, 0, 0}, {1.5, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0.25}};
+  s.faces = {{0, 1, 2}, {0, 3, 4}};
+  EXPECT_EQ(error_of(s), "the vertex at (0, 0, 0) is non-manifold: its triangles form 2 separate fans");
+  s.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+  s.faces = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+  EXPECT_EQ(error_of(s), "the edge from (0, 0, 0) to (1, 0, 0) is shared by 3 triangles: 0, 1, 2");
+  s.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+  s.faces = {{0, 1, 2}};
+  EXPECT_EQ(error_of(s),
+            "triangle 0 is degenerate: it has zero area (its corners (0, 0, 0), (1, 0, 0), (2, 0, 0) "
+            "are collinear)");
+  s.faces = {{0, 1, 1}};
+  EXPECT_EQ(error_of(s), "triangle 0 is degenerate: it repeats the vertex at (1, 0, 0)");
+  s = octahedron();
+  s.numbered_vertices = false;
+  s.faces.push_back({4, 0, 2});
+  EXPECT_EQ(error_of(s), "triangles 0 and 8 are duplicates (corners (1, 0, 0), (0, 1, 0), (0, 0, 1))");
+  s.faces.pop_back();
+  s.points[3].y = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(error_of(s), "a corner of triangle 2 has a non-finite coordinate (0, inf, 0)");
+  // Single-precision coordinates are written as the file has them, not as 18.732500076293945.
+  s.points = {{0, 0, 0}, {static_cast<double>(18.7325f), 0, 0}, {40, 0, 0}};
+  s.faces = {{0, 1, 2}};
+  EXPECT_EQ(error_of(s),
+            "triangle 0 is degenerate: it has zero area (its corners (0, 0, 0), (18.7325, 0, 0), (40, 0, 0) "
+            "are collinear)");
+}
+
+// Faces that meet only at equal positions are separate pieces: said in a note.
+TEST(Soup, DuplicatePositionsAreNoted) {
+  PolygonSoup s = square();
+  s.points.push_back({1, 1, 0});  // a second vertex at vertex 2's position
+  s.points.push_back({0, 0, 0});  // and one at vertex 0's
+  s.faces[1] = {5, 4, 3};
+  const TriangleMeshData m = prepare_triangle_mesh(s);
+  ASSERT_EQ(m.notes.size(), 1u);
+  EXPECT_EQ(m.notes[0],
+            "6 vertices at 4 positions: faces that meet only at equal positions are not joined (--repair "
+            "merges them)");
+  EXPECT_TRUE(prepare_triangle_mesh(square()).notes.empty());
+}
+
 }  // namespace

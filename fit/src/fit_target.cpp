@@ -9,7 +9,7 @@ TargetFit prepare_target_fit(const PolygonSoup& target, const std::vector<Vec3>&
   out.target_is_surface = !target.faces.empty() && !options.base.ignore_faces;
   if (out.target_is_surface) {
     out.target_surface = prepare_triangle_mesh(target, options.base.soup);
-    out.notes = std::move(out.target_surface.notes);
+    out.target_notes = std::move(out.target_surface.notes);
     out.target_surface.notes.clear();
   }
   if (base) {

@@ -19,6 +19,9 @@
 #include "rgbmesh/fit/fit.hpp"
 #include "rgbmesh/fit/fit_target.hpp"
 #include "rgbmesh/mesh.hpp"
+#if defined(RGBMESH_PYTHON_REPAIR)
+#include "rgbmesh/repair/repair.hpp"
+#endif
 #include "rgbmesh/vtk_io.hpp"
 
 namespace py = pybind11;
@@ -91,7 +94,8 @@ py::dict iteration_dict(const fit::IterationReport& it) {
 
 py::dict run_fit(const py::object& target, const py::object& triangles, const py::object& normals, const py::object& base,
                  std::size_t base_faces, int levels, const std::string& loss, double smooth, int iterations,
-                 const py::object& callback, const std::string& reconstruction, bool ignore_faces, bool check) {
+                 const py::object& callback, const std::string& reconstruction, bool ignore_faces, bool check,
+                 bool repair) {
   fit::TargetFitOptions options;
   fit::FitOptions& o = options.fit;
   o.loss = loss_of(loss);
@@ -122,6 +126,13 @@ py::dict run_fit(const py::object& target, const py::object& triangles, const py
 
   options.base.faces = base_faces;
   options.base.ignore_faces = ignore_faces;
+  if (repair) {
+#if defined(RGBMESH_PYTHON_REPAIR)
+    options.base.soup = repair::soup_options(false, true);
+#else
+    throw InputError("repair=True: this build has no rgbmesh::repair (RGBMESH_WITH_REPAIR, needs CGAL)");
+#endif
+  }
   if (!fit::reconstruction_method_from_name(reconstruction, options.base.reconstruction.method))
     throw InputError("reconstruction: '" + reconstruction + "' is not automatic, poisson or advancing-front");
   std::optional<fit::Base> given;
@@ -132,12 +143,17 @@ py::dict run_fit(const py::object& target, const py::object& triangles, const py
     PolygonSoup soup;
     soup.points = cloud.points;
     soup.faces = cloud.faces;
+    soup.numbered_vertices = cloud.numbered_vertices;
     fit::StageControl control;
     control.on_step = [](const std::string&, double) {
       py::gil_scoped_acquire gil;
       throw_if_interrupted();
     };
-    f = fit::prepare_target_fit(soup, cloud.normals, given, options, control);
+    try {
+      f = fit::prepare_target_fit(soup, cloud.normals, given, options, control);
+    } catch (const MeshDefectError& e) {
+      throw InputError("target: " + std::string(e.what()) + " (repair=True " + e.hint() + ")");
+    }
     fit::run_target_fit(
         f, options,
         [&](const fit::IterationReport& it) {
@@ -173,6 +189,7 @@ py::dict run_fit(const py::object& target, const py::object& triangles, const py
   out["targets"] = array_of<double>(f.targets.size(), 3, f.targets.empty() ? nullptr : &f.targets[0].x);
   py::list notes;
   for (const auto& n : cloud.notes) notes.append(n);
+  for (const auto& n : f.target_notes) notes.append(n);
   for (const auto& n : f.notes) notes.append(n);
   out["notes"] = notes;
   out["distances"] = array_of<double>(r.distance.size(), 1, r.distance.data());
@@ -190,7 +207,7 @@ void bind_fit(py::module_& m) {
         py::arg("normals") = py::none(), py::arg("base") = py::none(), py::arg("base_faces") = 1000,
         py::arg("levels") = 3, py::arg("loss") = "huber", py::arg("smooth") = 1e-3, py::arg("iterations") = 30,
         py::arg("callback") = py::none(), py::arg("reconstruction") = "automatic", py::arg("ignore_faces") = false,
-        py::arg("check") = true,
+        py::arg("check") = true, py::arg("repair") = false,
         "Fits a Loop subdivision surface to target points (an (n, 3) array, with optional target_triangles and "
         "normals, or a file rgbmesh fit reads), as rgbmesh fit does: the base is `base` (a level-0 Mesh, "
         "(points, triangles) or a file) or made from the target (its faces decimated to about base_faces "
@@ -201,7 +218,8 @@ void bind_fit(py::module_& m) {
         "triangles), surface_to_target (per limit point) with its rms and max, accepted and reason (the "
         "two-sided check; with check=True, the default, a rejected fit raises ValueError), limit_points and "
         "limit_triangles (the fitted limit surface), base_source, topology, smooth, seconds. reconstruction: "
-        "automatic, poisson or advancing-front; ignore_faces: fit a mesh target's vertices as a point cloud.");
+        "automatic, poisson or advancing-front; ignore_faces: fit a mesh target's vertices as a point cloud; repair: repair the target's faces first (as "
+        "rgbmesh.read(repair=True)).");
 }
 
 }  // namespace rgbmesh::python

@@ -8,6 +8,9 @@
 #include "bindings.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/vtk_io.hpp"
+#if defined(RGBMESH_PYTHON_REPAIR)
+#include "rgbmesh/repair/repair.hpp"
+#endif
 
 namespace py = pybind11;
 
@@ -16,20 +19,40 @@ namespace rgbmesh::python {
 void bind_io(py::module_& m) {
   m.def(
       "read",
-      [](const std::filesystem::path& path, bool triangulate) {
+      [](const std::filesystem::path& path, bool triangulate, bool repair) {
         SoupOptions o;
         o.triangulate = triangulate;
+        if (repair) {
+#if defined(RGBMESH_PYTHON_REPAIR)
+          o = repair::soup_options(triangulate, true);
+#else
+          throw InputError(
+              "repair=True: this build has no rgbmesh::repair (RGBMESH_WITH_REPAIR, needs CGAL)");
+#endif
+        }
         RgbMeshFile file;
-        {
+        try {
           py::gil_scoped_release release;
           file = read_rgb_mesh(path, o);
+        } catch (const MeshDefectError& e) {
+          // What to try next, in the caller's terms.
+          throw InputError(std::string(e.what()) + " (repair=True " + e.hint() + ")");
         }
+        // With repair, the notes say what was changed: warnings, which the caller may silence or
+        // turn into errors.
+        if (repair)
+          for (const std::string& note : file.notes)
+            if (PyErr_WarnEx(PyExc_UserWarning, (path.string() + ": " + note).c_str(), 1) < 0)
+              throw py::error_already_set();
         return std::move(file.mesh);
       },
-      py::arg("path"), py::arg("triangulate") = false,
+      py::arg("path"), py::arg("triangulate") = false, py::arg("repair") = false,
       "Reads a mesh file (.obj, .off, .ply, .stl, .vtk, .vtp, .vtu). A .vtp/.vtu that rgbmesh wrote comes "
-      "back with its RGB state (levels, colours, every inserted vertex); any other file as a base mesh. Bad "
-      "files: ValueError naming the file and the line or element.");
+      "back with its RGB state (levels, colours, every inserted vertex); any other file as a base mesh. "
+      "triangulate: fan-split polygons. repair: merge vertices at equal positions, collapse degenerate and "
+      "needle triangles, split non-manifold edges and vertices, orient consistently (as the tool's --repair; "
+      "not for a file with an RGB state; what was changed is said in UserWarnings). Bad files: ValueError "
+      "naming the file and the line or element.");
   py::class_<RgbMesh>(m.attr("Mesh")).def(
       "write",
       [](RgbMesh& mesh, const std::filesystem::path& path, bool limit, const std::string& compression) {

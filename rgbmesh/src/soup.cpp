@@ -4,6 +4,7 @@
 
 #include "rgbmesh/soup.hpp"
 
+#include <algorithm>
 #include <cstddef>
 #include <string>
 #include <utility>
@@ -36,7 +37,8 @@ std::vector<Triangle> triangles_of(const PolygonSoup& soup, const SoupOptions& o
     if (n > 3) {
       if (!options.triangulate)
         throw InputError("face " + std::to_string(f) + " has " + std::to_string(n) +
-                         " vertices; only triangles are supported (use --triangulate to fan-split polygons)");
+                         " vertices; only triangles are supported (use --triangulate to fan-split polygons" +
+                         (options.repair ? "; a repair needs it too)" : ")"));
       ++polygons;
     }
     total += n - 2;
@@ -60,19 +62,72 @@ std::vector<Triangle> triangles_of(const PolygonSoup& soup, const SoupOptions& o
   return triangles;
 }
 
-}  // namespace
+// For a file without vertex numbers (STL: triangles only), a non-finite coordinate is named by
+// the first triangle that uses it (the point's number would be one the file does not have).
+void check_finite_corners(const PolygonSoup& soup) {
+  for (std::size_t f = 0; f < soup.faces.size(); ++f) {
+    for (const std::int64_t v : soup.faces[f]) {
+      if (v >= 0 && static_cast<std::size_t>(v) < soup.points.size() && !is_finite(soup.points[v]))
+        throw InputError("a corner of triangle " + std::to_string(f) + " has a non-finite coordinate " +
+                         detail::point_text(soup.points[v]));
+    }
+  }
+}
 
-TriangleMeshData prepare_triangle_mesh(const PolygonSoup& soup, const SoupOptions& options) {
-  detail::check_points(soup.points, soup.faces.size(), detail::file_wording);
-  check_faces(soup);
+// "1,280": counts in notes, as the user reads them.
+std::string thousands(std::size_t n) {
+  const std::string digits = std::to_string(n);
+  std::string out;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
 
-  TriangleMeshData out;
-  std::vector<std::int64_t> source_face;
-  std::vector<Triangle> triangles = triangles_of(soup, options, source_face, out.notes);
-  const detail::TriangleNames name(source_face);
-  const detail::SurfaceCheck surface =
-      detail::check_surface(soup.points, triangles, name, detail::AreaCheck::zero_area_is_degenerate);
+// The note for faces that meet along an edge only through equal positions, not through shared
+// vertices: such faces are separate pieces to the mesh (OFF, OBJ and PLY exporters often give
+// every face its own vertices), while the user sees one surface. Vertices that only share a
+// position (a pinch split into its fans) are fine. Empty when there are none.
+std::string unjoined_note(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles) {
+  // Position ids: the points sorted (-0 and +0 are one; the points are finite).
+  std::vector<std::int32_t> order(points.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<std::int32_t>(i);
+  const auto less = [&](std::int32_t i, std::int32_t j) {
+    const Vec3 &a = points[i], &b = points[j];
+    if (a.x != b.x) return a.x < b.x;
+    if (a.y != b.y) return a.y < b.y;
+    return a.z < b.z;
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<std::int32_t> position(points.size());
+  std::int32_t positions = 0;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    if (i > 0 && less(order[i - 1], order[i])) ++positions;
+    position[order[i]] = positions;
+  }
+  ++positions;
+  if (static_cast<std::size_t>(positions) == points.size()) return "";
+  std::vector<std::pair<std::int32_t, std::int32_t>> by_vertex, by_position;
+  for (const Triangle& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t a = t[k], b = t[(k + 1) % 3];
+      by_vertex.emplace_back(std::min(a, b), std::max(a, b));
+      by_position.emplace_back(std::min(position[a], position[b]), std::max(position[a], position[b]));
+    }
+  for (auto* edges : {&by_vertex, &by_position}) {
+    std::sort(edges->begin(), edges->end());
+    edges->erase(std::unique(edges->begin(), edges->end()), edges->end());
+  }
+  if (by_position.size() == by_vertex.size()) return "";
+  return thousands(points.size()) + " vertices at " + thousands(static_cast<std::size_t>(positions)) +
+         " positions: faces that meet only at equal positions are not joined (--repair merges them)";
+}
 
+// The triangles re-oriented as the checks found, and the points without the unreferenced ones
+// (the others in their order): what every passing mesh gets.
+void finish(const std::vector<Vec3>& points, std::vector<Triangle> triangles,
+            const detail::SurfaceCheck& surface, TriangleMeshData& out) {
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     if (surface.flip[t]) std::swap(triangles[t][1], triangles[t][2]);
   }
@@ -80,19 +135,18 @@ TriangleMeshData prepare_triangle_mesh(const PolygonSoup& soup, const SoupOption
     out.notes.push_back("re-oriented " + plural(surface.flips, "triangle", "triangles") +
                         " for a consistent orientation");
 
-  // Drop unreferenced vertices, keeping the others in file order.
   constexpr std::int32_t unused = -1;
-  std::vector<std::int32_t> new_index(soup.points.size(), unused);
+  std::vector<std::int32_t> new_index(points.size(), unused);
   for (const Triangle& t : triangles)
     for (const std::int32_t v : t) new_index[v] = 0;
   std::size_t dropped = 0, first_dropped = 0;
-  for (std::size_t v = 0; v < soup.points.size(); ++v) {
+  for (std::size_t v = 0; v < points.size(); ++v) {
     if (new_index[v] == unused) {
       if (dropped++ == 0) first_dropped = v;
       continue;
     }
     new_index[v] = static_cast<std::int32_t>(out.points.size());
-    out.points.push_back(soup.points[v]);
+    out.points.push_back(points[v]);
   }
   if (dropped > 0)
     out.notes.push_back("dropped " + plural(dropped, "unreferenced vertex", "unreferenced vertices") +
@@ -100,6 +154,52 @@ TriangleMeshData prepare_triangle_mesh(const PolygonSoup& soup, const SoupOption
   for (Triangle& t : triangles)
     for (std::int32_t& v : t) v = new_index[v];
   out.triangles = std::move(triangles);
+}
+
+// The caller's repair, then the checks on what it gives. A failure is a plain InputError, not a
+// MeshDefectError: the repair was tried and did not remove the defect. The repaired mesh's
+// vertices are named by position (their numbers are not the file's).
+TriangleMeshData repaired(std::vector<Vec3> points, std::vector<Triangle> triangles,
+                          const SoupOptions& options, std::vector<std::string> notes) {
+  options.repair(points, triangles, notes);
+  if (triangles.empty()) throw InputError("could not be repaired: nothing is left of the mesh");
+  detail::check_indices(triangles, points.size(), detail::mesh_wording);
+  TriangleMeshData out;
+  out.notes = std::move(notes);
+  const std::vector<std::int64_t> triangle_is_face;
+  detail::SurfaceCheck surface;
+  try {
+    detail::check_points(points, triangles.size(), detail::mesh_wording);
+    surface = detail::check_surface(points, triangles, detail::TriangleNames(triangle_is_face, points),
+                                    detail::AreaCheck::zero_area_is_degenerate);
+  } catch (const InputError& e) {
+    throw InputError(std::string("could not be repaired: in the repaired mesh, ") + e.what());
+  }
+  finish(points, std::move(triangles), surface, out);
+  return out;
+}
+
+}  // namespace
+
+TriangleMeshData prepare_triangle_mesh(const PolygonSoup& soup, const SoupOptions& options) {
+  if (!soup.numbered_vertices) check_finite_corners(soup);
+  detail::check_points(soup.points, soup.faces.size(), detail::file_wording);
+  check_faces(soup);
+
+  std::vector<std::string> notes;
+  std::vector<std::int64_t> source_face;
+  std::vector<Triangle> triangles = triangles_of(soup, options, source_face, notes);
+  if (options.repair) return repaired(soup.points, std::move(triangles), options, std::move(notes));
+
+  TriangleMeshData out;
+  out.notes = std::move(notes);
+  const detail::TriangleNames name = soup.numbered_vertices ? detail::TriangleNames(source_face)
+                                                            : detail::TriangleNames(source_face, soup.points);
+  const detail::SurfaceCheck surface =
+      detail::check_surface(soup.points, triangles, name, detail::AreaCheck::zero_area_is_degenerate);
+  finish(soup.points, std::move(triangles), surface, out);
+
+  if (std::string note = unjoined_note(out.points, out.triangles); !note.empty()) out.notes.push_back(note);
   return out;
 }
 

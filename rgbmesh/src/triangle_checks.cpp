@@ -18,15 +18,19 @@ constexpr double zero_area = 1e-14;
 // At most this many triangles are listed in one message.
 constexpr std::size_t max_listed = 10;
 
-std::string number(double x) {
+template <class Real>
+std::string number(Real x) {
   char buf[32];
   const auto result = std::to_chars(buf, buf + sizeof buf, x);
   return std::string(buf, result.ptr);
 }
 
-std::string point_text(const Vec3& p) {
-  return "(" + number(p.x) + ", " + number(p.y) + ", " + number(p.z) + ")";
-}
+// What a repair does about each defect (MeshDefectError::hint).
+constexpr const char* degenerate_hint = "collapses degenerate triangles";
+constexpr const char* duplicate_hint = "removes duplicate triangles";
+constexpr const char* edge_hint = "splits non-manifold edges";
+constexpr const char* vertex_hint = "splits non-manifold vertices";
+constexpr const char* orientation_hint = "cuts the surface open where it cannot be oriented";
 
 class UnionFind {
  public:
@@ -55,19 +59,28 @@ void check_degenerate(const std::vector<Vec3>& points, const std::vector<Triangl
     // on (GCC accepts it in C++17, clang 14 does not).
     const std::int32_t a = triangles[t][0], b = triangles[t][1], c = triangles[t][2];
     const auto fail = [&](const std::string& why) {
-      throw InputError("triangle " + name.one(static_cast<std::int32_t>(t)) + " is degenerate: " + why);
+      throw MeshDefectError("triangle " + name.one(static_cast<std::int32_t>(t)) + " is degenerate: " + why,
+                            degenerate_hint);
     };
     const auto vertices = [&] {
+      if (name.by_position()) return name.position(a) + ", " + name.position(b) + ", " + name.position(c);
       return std::to_string(a) + ", " + std::to_string(b) + ", " + std::to_string(c);
     };
-    if (a == b || a == c || b == c)
-      fail("it repeats vertex " + std::to_string(a == b || a == c ? a : b) + " (" + vertices() + ")");
+    const auto all_at = [&] {
+      if (name.by_position()) return "its corners are all at " + name.position(a);
+      return "its vertices " + vertices() + " are all at " + point_text(points[a]);
+    };
+    if (a == b || a == c || b == c) {
+      const std::int32_t repeated = a == b || a == c ? a : b;
+      if (name.by_position()) fail("it repeats " + name.vertex(repeated));
+      fail("it repeats vertex " + std::to_string(repeated) + " (" + vertices() + ")");
+    }
     if (area_check == AreaCheck::skip) continue;
 
     double largest = 0;
     for (const std::int32_t v : {a, b, c})
       largest = std::max({largest, std::abs(points[v].x), std::abs(points[v].y), std::abs(points[v].z)});
-    if (largest == 0) fail("its vertices " + vertices() + " are all at " + point_text(points[a]));
+    if (largest == 0) fail(all_at());
     // Scaling by a power of two is exact and brings the coordinates into [-2, 2], so that the
     // squared lengths below can neither overflow nor vanish for tiny meshes.
     const int exponent = std::ilogb(largest);
@@ -81,10 +94,11 @@ void check_degenerate(const std::vector<Vec3>& points, const std::vector<Triangl
     const std::array<double, 3> squared = {dot(edge[0], edge[0]), dot(edge[1], edge[1]),
                                            dot(edge[2], edge[2])};
     const int longest = static_cast<int>(std::max_element(squared.begin(), squared.end()) - squared.begin());
-    if (squared[longest] == 0) fail("its vertices " + vertices() + " are all at " + point_text(points[a]));
+    if (squared[longest] == 0) fail(all_at());
     const double area = 0.5 * norm(cross(edge[(longest + 1) % 3], edge[(longest + 2) % 3]));
     if (area <= zero_area * squared[longest])
-      fail("it has zero area (vertices " + vertices() + " are collinear)");
+      fail(name.by_position() ? "it has zero area (its corners " + vertices() + " are collinear)"
+                              : "it has zero area (vertices " + vertices() + " are collinear)");
   }
 }
 
@@ -148,10 +162,18 @@ void check_duplicates(const std::vector<HalfEdge>& half_edges, const std::vector
   }
   if (second < 0) return;
   Triangle key = triangles[first];
-  std::sort(key.begin(), key.end());
-  throw InputError("triangles " + name.one(first) + " and " + name.one(second) +
-                   " are duplicates (vertices " + std::to_string(key[0]) + ", " + std::to_string(key[1]) +
-                   ", " + std::to_string(key[2]) + ")");
+  std::string corners;
+  if (name.by_position()) {
+    corners =
+        "corners " + name.position(key[0]) + ", " + name.position(key[1]) + ", " + name.position(key[2]);
+  } else {
+    std::sort(key.begin(), key.end());
+    corners =
+        "vertices " + std::to_string(key[0]) + ", " + std::to_string(key[1]) + ", " + std::to_string(key[2]);
+  }
+  throw MeshDefectError(
+      "triangles " + name.one(first) + " and " + name.one(second) + " are duplicates (" + corners + ")",
+      duplicate_hint);
 }
 
 // Throws on edges with more than two triangles (naming the edge whose third triangle comes
@@ -169,15 +191,15 @@ void check_edges_manifold(const std::vector<HalfEdge>& half_edges, const Triangl
   if (worst_end == 0) return;
   std::vector<std::int32_t> sharing;
   for (std::size_t i = worst_begin; i < worst_end; ++i) sharing.push_back(half_edges[i].triangle);
-  throw InputError("edge (" + std::to_string(half_edges[worst_begin].lo) + ", " +
-                   std::to_string(half_edges[worst_begin].hi) + ") is shared by " +
-                   std::to_string(sharing.size()) + " triangles: " + name.list(sharing));
+  throw MeshDefectError(name.edge(half_edges[worst_begin].lo, half_edges[worst_begin].hi) + " is shared by " +
+                            std::to_string(sharing.size()) + " triangles: " + name.list(sharing),
+                        edge_hint);
 }
 
 // A vertex is manifold when its triangles form one fan: the corners at the vertex, joined across
 // the interior edges through it, must form a single group.
 void check_vertex_fans(std::size_t n_points, const std::vector<Triangle>& triangles,
-                       const std::vector<HalfEdge>& half_edges) {
+                       const std::vector<HalfEdge>& half_edges, const TriangleNames& name) {
   UnionFind corners(3 * triangles.size());
   const auto corner = [](std::int32_t t, int k) { return 3 * t + k; };
   for (std::size_t i = 0; i + 1 < half_edges.size(); ++i) {
@@ -199,8 +221,10 @@ void check_vertex_fans(std::size_t n_points, const std::vector<Triangle>& triang
   }
   for (std::size_t v = 0; v < n_points; ++v) {
     if (fans[v] > 1)
-      throw InputError("vertex " + std::to_string(v) + " is non-manifold: its triangles form " +
-                       std::to_string(fans[v]) + " separate fans");
+      throw MeshDefectError(name.vertex(static_cast<std::int32_t>(v)) +
+                                " is non-manifold: its triangles form " + std::to_string(fans[v]) +
+                                " separate fans",
+                            vertex_hint);
   }
 }
 
@@ -250,10 +274,10 @@ std::vector<bool> orientation_flips(const std::vector<Triangle>& triangles, cons
           queue.push_back(n);
         } else if (flip[n] != wanted) {
           const std::int32_t a = triangles[t][k], b = triangles[t][(k + 1) % 3];
-          throw InputError("the surface is not orientable (Möbius-like): triangle " + name.one(n) +
-                           " cannot be oriented consistently with triangle " + name.one(t) +
-                           " across edge (" + std::to_string(std::min(a, b)) + ", " +
-                           std::to_string(std::max(a, b)) + ")");
+          throw MeshDefectError("the surface is not orientable (Möbius-like): triangle " + name.one(n) +
+                                    " cannot be oriented consistently with triangle " + name.one(t) +
+                                    " across " + name.edge(std::min(a, b), std::max(a, b)),
+                                orientation_hint);
         }
       }
     }
@@ -267,7 +291,32 @@ std::string plural(std::size_t n, const char* singular, const char* plural_form)
   return std::to_string(n) + " " + (n == 1 ? singular : plural_form);
 }
 
+std::string point_text(const Vec3& p) {
+  // A single-precision coordinate (STL stores nothing else) is written as the file has it,
+  // 18.7325 rather than 18.732500076293945; any other as the shortest double.
+  const auto coordinate = [](double x) {
+    // (Converting a double beyond float's range is undefined: checked first.)
+    if (std::isfinite(x) && std::abs(x) <= std::numeric_limits<float>::max() &&
+        static_cast<double>(static_cast<float>(x)) == x)
+      return number(static_cast<float>(x));
+    return number(x);
+  };
+  return "(" + coordinate(p.x) + ", " + coordinate(p.y) + ", " + coordinate(p.z) + ")";
+}
+
 std::string TriangleNames::one(std::int32_t t) const { return list({t}); }
+
+std::string TriangleNames::position(std::int32_t v) const { return point_text((*points_)[v]); }
+
+std::string TriangleNames::vertex(std::int32_t v) const {
+  if (by_position()) return "the vertex at " + position(v);
+  return "vertex " + std::to_string(v);
+}
+
+std::string TriangleNames::edge(std::int32_t a, std::int32_t b) const {
+  if (by_position()) return "the edge from " + position(a) + " to " + position(b);
+  return "edge (" + std::to_string(a) + ", " + std::to_string(b) + ")";
+}
 
 std::string TriangleNames::list(const std::vector<std::int32_t>& triangles) const {
   std::string text, faces;
@@ -311,7 +360,7 @@ SurfaceCheck check_surface(const std::vector<Vec3>& points, const std::vector<Tr
   out.half_edges = sorted_half_edges(points.size(), triangles);
   check_duplicates(out.half_edges, triangles, name);
   check_edges_manifold(out.half_edges, name);
-  check_vertex_fans(points.size(), triangles, out.half_edges);
+  check_vertex_fans(points.size(), triangles, out.half_edges, name);
   out.flip = orientation_flips(triangles, adjacency_of(triangles.size(), out.half_edges), name);
   out.flips = static_cast<std::size_t>(std::count(out.flip.begin(), out.flip.end(), true));
   return out;

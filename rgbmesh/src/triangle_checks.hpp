@@ -39,18 +39,32 @@ struct Wording {
 inline constexpr Wording file_wording{"face", "faces", "the file"};
 inline constexpr Wording mesh_wording{"triangle", "triangles", "the mesh"};
 
-// Names triangles in messages. Without triangulation triangle i is face i of the input; after
-// fan-splitting, the source face is given too so that the user can find it in the file.
+// Names the elements of the input in messages. Triangles: without triangulation triangle i is
+// face i of the input; after fan-splitting, the source face is given too so that the user can
+// find it in the file. Vertices: by their number where the input numbers them; by their position
+// where it does not (STL, whose vertices are the facets' corners merged by position, and a
+// repaired mesh, whose vertices are no longer the file's).
 class TriangleNames {
  public:
   // source_face: empty when triangle i is face i; must outlive this object.
   explicit TriangleNames(const std::vector<std::int64_t>& source_face) : source_face_(source_face) {}
+  // Vertices named by their positions in `points` (which must outlive this object).
+  TriangleNames(const std::vector<std::int64_t>& source_face, const std::vector<Vec3>& points)
+      : source_face_(source_face), points_(&points) {}
   std::string one(std::int32_t t) const;                               // "4" or "4 (from face 2)"
   std::string list(const std::vector<std::int32_t>& triangles) const;  // "2, 5, 8 (from faces 1, 4, 6)"
+  bool by_position() const { return points_ != nullptr; }
+  std::string vertex(std::int32_t v) const;                // "vertex 5", "the vertex at (1.5, 2, -3)"
+  std::string edge(std::int32_t a, std::int32_t b) const;  // "edge (0, 1)", "the edge from (...) to (...)"
+  std::string position(std::int32_t v) const;              // "(1.5, 2, -3)"
 
  private:
   const std::vector<std::int64_t>& source_face_;
+  const std::vector<Vec3>* points_ = nullptr;
 };
+
+// "(1.5, 2, -3)": the shortest text that reads back as the same doubles.
+std::string point_text(const Vec3& p);
 
 // Empty mesh (no points or no faces), too many points, non-finite coordinates (of every
 // point, referenced or not: such a value means the input is broken).
@@ -94,14 +108,14 @@ struct HalfEdge {
 // What the points must be besides finite.
 enum class AreaCheck : bool { skip, zero_area_is_degenerate };
 
-// The checks of a triangle list whose indices are in range, in this order, throwing on the
-// first failure: degenerate triangles (a repeated vertex; with zero_area_is_degenerate also
-// zero area, i.e. collinear or coincident corners); duplicate triangles (same vertex set,
-// whatever the order: this covers two triangles glued back to back, a "pillow"); edges of
-// more than two triangles; vertices whose triangles form several fans; non-orientable
-// surfaces. Returns the half-edges sorted so that the sides of one edge are adjacent, and in
-// `flip` which triangles to reverse for a consistent orientation (each edge-connected
-// component keeps the orientation of its lowest-numbered triangle).
+// The checks of a triangle list whose indices are in range, in this order, throwing
+// MeshDefectError (with what a repair does about it) on the first failure: degenerate triangles (a repeated
+// vertex; with zero_area_is_degenerate also zero area, i.e. collinear or coincident corners); duplicate
+// triangles (same vertex set, whatever the order: this covers two triangles glued back to back, a "pillow");
+// edges of more than two triangles; vertices whose triangles form several fans; non-orientable surfaces.
+// Returns the half-edges sorted so that the sides of one edge are adjacent, and in `flip` which triangles to
+// reverse for a consistent orientation (each edge-connected component keeps the orientation of its
+// lowest-numbered triangle).
 struct SurfaceCheck {
   std::vector<HalfEdge> half_edges;
   std::vector<bool> flip;

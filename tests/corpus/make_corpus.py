@@ -11,7 +11,8 @@ committed in files/ together with this script, which makes exactly the same byte
 
 files/MANIFEST.tsv has one line per file: name, the commands that must fail on it ("info convert
 fit", or "info convert" for a file whose damage is in the mesh only, which makes it a valid point
-cloud for fit), and a text the error line must contain (may be empty).
+cloud for fit, or "convert" for a valid point cloud, which info describes), and a text the error
+line must contain (may be empty).
 """
 
 import base64
@@ -289,7 +290,8 @@ def make(c):
     c.add("obj-bom-bad-index.obj", bom + obj + "f 1 2 7\n", "line 15: vertex index 7 is out of range")
     c.add("obj-two-corner-face.obj", obj + "f 1 2\n", "face 8 has 2 vertices", "info convert")
     c.add("obj-point-element.obj", obj + "p 1\n", "not surface polygons", "info convert")
-    c.add("obj-no-faces.obj", obj.split("f ")[0], "", "info convert")
+    # (info reports a file without faces as a point cloud: only convert must fail.)
+    c.add("obj-no-faces.obj", obj.split("f ")[0], "", "convert")
     c.add("obj-comments-only.obj", "# nothing\n# at all\n", "")
     c.add("obj-non-manifold.obj", obj + "f 1 3 5\n", "", "info convert")
     for n in (9, 33, 57, 70):  # inside the vertex lines: a line cut short

@@ -47,7 +47,7 @@ function(consumer name prefix build_type checked_handles hide_dependencies)
   else()
     run("${build}/all_modules_consumer" "${build}/work")
     set(expected "vtk_io: read 42 vertices, 80 triangles, valid" "fem: 42 unknowns" "adapt: cycle 0"
-                 "adapt: cycle 1" "fit: 642 targets")
+                 "adapt: cycle 1" "fit: 642 targets" "repair: 12 vertices, 20 triangles, valid")
   endif()
   message("${run_output}")
   list(APPEND expected "checked handles: ${checked_handles}\n")
@@ -78,6 +78,7 @@ elseif(MODE STREQUAL "core_project")
   set(prefix "${WORK_DIR}/core_only_prefix")
   run(${CMAKE_COMMAND} --fresh -S "${PROJECT_SOURCE}" -B "${build}" -G "${GENERATOR}" -DCMAKE_CXX_COMPILER=${CXX}
       -DCMAKE_BUILD_TYPE=Debug -DRGBMESH_WITH_VTK=OFF -DRGBMESH_WITH_FEM=OFF -DRGBMESH_WITH_CERES=OFF
+      -DRGBMESH_WITH_REPAIR=OFF
       -DRGBMESH_BUILD_TESTS=OFF -DRGBMESH_BUILD_BENCH=ON -DRGBMESH_BUILD_EXAMPLES=ON ${hide})
   message("${run_output}")
   foreach(line "benchmarks skipped" "examples skipped" "the rgbmesh tool is not built")
@@ -91,7 +92,8 @@ elseif(MODE STREQUAL "core_project")
   run(${CMAKE_COMMAND} --install "${build}" --prefix "${prefix}")
   load_cache("${build}" READ_WITH_PREFIX core_ CMAKE_INSTALL_LIBDIR)
   expect_files("${prefix}" include/rgbmesh/mesh.hpp ${core_CMAKE_INSTALL_LIBDIR}/librgbmesh_core.a)
-  foreach(absent include/rgbmesh/fem include/rgbmesh/vtk_io.hpp bin/rgbmesh ${core_CMAKE_INSTALL_LIBDIR}/librgbmesh_fem.a)
+  foreach(absent include/rgbmesh/fem include/rgbmesh/vtk_io.hpp include/rgbmesh/repair bin/rgbmesh
+                 ${core_CMAKE_INSTALL_LIBDIR}/librgbmesh_fem.a ${core_CMAKE_INSTALL_LIBDIR}/librgbmesh_repair.a)
     if(EXISTS "${prefix}/${absent}")
       message(FATAL_ERROR "a core-only installation has ${absent}")
     endif()

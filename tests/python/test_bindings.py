@@ -155,3 +155,31 @@ def test_levels_colours_and_parents_describe_the_rgb_structure():
     colours, tlevels = mesh.triangle_colors(), mesh.triangle_levels()
     assert set(np.unique(colours)) <= {0, 1, 2} and 1 in colours and 2 in colours
     assert tlevels.shape == colours.shape == (mesh.num_triangles,) and tlevels.max() == 3
+
+
+def test_read_repairs_when_asked(tmp_path):
+    # The octahedron with its edge (0, 2) split at its midpoint on one side only, the crack
+    # closed by a zero-area triangle (as OpenSCAD exports do), written as an STL file.
+    points = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1], [0.5, 0.5, 0]], float)
+    faces = [[0, 6, 4], [2, 1, 4], [1, 3, 4], [3, 0, 4], [2, 0, 5], [1, 2, 5], [3, 1, 5], [0, 3, 5],
+             [6, 2, 4], [0, 2, 6]]
+    path = tmp_path / "crack.stl"
+    with open(path, "w") as f:
+        f.write("solid crack\n")
+        for face in faces:
+            f.write("facet normal 0 0 0\nouter loop\n")
+            for v in face:
+                f.write("vertex %.17g %.17g %.17g\n" % tuple(points[v]))
+            f.write("endloop\nendfacet\n")
+        f.write("endsolid crack\n")
+    with pytest.raises(ValueError, match=r"zero area \(its corners .* are collinear\) \(repair=True collapses degenerate"):
+        rgbmesh.read(path)
+    with pytest.warns(UserWarning, match="repaired: collapsed 1 zero-area triangle"):
+        mesh = rgbmesh.read(path, repair=True)
+    assert mesh.validate() == ""
+    p, t = mesh.control_points(), mesh.triangles()
+    # Closed (every edge in two triangles), the octahedron's volume 4/3.
+    edges = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
+    assert (np.unique(edges, axis=0, return_counts=True)[1] == 2).all()
+    volume = np.einsum("ij,ij->i", p[t[:, 0]], np.cross(p[t[:, 1]], p[t[:, 2]])).sum() / 6
+    assert abs(abs(volume) - 4 / 3) < 1e-12

@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <string>
 
+#include "rgbmesh/errors.hpp"
+
 namespace rgbmesh::detail {
 
 inline constexpr const char* input_extensions[] = {".obj", ".off", ".ply", ".stl", ".vtk", ".vtp", ".vtu"};
@@ -34,6 +36,15 @@ inline bool host_is_big_endian() {
   unsigned char first;
   std::memcpy(&first, &one, 1);
   return first == 0;
+}
+
+// `e` again with the file's path in front, keeping its kind: a defect of the mesh stays one, so
+// that the caller can say how to repair it.
+[[noreturn]] inline void rethrow_for_file(const std::filesystem::path& path, const InputError& e) {
+  const std::string message = path.string() + ": " + e.what();
+  if (const auto* defect = dynamic_cast<const MeshDefectError*>(&e))
+    throw MeshDefectError(message, defect->hint());
+  throw InputError(message);
 }
 
 // Shortest text that reads back as the same double.

@@ -190,6 +190,7 @@ PolygonSoup read_soup(const fs::path& path, const char* const (&extensions)[N], 
   if (ext == ".stl") {
     PolygonSoup soup = detail::parse_stl(file.bytes(), name);
     merge_equal_points(soup);
+    soup.numbered_vertices = false;  // the numbers are the merge's, not the file's
     return soup;
   }
   if (ext == ".vtp" || ext == ".vtu") return read_vtk_xml(path, file.bytes(), ext, options);
@@ -229,6 +230,7 @@ PointCloud read_point_cloud(const fs::path& path) {
   PolygonSoup soup = read_soup(path, point_cloud_extensions, "point-cloud", options, cloud.normals);
   cloud.points = std::move(soup.points);
   cloud.faces = std::move(soup.faces);
+  cloud.numbered_vertices = soup.numbered_vertices;
   if (cloud.points.empty()) throw InputError(path.string() + ": no points");
   for (std::size_t i = 0; i < cloud.points.size(); ++i)
     if (!is_finite(cloud.points[i]))
@@ -255,7 +257,7 @@ TriangleMeshData read_mesh(const fs::path& path, const SoupOptions& options) {
   try {
     return prepare_triangle_mesh(soup, options);
   } catch (const InputError& e) {
-    throw InputError(path.string() + ": " + e.what());
+    detail::rethrow_for_file(path, e);
   }
 }
 

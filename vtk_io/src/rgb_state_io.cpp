@@ -140,7 +140,7 @@ RgbMeshFile read_rgb_mesh(const std::filesystem::path& path, const SoupOptions& 
       file.notes = std::move(data.notes);
       file.mesh = RgbMesh::from_triangles(data.points, data.triangles);
     } catch (const InputError& e) {
-      throw InputError(path.string() + ": " + e.what());
+      detail::rethrow_for_file(path, e);
     }
     return file;
   }
@@ -164,6 +164,9 @@ RgbMeshFile read_rgb_mesh(const std::filesystem::path& path, const SoupOptions& 
     throw InputError(path.string() + ": " + e.what());
   }
   file.restored = true;
+  // The state is the mesh exactly as rgbmesh wrote it, checked point by point: nothing to repair,
+  // and repairing would break the state.
+  if (options.repair) file.notes.push_back("the file has an RGB state: restored exactly, not repaired");
   return file;
 }
 

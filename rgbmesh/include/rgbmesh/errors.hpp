@@ -4,6 +4,7 @@
 ///
 /// \verbatim
 ///   InputError     bad input or arguments (a file, a mesh, an option): exit code 2
+///     MeshDefectError  a defect of the mesh itself that a repair can fix (rgbmesh::repair)
 ///   OutputError    an output could not be written (folder, disk full, size limit): exit code 1
 ///   ResourceError  the work needs more than the machine has (memory): exit code 3
 /// \endverbatim
@@ -13,12 +14,27 @@
 /// the file, element or option concerned.
 
 #include <stdexcept>
+#include <string>
 
 namespace rgbmesh {
 
 class InputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+};
+
+/// A defect of the mesh itself (a degenerate or duplicate triangle, a non-manifold edge or vertex,
+/// a non-orientable surface) rather than of the file: a repair (rgbmesh::repair, the tool's
+/// --repair) removes it. hint() says how, in a few words that callers put after their own way of
+/// asking for the repair ("--repair collapses degenerate triangles").
+class MeshDefectError : public InputError {
+ public:
+  /// `hint` must be a string literal (stored as a pointer, so that copying never throws).
+  MeshDefectError(const std::string& message, const char* hint) : InputError(message), hint_(hint) {}
+  const char* hint() const noexcept { return hint_; }
+
+ private:
+  const char* hint_;
 };
 
 class OutputError : public std::runtime_error {

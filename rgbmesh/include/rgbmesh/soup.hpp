@@ -4,13 +4,17 @@
 /// checks and repairs that turn it into a clean, consistently oriented, manifold triangle mesh.
 ///
 /// Every problem is reported as an InputError whose message is one line naming the offending
-/// element (face or vertex index, 0-based, in the file's own numbering); the caller prefixes the
-/// file name. Repairs that do not need guessing (re-orienting an orientable surface, dropping
-/// unreferenced vertices, fan-splitting polygons when asked) are applied and described in
-/// `notes`, one line each, so that the user is told.
+/// element (face or vertex index, 0-based, in the file's own numbering; vertices by position where
+/// the file does not number them); the caller prefixes the file name. Defects of the mesh itself
+/// that a repair would fix are MeshDefectErrors (errors.hpp). Repairs that do not need guessing
+/// (re-orienting an orientable surface, dropping unreferenced vertices, fan-splitting polygons
+/// when asked) are applied and described in `notes`, one line each, so that the user is told;
+/// the others only when the caller supplies a repair (SoupOptions::repair, rgbmesh::repair), so
+/// that rgbmesh::core needs nothing but the standard library.
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -26,11 +30,26 @@ struct PolygonSoup {
   /// Faces as vertex index lists; indices are 64-bit and unchecked so that readers can pass
   /// through whatever the file says and the checks below name the bad face.
   std::vector<std::vector<std::int64_t>> faces;
+  /// Whether the vertex numbers are the file's own. False for STL, whose vertices are the facets'
+  /// corners merged by position: messages then name vertices by their positions.
+  bool numbered_vertices = true;
 };
+
+/// A repair of a triangle soup: receives the points (all finite) and the triangles (indices in
+/// range; polygons already fan-split), may change both in any way (merge, remove, add points;
+/// remove, reorder, re-orient triangles), and appends to `notes` one line per kind of change, with
+/// counts. Throws InputError when nothing usable is left. rgbmesh::repair::soup_repair() gives
+/// one (rgbmesh/repair/repair.hpp).
+using SoupRepair = std::function<void(std::vector<Vec3>& points,
+                                      std::vector<std::array<std::int32_t, 3>>& triangles,
+                                      std::vector<std::string>& notes)>;
 
 struct SoupOptions {
   /// Split polygons with more than three vertices into triangle fans (otherwise: an error).
   bool triangulate = false;
+  /// When set, applied to the triangles before the checks; what it gives must then pass them (an
+  /// InputError "could not be repaired: ..." otherwise). Polygons still need `triangulate`.
+  SoupRepair repair;
 };
 
 struct TriangleMeshData {
@@ -41,12 +60,15 @@ struct TriangleMeshData {
 
 /// Checks, in this order, and throws InputError on the first failure:
 /// empty mesh; NaN/inf coordinates; faces with fewer than 3 vertices; index out of range;
-/// non-triangle faces (unless options.triangulate); degenerate triangles (a repeated vertex or
-/// zero area); duplicate triangles (same vertex set); non-manifold edges (more than two
-/// triangles) and vertices (star not a single fan); non-orientable surfaces.
+/// non-triangle faces (unless options.triangulate); then, after options.repair when it is set,
+/// the defects (MeshDefectError): degenerate triangles (a repeated vertex or zero area); duplicate
+/// triangles (same vertex set); non-manifold edges (more than two triangles) and vertices (star
+/// not a single fan); non-orientable surfaces.
 /// Repairs: unreferenced vertices are dropped; an orientable surface with inconsistently
 /// oriented triangles is re-oriented (each connected component keeps the orientation of its
-/// lowest-numbered triangle).
+/// lowest-numbered triangle). Without options.repair, a note says when the vertices sit at fewer
+/// distinct positions than there are vertices (faces that meet only at equal positions are not
+/// joined: the mesh falls apart into more pieces than the user sees).
 TriangleMeshData prepare_triangle_mesh(const PolygonSoup& soup, const SoupOptions& options = {});
 
 }  // namespace rgbmesh

@@ -1,6 +1,7 @@
 // Uses every installed rgbmesh module once: vtk_io writes the icosahedron refined once and reads
 // it back, fem solves the sphere-peak problem on it, adapt runs two adaptive cycles, and fit
-// moves a shrunken icosahedron's control points onto the unit sphere. Prints one line per step
+// moves a shrunken icosahedron's control points onto the unit sphere, and repair joins an
+// icosahedron whose triangles each have their own vertices. Prints one line per step
 // for the install test, and exits non-zero when a result is not what it must be. Where the
 // installation has rgbmesh::parallel, it partitions the adapted mesh too.
 #include <algorithm>
@@ -16,6 +17,7 @@
 #include "rgbmesh/fit/fit.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/refinement.hpp"
+#include "rgbmesh/repair/repair.hpp"
 #include "rgbmesh/shapes.hpp"
 #include "rgbmesh/vtk_io.hpp"
 #if defined(CONSUMER_HAS_PARALLEL)
@@ -77,6 +79,23 @@ int main(int argc, char** argv) {
   const double start = fitted.iterations.front().rms / fitted.diagonal, end = fitted.rms / fitted.diagonal;
   std::printf("fit: %zu targets, RMS %.3g -> %.3g of the diagonal\n", targets.size(), start, end);
   if (!(end < 0.01 && end < 0.2 * start)) return 1;
+
+  // repair: every triangle with its own three vertices (60 at 12 positions) becomes the
+  // icosahedron again.
+  PolygonSoup apart;
+  for (const auto& t : ico.triangles) {
+    std::vector<std::int64_t> face;
+    for (const std::int32_t v : t) {
+      face.push_back(static_cast<std::int64_t>(apart.points.size()));
+      apart.points.push_back(ico.points[static_cast<std::size_t>(v)]);
+    }
+    apart.faces.push_back(face);
+  }
+  const TriangleMeshData joined = prepare_triangle_mesh(apart, repair::soup_options(false, true));
+  const RgbMesh repaired = RgbMesh::from_triangles(joined.points, joined.triangles);
+  std::printf("repair: %zu vertices, %zu triangles, %s (%s)\n", repaired.num_vertices(), repaired.num_triangles(),
+              repaired.validate().empty() ? "valid" : "INVALID", joined.notes.front().c_str());
+  if (repaired.num_vertices() != 12 || !repaired.validate().empty()) return 1;
 
 #if defined(CONSUMER_HAS_PARALLEL)
   // parallel: the adapted mesh's triangles in three parts, all of them used, none too heavy.

@@ -44,13 +44,15 @@ std::string supported_output_extensions();
 /// The faces and points exactly as the file has them (format chosen by the extension, case-
 /// insensitive; coordinates in double precision where the file has them). Points are merged only
 /// where the format itself duplicates them: STL, which stores every triangle's corners separately,
-/// has exactly coincident points merged. Triangle strips become triangles (skipping the zero-area
+/// has exactly coincident points merged (and numbered_vertices false: messages name its vertices
+/// by position). Triangle strips become triangles (skipping the zero-area
 /// joints of stitched strips). Non-surface cells (vertices, lines, volume cells; OBJ 'l' and 'p')
 /// are an InputError naming the cell (or line). Indices are passed through unchecked, for
 /// prepare_triangle_mesh to name the face with a bad one (OBJ reports them with their line).
 PolygonSoup read_polygon_soup(const std::filesystem::path& path);
 
-/// read_polygon_soup + prepare_triangle_mesh, with the file path prefixed to any InputError.
+/// read_polygon_soup + prepare_triangle_mesh, with the file path prefixed to any InputError (a
+/// MeshDefectError stays one).
 TriangleMeshData read_mesh(const std::filesystem::path& path, const SoupOptions& options = {});
 
 /// A mesh file as an RgbMesh. VTK XML files that rgbmesh wrote (.vtp, .vtu) carry the complete
@@ -58,7 +60,8 @@ TriangleMeshData read_mesh(const std::filesystem::path& path, const SoupOptions&
 /// it was written, with its levels, colours, control points and limit positions, ready to be
 /// refined or coarsened further (restored = true). Any other file, and a VTK XML file without
 /// the state, gives the base mesh of its triangles (read_mesh, then RgbMesh::from_triangles;
-/// notes as read_mesh's). A state that is inconsistent with itself or with the file's cells and
+/// notes as read_mesh's). options.repair does not apply to a file with a state (restored exactly;
+/// a note says so). A state that is inconsistent with itself or with the file's cells and
 /// arrays is an InputError "<path>: inconsistent RGB state: <what>"; nothing half-built escapes.
 struct RgbMeshFile {
   RgbMesh mesh;
@@ -76,6 +79,8 @@ struct PointCloud {
   /// The file's surface polygons exactly as read_polygon_soup gives them (unchecked: the caller
   /// decides whether they make a surface); empty for a point cloud.
   std::vector<std::vector<std::int64_t>> faces;
+  /// As PolygonSoup::numbered_vertices: false for STL, whose messages name positions.
+  bool numbered_vertices = true;
   std::vector<std::string> notes;  ///< what was ignored, one line each
 };
 

@@ -33,7 +33,8 @@ struct TargetFit {
   FitResult result;
   TwoSidedDistances distances;
   Verdict verdict;
-  std::vector<std::string> notes;  ///< the target's, then the base's, then the fit's
+  std::vector<std::string> target_notes;  ///< what reading the target's faces did (repairs, splits)
+  std::vector<std::string> notes;         ///< the base's, then the fit's
 };
 
 /// The first half: the target taken for what it is and the base. `base` when given, else one
