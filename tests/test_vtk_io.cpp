@@ -133,6 +133,21 @@ TEST_F(VtkIo, ObjNonFiniteCoordinateIsNamed) {
 }
 
 // ---------------------------------------------------------------------------------------------
+TEST_F(VtkIo, AsciiStlCoordinatesAreSinglePrecisionLikeBinaryOnes) {
+  // Every coordinate, x and y too (GCC's vectorizer once dropped their rounding): the float
+  // nearest each decimal, as a binary STL of the same triangle holds it.
+  const fs::path f = write_file("t.stl",
+                                "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0.1 0.2 0.3\nvertex 1.1 0.2 0.3\n"
+                                "vertex 0.1 1.7 0.3\nendloop\nendfacet\nendsolid t\n");
+  const PolygonSoup s = read_polygon_soup(f);
+  const auto single = [](double x) { return static_cast<double>(static_cast<float>(x)); };
+  ASSERT_EQ(s.points.size(), 3u);
+  EXPECT_EQ(s.points[0], Vec3(single(0.1), single(0.2), single(0.3)));
+  EXPECT_EQ(s.points[1], Vec3(single(1.1), single(0.2), single(0.3)));
+  EXPECT_EQ(s.points[2], Vec3(single(0.1), single(1.7), single(0.3)));
+  EXPECT_NE(s.points[0].x, 0.1);
+}
+
 // PLY
 
 TEST_F(VtkIo, AsciiPlyIsReadExactly) {

@@ -76,9 +76,15 @@ class Words {
 
 // STL coordinates are single precision by the format, and vtkSTLReader stored ASCII ones as
 // float too: rounding them keeps "exactly coincident corners are one vertex" what it was.
+// Each coordinate goes through a volatile float: GCC 12.2's SLP vectorizer at -O2 fused the x
+// and y round trips and dropped their rounding (x and y came back as parsed, z rounded), so
+// that an ASCII STL and its binary twin read differently.
 Vec3 stl_point(double x, double y, double z) {
-  return {static_cast<double>(static_cast<float>(x)), static_cast<double>(static_cast<float>(y)),
-          static_cast<double>(static_cast<float>(z))};
+  const auto single = [](double value) {
+    const volatile float rounded = static_cast<float>(value);
+    return static_cast<double>(rounded);
+  };
+  return {single(x), single(y), single(z)};
 }
 
 PolygonSoup parse_ascii_stl(std::string_view text, const std::string& path) {
