@@ -112,7 +112,7 @@ TriangleDistances distances_per_triangle(const FitResult& result);
 ///
 /// With `target_surface` (the surface the targets sample: a mesh target's triangles, a cloud's
 /// points as discs, see distances.hpp) the fit is two-sided: each limit vertex v also adds
-/// surface_weight · #targets · (its share of the limit surface's area) · ρ(|s_v(P) - c_v|²), c_v
+/// surface_weight · \#targets · (its share of the limit surface's area) · ρ(|s_v(P) - c_v|²), c_v
 /// its nearest point on the target, so that no part of the surface is free to go where no
 /// target is (point-to-surface fitting alone is blind to it). The iterations then stop on the
 /// combined RMS of both directions.
