@@ -152,8 +152,9 @@ std::array<Vec3, 6> element_nodes(const SurfaceMesh& s, std::size_t t) {
 // element, takes any value up to 10^9 times its neighbours' (an adaptive run then marks that
 // one element every cycle and stalls). An element that cannot be curved validly is better
 // left flat, as a P1 geometry, and refined if its error says so: its children are curved again
-// (every cycle builds the elements anew), and on a smooth surface the sideways slide of a
-// node falls as h² against a width h, so they pass. The distance from a moved node to the
+// (every cycle builds the elements anew), and where the surface is smooth the sideways slide
+// of a node falls as h² against a width h, so they pass (not next to an extraordinary vertex,
+// where Loop's parametrization is the same at every level). The distance from a moved node to the
 // surface point it stood for is kept (straightened_gap) for the estimator's geometric term.
 // A moved node changes the element on the edge's other side, which is checked again: rounds
 // until none folds (each round judges every element before moving any node, so the result does
