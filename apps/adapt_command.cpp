@@ -523,6 +523,22 @@ FirstMesh first_mesh(const RgbMesh& mesh, int min_level, int order, double max_d
   return {static_cast<double>(floor.num_vertices()), static_cast<double>(floor.num_edges())};
 }
 
+// A new run whose first mesh already has more unknowns than --max-dofs would solve it anyway
+// (the limit stops refinement, after a solve): an InputError before anything is solved or
+// written.
+void refuse_first_mesh_above_max_dofs(const RgbMesh& mesh, const AdaptArgs& a) {
+  const double max_dofs = static_cast<double>(a.max_dofs);
+  const FirstMesh first = first_mesh(mesh, a.min_level, a.order, max_dofs);
+  if (first.unknowns(a.order) <= max_dofs) return;
+  throw InputError("--max-dofs " + std::to_string(a.max_dofs) + ": the starting mesh" +
+                   (a.min_level > 0 ? " refined to --min-level " + std::to_string(a.min_level) : std::string()) +
+                   (first.at_least ? " has at least " : " has ") + count_text(first.unknowns(a.order)) +
+                   " unknowns for --order " + std::to_string(a.order) +
+                   (a.order == 2 ? " (" + count_text(first.vertices) + " vertices and " + count_text(first.edges) + " edges)"
+                                 : " (its vertices)") +
+                   "; nothing was solved");
+}
+
 bool is_vtk_xml(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -581,20 +597,7 @@ int run_adapt(const AdaptArgs& args) {
       s.options.first_cycle = next;
     }
   }
-  // A new run whose first mesh already has more unknowns than --max-dofs would solve it anyway
-  // (the limit stops refinement, after a solve): refused before anything is solved or written.
-  if (!prior) {
-    const double max_dofs = static_cast<double>(a.max_dofs);
-    const FirstMesh first = first_mesh(mesh, a.min_level, a.order, max_dofs);
-    if (first.unknowns(a.order) > max_dofs)
-      throw InputError("--max-dofs " + std::to_string(a.max_dofs) + ": the starting mesh" +
-                       (a.min_level > 0 ? " refined to --min-level " + std::to_string(a.min_level) : std::string()) +
-                       (first.at_least ? " has at least " : " has ") + count_text(first.unknowns(a.order)) +
-                       " unknowns for --order " + std::to_string(a.order) +
-                       (a.order == 2 ? " (" + count_text(first.vertices) + " vertices and " + count_text(first.edges) + " edges)"
-                                     : " (its vertices)") +
-                       "; nothing was solved");
-  }
+  if (!prior) refuse_first_mesh_above_max_dofs(mesh, a);
   fem::Problem problem;
   if (s.problem == "gaussian") {
     // A localized source: by default at the limit position of the first vertex, 1/20 of the
