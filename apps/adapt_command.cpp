@@ -1,5 +1,6 @@
 #include "adapt_command.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cctype>
 #include <chrono>
@@ -9,6 +10,7 @@
 #include <initializer_list>
 #include <iostream>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <tuple>
 
@@ -477,6 +479,67 @@ TriangleMeshData base_of(const RgbMesh& mesh) {
   return base;
 }
 
+// The mesh of a new run's first solve, counted before anything is built or solved: the
+// starting mesh refined to the --min-level floor (as run_cycles does first), and its unknowns
+// for the order (P1 its vertices, P2 its vertices and edges).
+struct FirstMesh {
+  double vertices = 0, edges = 0;
+  bool at_least = false;  // a lower bound (it already passes --max-dofs, so no need to build it)
+  double unknowns(int order) const { return order == 2 ? vertices + edges : vertices; }
+};
+
+std::string count_text(double n) { return number(n, n < 1e15 ? "%.0f" : "%.3g"); }
+
+FirstMesh first_mesh(const RgbMesh& mesh, int min_level, int order, double max_dofs) {
+  int lowest = kMaxLevel, highest = 0;
+  for (const TriangleHandle t : mesh.triangles()) {
+    lowest = std::min(lowest, mesh.level(t));
+    highest = std::max(highest, mesh.level(t));
+  }
+  if (lowest >= min_level) return {static_cast<double>(mesh.num_vertices()), static_cast<double>(mesh.num_edges())};
+  // The floor holds the base mesh's uniform level min_level (each of its triangles lies inside
+  // one of that level's), so that level's counts bound it from below, and are its counts when
+  // the mesh is uniform (a base mesh): Loop's invariants, each level splitting every edge
+  // (V + E vertices) into two and adding three edges per triangle. In floating point: a floor
+  // of level 30 has more than 2^64 triangles.
+  FirstMesh lower;
+  std::set<std::pair<std::int32_t, std::int32_t>> edges;
+  for (const auto& t : mesh.base_triangles())
+    for (int k = 0; k < 3; ++k) edges.insert(std::minmax(t[k], t[(k + 1) % 3]));
+  lower.vertices = static_cast<double>(mesh.num_base_vertices());
+  lower.edges = static_cast<double>(edges.size());
+  double triangles = static_cast<double>(mesh.base_triangles().size());
+  for (int level = 0; level < min_level; ++level) {
+    lower.vertices += lower.edges;
+    lower.edges = 2 * lower.edges + 3 * triangles;
+    triangles *= 4;
+  }
+  if (lowest == highest) return lower;
+  lower.at_least = true;
+  if (lower.unknowns(order) > max_dofs) return lower;
+  // Within the limit: the exact count needs the floor itself (of a mesh refined in places, a
+  // saved cycle's); at most about max_dofs unknowns more than the mesh has.
+  RgbMesh floor = mesh;
+  selective_refinement(floor, AtLeastLevel(min_level));
+  return {static_cast<double>(floor.num_vertices()), static_cast<double>(floor.num_edges())};
+}
+
+// A new run whose first mesh already has more unknowns than --max-dofs would solve it anyway
+// (the limit stops refinement, after a solve): an InputError before anything is solved or
+// written.
+void refuse_first_mesh_above_max_dofs(const RgbMesh& mesh, const AdaptArgs& a) {
+  const double max_dofs = static_cast<double>(a.max_dofs);
+  const FirstMesh first = first_mesh(mesh, a.min_level, a.order, max_dofs);
+  if (first.unknowns(a.order) <= max_dofs) return;
+  throw InputError("--max-dofs " + std::to_string(a.max_dofs) + ": the starting mesh" +
+                   (a.min_level > 0 ? " refined to --min-level " + std::to_string(a.min_level) : std::string()) +
+                   (first.at_least ? " has at least " : " has ") + count_text(first.unknowns(a.order)) +
+                   " unknowns for --order " + std::to_string(a.order) +
+                   (a.order == 2 ? " (" + count_text(first.vertices) + " vertices and " + count_text(first.edges) + " edges)"
+                                 : " (its vertices)") +
+                   "; nothing was solved");
+}
+
 bool is_vtk_xml(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -534,9 +597,7 @@ int run_adapt(const AdaptArgs& args) {
       s.options.first_cycle = next;
     }
   }
-  if (!prior && mesh.num_vertices() > s.options.max_dofs)
-    throw InputError("--max-dofs " + std::to_string(a.max_dofs) + ": the starting mesh already has " +
-                     std::to_string(mesh.num_vertices()) + " vertices");
+  if (!prior) refuse_first_mesh_above_max_dofs(mesh, a);
   fem::Problem problem;
   if (s.problem == "gaussian") {
     // A localized source: by default at the limit position of the first vertex, 1/20 of the

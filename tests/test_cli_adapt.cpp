@@ -254,6 +254,43 @@ TEST_F(Cli, QuadraticElementsRunReportAndResume) {
   }
 }
 
+// A first mesh with more unknowns than --max-dofs is refused before it is solved: exit 2, one
+// line with its unknowns and the limit, nothing written. Its unknowns are those the first solve
+// has: the vertices for P1, vertices and edges for P2, of the mesh refined to --min-level
+// (the default start is the icosahedron's level 1: 42 vertices and 120 edges; level 2: 162
+// and 480). At exactly the limit the run goes on, and its first cycle has that many.
+TEST_F(Cli, MaxDofsRefusesAFirstMeshAboveItBeforeSolving) {
+  const auto refused = [&](const std::string& args, const std::string& message) {
+    const RunResult r = run("adapt " + args + " --out " + path("refused"));
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+    EXPECT_EQ(r.out.find("cycle"), std::string::npos) << "nothing solved: " << r.out;
+    EXPECT_FALSE(fs::exists(path("refused"))) << args << ": nothing is written";
+  };
+  const auto first_dofs = [&](const std::string& args) {
+    const RunResult r = run("adapt " + args + " --cycles 1 --out " + path("ran") + " --report " + path("ran.json"));
+    EXPECT_EQ(r.code, 0) << args << ": " << r.err;
+    return json_number(read_text(path("ran.json")), "dofs");
+  };
+  refused("--max-dofs 41", "--max-dofs 41: the starting mesh has 42 unknowns for --order 1");
+  refused("--order 2 --max-dofs 161", "--max-dofs 161: the starting mesh has 162 unknowns for --order 2 (42 vertices and 120 edges)");
+  refused("--min-level 2 --max-dofs 161", "--max-dofs 161: the starting mesh refined to --min-level 2 has 162 unknowns");
+  refused("--order 2 --min-level 2 --max-dofs 641", "refined to --min-level 2 has 642 unknowns for --order 2 (162 vertices and 480 edges)");
+  refused("--problem moving-peak --order 2 --max-dofs 100", "has 162 unknowns for --order 2");
+  EXPECT_EQ(first_dofs("--max-dofs 42"), 42);
+  EXPECT_EQ(first_dofs("--order 2 --min-level 2 --max-dofs 642"), 642);
+  // A public CAD mesh: fandisk's 6,475 vertices and 19,419 edges.
+  refused("--mesh " + public_data("fandisk.off") + " --order 2 --max-dofs 25000", "has 25894 unknowns for --order 2");
+  // A start refined in places (a saved mesh with its RGB state): its floor is counted by
+  // refining it, and the refusal names what the first cycle would have solved.
+  ASSERT_EQ(run("refine " + public_data("cow.off") + " " + path("cow.vtp") + " --ball 0.2,0.1,0,0.1,3").code, 0);
+  const double n = first_dofs("--mesh " + path("cow.vtp") + " --order 2 --min-level 1");
+  ASSERT_GT(n, 40162);  // more than the saved mesh's own 10,042 vertices and 30,120 edges
+  refused("--mesh " + path("cow.vtp") + " --order 2 --min-level 1 --max-dofs " + std::to_string(static_cast<long>(n) - 1),
+          "refined to --min-level 1 has " + std::to_string(static_cast<long>(n)) + " unknowns");
+}
+
 TEST_F(Cli, ARunNeverMixesItsFilesWithAPreviousRuns) {
   const std::string dir = path("o");
   ASSERT_EQ(run("adapt --cycles 6 --out " + dir).code, 0);

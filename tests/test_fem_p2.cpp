@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
+#include <tuple>
 
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/fem/estimators.hpp"
@@ -349,6 +350,113 @@ TEST(FemP2, LaplaceBeltramiOfQuadraticElements) {
   // Relative to ‖Δu‖ = 12 ‖xyz‖ = 12 sqrt(4π / 105) (measured 4.6% at 10,242 unknowns).
   EXPECT_LT(misfit.back(), 0.06 * 12 * std::sqrt(4 * kPi / 105)) << ::testing::PrintToString(misfit);
   EXPECT_NEAR(testing::log_log_slope(dofs, misfit), -0.5, 0.1) << ::testing::PrintToString(misfit);
+}
+
+// The scaled Jacobian of curved P2 triangles against hand computations. On the right triangle
+// X0 = 0, X1 = e_x, X2 = e_y with the node of edge 0-1 moved by d e_y (into the triangle),
+// X = X_A + 4 λ0 λ1 d e_y, so X_ξ = e_x + 4 (1 - 2ξ1 - ξ2) d e_y and X_η = e_y - 4 ξ1 d e_y:
+// the Jacobian in the plane is 1 - 4 d ξ1, smallest at corner 1: 1 - 4d (0 at d = 1/4, the
+// element folds beyond). Moving a node along the normal bends the element without changing it.
+TEST(FemP2, CurvedJacobianRatioOfKnownElements) {
+  const Vec3 x0(0, 0, 0), x1(1, 0, 0), x2(0, 1, 0);
+  const auto element = [&](const Vec3& d3, const Vec3& d4, const Vec3& d5) {
+    return std::array<Vec3, 6>{x0, x1, x2, 0.5 * (x0 + x1) + d3, 0.5 * (x1 + x2) + d4, 0.5 * (x2 + x0) + d5};
+  };
+  EXPECT_NEAR(curved_jacobian_ratio(element({}, {}, {})), 1.0, 1e-14);
+  for (const double d : {0.1, 0.25, 0.5, -0.3})
+    EXPECT_NEAR(curved_jacobian_ratio(element({0, d, 0}, {}, {})), std::min(1.0, 1 - 4 * d), 1e-14) << d;
+  EXPECT_NEAR(curved_jacobian_ratio(element({0, 0, 0.3}, {0, 0, -0.2}, {0, 0, 0.4})), 1.0, 1e-14);
+  // The same element scaled, turned and moved in space: the ratio is a shape's, not a size's.
+  const auto moved = [](std::array<Vec3, 6> x) {
+    for (Vec3& p : x) p = Vec3(3 * p.y + 1, -3 * p.x, 3 * p.z - 2);
+    return x;
+  };
+  EXPECT_NEAR(curved_jacobian_ratio(moved(element({0, 0.1, 0}, {}, {}))), 0.6, 1e-13);
+  // Every node moved sideways: the exact minimum against the Jacobian sampled on a fine
+  // lattice (it is a quadratic; its minimum may lie inside or on an edge).
+  for (const auto& [d3, d4, d5] : {std::tuple{Vec3(0.05, 0.12, 0.1), Vec3(-0.1, -0.08, 0), Vec3(0.09, 0.02, -0.2)},
+                                   std::tuple{Vec3(0, -0.15, 0), Vec3(0.1, 0.1, 0.3), Vec3(0.2, 0, 0)},
+                                   std::tuple{Vec3(0.1, 0.2, 0), Vec3(0.15, 0.15, 0), Vec3(0.2, 0.1, 0)}}) {
+    const std::array<Vec3, 6> x = element(d3, d4, d5);
+    double sampled = 1e300;
+    const int n = 400;
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) {
+        const double s = double(i) / n, t = double(j) / n, l0 = 1 - s - t;
+        const Vec3 xs = -(4 * l0 - 1) * x[0] + (4 * s - 1) * x[1] + 4 * (l0 - s) * x[3] + 4 * t * x[4] - 4 * t * x[5];
+        const Vec3 xt = -(4 * l0 - 1) * x[0] + (4 * t - 1) * x[2] - 4 * s * x[3] + 4 * s * x[4] + 4 * (l0 - t) * x[5];
+        sampled = std::min(sampled, cross(xs, xt).z);  // the flat triangle's Jacobian is 1
+      }
+    const double exact = curved_jacobian_ratio(x);
+    EXPECT_LE(exact, sampled + 1e-12);
+    EXPECT_GT(exact, sampled - 1e-4);
+  }
+}
+
+// The widths that the P2 residual estimator weighs with (element_scales), by hand: a cap (its
+// third corner 0.1 above the middle of a 10 long edge: area 0.5, largest angle 178.9°), a
+// needle (10 long, 0.2 wide), and shape-regular triangles, which keep h_max and |e|.
+TEST(FemP2, ElementScalesFollowTheWidthOfSlivers) {
+  const ElementScales cap = element_scales({0, 0, 0}, {10, 0, 0}, {5, 0.1, 0});
+  const double side = std::sqrt(25 + 0.01);  // the two short edges
+  EXPECT_NEAR(cap.longest, 10, 1e-14);
+  EXPECT_NEAR(cap.width, 3 * 0.1, 1e-14);                  // 3 x the height over the long edge
+  EXPECT_NEAR(cap.across[0], 3 * 0.1, 1e-14);              // edge 0-1, the long one
+  EXPECT_NEAR(cap.across[1], 3 * (2 * 0.5 / side), 1e-14);  // its heights over the short edges
+  EXPECT_NEAR(cap.across[2], 3 * (2 * 0.5 / side), 1e-14);
+  const ElementScales needle = element_scales({0, 0, 0}, {10, 0, 0}, {10, 0.2, 0});
+  const double long_side = std::sqrt(100 + 0.04);
+  EXPECT_NEAR(needle.width, 3 * 2 / long_side, 1e-14);
+  EXPECT_NEAR(needle.across[0], 3 * 0.2, 1e-14);
+  EXPECT_NEAR(needle.across[1], 0.2, 1e-14);  // the short edge: its own length
+  EXPECT_NEAR(needle.across[2], 3 * 2 / long_side, 1e-14);
+  // In space: the same numbers for a turned copy.
+  const ElementScales turned = element_scales({1, 2, 3}, {1, 2, 13}, {1, 2.1, 8});
+  EXPECT_NEAR(turned.width, cap.width, 1e-12);
+  const double s3 = std::sqrt(3.0);
+  for (const auto& [p0, p1, p2] : {std::tuple{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, s3 / 2, 0)},
+                                   std::tuple{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)},
+                                   std::tuple{Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(0.3, 0.8, 0.2)}}) {
+    const ElementScales regular = element_scales(p0, p1, p2);
+    const std::array<double, 3> edge = {distance(p0, p1), distance(p1, p2), distance(p2, p0)};
+    EXPECT_DOUBLE_EQ(regular.width, *std::max_element(edge.begin(), edge.end()));
+    for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(regular.across[k], edge[k]) << k;
+  }
+}
+
+// A CAD tessellation's Loop limit surface (a pillbox whose ends are fans of needles and caps):
+// the quadratic elements through its limit positions fold over (measured: 60 of its 188, 20
+// more below the limit), and build_surface_mesh straightens them (161 of the 282 edges):
+// afterwards none is below the limit, each
+// moved node sits at its chord's midpoint and keeps its distance from the surface, and the
+// solve and the estimate are finite. On the sphere's meshes no element needs it.
+TEST(FemP2, FoldedCurvedElementsAreMadeStraight) {
+  RgbMesh pillbox = testing::cad_pillbox(48, 0.3).build();
+  const SurfaceMesh mesh = build_surface_mesh(pillbox, std::nullopt, 2);
+  ASSERT_EQ(mesh.straightened_gap.size(), mesh.num_dofs());
+  std::size_t moved = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& c = mesh.triangles[t];
+    const auto& e = mesh.edge_nodes[t];
+    const std::array<Vec3, 6> x = {mesh.points[c[0]], mesh.points[c[1]], mesh.points[c[2]],
+                                   mesh.points[e[0]], mesh.points[e[1]], mesh.points[e[2]]};
+    EXPECT_GE(curved_jacobian_ratio(x), kMinCurvedJacobian) << "triangle " << t;
+    for (int k = 0; k < 3; ++k) {
+      if (!(mesh.straightened_gap[e[k]] > 0)) continue;
+      EXPECT_LT(distance(x[3 + k], 0.5 * (x[k] + x[(k + 1) % 3])), 1e-12);
+      ++moved;
+    }
+  }
+  EXPECT_GT(moved, 0u);
+  for (std::size_t v = 0; v < mesh.vertex.size(); ++v) EXPECT_EQ(mesh.straightened_gap[v], 0.0);
+  Problem p = gaussian_source(mesh.points[0], 0.1);
+  const Solution s = solve(mesh, p);
+  const Estimate eta = residual_estimator(mesh, p, s.u);
+  EXPECT_TRUE(std::isfinite(eta.total) && eta.total > 0) << eta.total;
+  for (const int level : {0, 2}) {
+    const SurfaceMesh sphere = sphere_mesh(testing::icosahedron(), level, 2);
+    EXPECT_TRUE(sphere.straightened_gap.empty()) << "level " << level;
+  }
 }
 
 }  // namespace

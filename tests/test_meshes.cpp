@@ -139,6 +139,25 @@ BaseMesh fan_disk(int n) {
   return m;
 }
 
+BaseMesh cad_pillbox(int n, double height) {
+  BaseMesh m{"cad_pillbox" + std::to_string(n), {}, {}};
+  for (const double z : {0.0, height})
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * kPi * i / n;
+      m.points.push_back({std::cos(a), std::sin(a), z});
+    }
+  for (int i = 0; i < n; ++i) {
+    const int a = i, b = (i + 1) % n, c = n + (i + 1) % n, d = n + i;
+    m.triangles.push_back({a, b, c});
+    m.triangles.push_back({a, c, d});
+  }
+  for (int i = 1; i + 1 < n; ++i) {
+    m.triangles.push_back({0, i + 1, i});          // the bottom, facing -z
+    m.triangles.push_back({n, n + i, n + i + 1});  // the top, facing +z
+  }
+  return m;
+}
+
 BaseMesh double_torus() {
   // Two tori glued: remove one quad (two triangles) from each and connect the holes by a
   // tube of 4 quads.

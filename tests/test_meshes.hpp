@@ -32,6 +32,11 @@ BaseMesh torus(int rings, int sides);        // closed, genus 1
 BaseMesh grid_with_holes(int n, int holes);  // open, 1 + holes boundary loops
 BaseMesh fan_disk(int n);                    // open disk, centre of valence n
 BaseMesh double_torus();                     // closed, genus 2
+// Closed: a short cylinder (radius 1) as CAD tessellators write one: n vertices on each rim,
+// one band of side quads split in two, each end disk fanned from one rim vertex (needles, and
+// caps of nearly 180° next to the fan's vertex, which has valence n + 1). Not in
+// all_base_meshes: a shape-poor mesh for the finite elements' tests.
+BaseMesh cad_pillbox(int n, double height);
 
 // Every mesh above, for parameterised tests.
 std::vector<BaseMesh> all_base_meshes();

@@ -230,6 +230,16 @@ ErrorNorms error_norms(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const 
   return {std::sqrt(sums[0]), std::sqrt(sums[1])};
 }
 
+ElementScales element_scales(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
+  const std::array<double, 3> edge = {distance(p0, p1), distance(p1, p2), distance(p2, p0)};
+  const double twice_area = norm(cross(p1 - p0, p2 - p0));
+  ElementScales s;
+  s.longest = std::max({edge[0], edge[1], edge[2]});
+  s.width = std::min(s.longest, kShapeRegularAspect * twice_area / s.longest);
+  for (int k = 0; k < 3; ++k) s.across[k] = std::min(edge[k], kShapeRegularAspect * twice_area / edge[k]);
+  return s;
+}
+
 double laplace_beltrami(const SurfaceMesh& mesh, std::size_t triangle, const std::array<double, 3>& lambda,
                         const Eigen::VectorXd& u) {
   if (mesh.order == 1) return 0.0;
@@ -300,14 +310,20 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
                                       const Eigen::VectorXd& u, const WorkShare& share) {
   const std::size_t nt = mesh.triangles.size();
   const auto& rule = triangle_quadrature();
-  std::vector<double> h(nt), eta2(nt, 0.0), energy(nt, 0.0), delta(nt, 0.0), geometric(nt, 0.0);
+  std::vector<ElementScales> scale(nt);
+  std::vector<double> eta2(nt, 0.0), energy(nt, 0.0), delta(nt, 0.0), tilt(nt, 0.0), geometric(nt, 0.0);
   const detail::SourceSamples source(mesh, problem, detail::SamplePoints::element, share);
+  // The triangles' widths (element_scales), for the needed ones: the edge terms read both sides'.
+  const std::vector<char> needed = needed_triangles(mesh, share, 2);
+  detail::for_each_index(nt, [&](std::size_t t) {
+    if (!among(needed, t)) return;
+    const auto& c = mesh.triangles[t];
+    scale[t] = element_scales(mesh.points[c[0]], mesh.points[c[1]], mesh.points[c[2]]);
+  });
   // Element residuals f - c u_h + Δ_Γh u_h, ‖∇u_h‖²_T and (with a projection) the distance to
   // the surface.
   detail::for_each_index(nt, [&](std::size_t t) {
     if (!share.computes(t)) return;
-    const auto& c = mesh.triangles[t];
-    h[t] = longest_edge(mesh.points[c[0]], mesh.points[c[1]], mesh.points[c[2]]);
     double r2 = 0;
     for (std::size_t n = 0; n < rule.size(); ++n) {
       const auto& q = rule[n];
@@ -321,11 +337,12 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
       energy[t] += w * dot(grad, grad);
       if (mesh.projection) delta[t] = std::max(delta[t], distance(p.x, lifted));
     }
-    eta2[t] = h[t] * h[t] * r2;
+    eta2[t] = scale[t].width * scale[t].width * r2;
   });
-  const std::vector<std::array<Side, 2>> edges = interior_edges(mesh, needed_triangles(mesh, share, 2));
-  // Per edge: ½ h_e ∫_e [∂u_h/∂μ]² ds and the sagitta h_e θ_e / 8. The second side runs the
-  // other way along the edge, so its parameter 1 - s meets the first side's s at the same point.
+  const std::vector<std::array<Side, 2>> edges = interior_edges(mesh, needed);
+  // Per edge: ∫_e [∂u_h/∂μ]² ds, which each side weighs with ½ its width across the edge, and
+  // the sagitta |e| θ_e / 8. The second side runs the other way along the edge, so its
+  // parameter 1 - s meets the first side's s at the same point.
   std::vector<std::array<double, 2>> edge_terms(edges.size());
   detail::for_each_index(edges.size(), [&](std::size_t n) {
     const auto& [a, b] = edges[n];
@@ -342,14 +359,26 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
     }
     const auto& c = mesh.triangles[ta];
     const double len = distance(mesh.points[c[a.edge]], mesh.points[c[(a.edge + 1) % 3]]);
-    edge_terms[n] = {0.5 * len * integral, len * theta / 8.0};
+    edge_terms[n] = {integral, len * theta / 8.0};
   });
   for (std::size_t n = 0; n < edges.size(); ++n) {
     for (const Side& side : edges[n]) {
       const auto t = static_cast<std::size_t>(side.triangle);
       if (!share.computes(t)) continue;
-      eta2[t] += edge_terms[n][0];
+      eta2[t] += 0.5 * scale[t].across[side.edge] * edge_terms[n][0];
       if (!mesh.projection) delta[t] = std::max(delta[t], edge_terms[n][1]);
+    }
+  }
+  // An edge node that build_surface_mesh moved to its chord's midpoint (a folded element made
+  // straight) lies that far (the gap) from the surface point it stood for: the flat element
+  // misses the surface by the gap at the edge and meets it at the opposite corner, so it is
+  // tilted against the surface by about gap / width across that edge, a geometric error that
+  // the kinks between elements need not show.
+  if (!mesh.straightened_gap.empty()) {
+    for (std::size_t t = 0; t < nt; ++t) {
+      if (!share.computes(t)) continue;
+      for (int k = 0; k < 3; ++k)
+        tilt[t] = std::max(tilt[t], mesh.straightened_gap[static_cast<std::size_t>(mesh.edge_nodes[t][k])] / scale[t].across[k]);
     }
   }
   // Neumann edges: the flux misfit along the curved edge (the edges the solver takes as
@@ -368,12 +397,12 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
         const double misfit = (problem.neumann_flux ? problem.neumann_flux(mesh.lift(p.x)) : 0.0) - p.flux;
         integral += w * p.speed * misfit * misfit;
       }
-      eta2[t] += distance(pa, pb) * integral;
+      eta2[t] += scale[t].across[k] * integral;
     }
   }
   for (std::size_t t = 0; t < nt; ++t) {
     if (!share.computes(t)) continue;
-    geometric[t] = delta[t] / h[t] * std::sqrt(energy[t]);
+    geometric[t] = std::max(delta[t] / scale[t].longest, tilt[t]) * std::sqrt(energy[t]);
     eta2[t] += geometric[t] * geometric[t];
   }
   return finish(std::move(eta2), std::move(geometric), share);

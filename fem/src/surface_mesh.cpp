@@ -1,5 +1,6 @@
 #include "rgbmesh/fem/surface_mesh.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <unordered_map>
@@ -58,6 +59,42 @@ TriangleGeometry triangle_geometry(const Vec3& p0, const Vec3& p1, const Vec3& p
   return g;
 }
 
+double curved_jacobian_ratio(const std::array<Vec3, 6>& x) {
+  // With ξ = (λ1, λ2), the map's tangents are linear in ξ: X_ξ = a0 + a1 ξ1 + a2 ξ2 and
+  // X_η = b0 + b1 ξ1 + b2 ξ2 (from the P2 basis: corners λk (2λk - 1), edge nodes 4 λk λk+1).
+  const Vec3 a0 = -3 * x[0] - x[1] + 4 * x[3], a1 = 4 * x[0] + 4 * x[1] - 8 * x[3], a2 = 4 * x[0] - 4 * x[3] + 4 * x[4] - 4 * x[5];
+  const Vec3 b0 = -3 * x[0] - x[2] + 4 * x[5], b1 = a2, b2 = 4 * x[0] + 4 * x[2] - 8 * x[5];
+  // The flat triangle's normal N = (X1 - X0) × (X2 - X0): det D(P∘X) / det DX_A = (X_ξ × X_η)·N / |N|²,
+  // r(ξ) = c0 + c1 ξ1 + c2 ξ2 + c11 ξ1² + c12 ξ1 ξ2 + c22 ξ2².
+  const Vec3 n = cross(x[1] - x[0], x[2] - x[0]);
+  const double nn = dot(n, n);
+  if (!(nn > 0)) return 0.0;
+  const auto along = [&](const Vec3& p, const Vec3& q) { return dot(cross(p, q), n) / nn; };
+  const double c0 = along(a0, b0), c1 = along(a0, b1) + along(a1, b0), c2 = along(a0, b2) + along(a2, b0);
+  const double c11 = along(a1, b1), c12 = along(a1, b2) + along(a2, b1), c22 = along(a2, b2);
+  const auto r = [&](double s, double t) { return c0 + c1 * s + c2 * t + c11 * s * s + c12 * s * t + c22 * t * t; };
+  double lowest = std::min({r(0, 0), r(1, 0), r(0, 1)});
+  // Each edge, p + s d for s in [0, 1]: r is a quadratic A s² + B s + C there; its vertex.
+  const auto edge = [&](double px, double py, double dx, double dy) {
+    const double a = c11 * dx * dx + c12 * dx * dy + c22 * dy * dy;
+    const double b = c1 * dx + c2 * dy + 2 * c11 * px * dx + c12 * (px * dy + py * dx) + 2 * c22 * py * dy;
+    if (a != 0) {
+      const double s = -b / (2 * a);
+      if (s > 0 && s < 1) lowest = std::min(lowest, r(px + s * dx, py + s * dy));
+    }
+  };
+  edge(0, 0, 1, 0);
+  edge(0, 0, 0, 1);
+  edge(1, 0, -1, 1);
+  // The interior critical point, where ∇r = 0, if it lies inside.
+  const double det = 4 * c11 * c22 - c12 * c12;
+  if (det != 0) {
+    const double s = (-2 * c22 * c1 + c12 * c2) / det, t = (-2 * c11 * c2 + c12 * c1) / det;
+    if (s > 0 && t > 0 && s + t < 1) lowest = std::min(lowest, r(s, t));
+  }
+  return lowest;
+}
+
 const std::array<QuadraturePoint, 7>& triangle_quadrature() {
   // Radon's 7-point rule: the centroid and two orbits of three points.
   static const std::array<QuadraturePoint, 7> rule = [] {
@@ -99,6 +136,71 @@ void find_triangles_again(SurfaceMesh& s, const RgbMesh& mesh) {
   }
 }
 
+std::array<Vec3, 6> element_nodes(const SurfaceMesh& s, std::size_t t) {
+  const auto& c = s.triangles[t];
+  const auto& e = s.edge_nodes[t];
+  return {s.points[c[0]], s.points[c[1]], s.points[c[2]], s.points[e[0]], s.points[e[1]], s.points[e[2]]};
+}
+
+// P2 elements that fold over (curved_jacobian_ratio below kMinCurvedJacobian) get straight
+// edges: their edge nodes move to the chords' midpoints, which makes them affine, hence valid.
+// Why: an element's six nodes lie on the surface, but where the surface turns or slides
+// sideways by more than the element's width between them (coarse or long, thin triangles
+// across curved parts of CAD meshes; Loop's limit positions of an irregular base), the
+// quadratic through them folds. On a folded element the stiffness integrates a doubled, partly
+// inverted area and the residual estimator's Laplace-Beltrami term, which divides by the area
+// element, takes any value up to 10^9 times its neighbours' (an adaptive run then marks that
+// one element every cycle and stalls). An element that cannot be curved validly is better
+// left flat, as a P1 geometry, and refined if its error says so: its children are curved again
+// (every cycle builds the elements anew), and where the surface is smooth the sideways slide
+// of a node falls as h² against a width h, so they pass (not next to an extraordinary vertex,
+// where Loop's parametrization is the same at every level). The distance from a moved node to the
+// surface point it stood for is kept (straightened_gap) for the estimator's geometric term.
+// A moved node changes the element on the edge's other side, which is checked again: rounds
+// until none folds (each round judges every element before moving any node, so the result does
+// not depend on the order of the triangles; each round straightens at least one more edge, and
+// affine elements always pass, so it ends). Where Loop's parametrization slides sideways over
+// a region (around vertices of high valence, CAD fans), straightening one edge can fold the
+// next element, so the rounds run as chains (measured up to 21 rounds on CGAL's joint.off, 17
+// on rotor.off). A distributed run builds each process's view the same way; a chain that
+// crossed a view's exact ghost layers could place an interface node differently on two
+// processes (the distributed tests run on the sphere, where nothing folds).
+void straighten_folded_elements(SurfaceMesh& s) {
+  const std::size_t nv = s.vertex.size(), nt = s.triangles.size();
+  std::vector<std::array<std::int32_t, 2>> sides(s.num_dofs() - nv, {-1, -1});  // edge node -> its triangles
+  for (std::size_t t = 0; t < nt; ++t)
+    for (const std::int32_t e : s.edge_nodes[t]) {
+      auto& side = sides[static_cast<std::size_t>(e) - nv];
+      side[side[0] < 0 ? 0 : 1] = static_cast<std::int32_t>(t);
+    }
+  std::vector<std::size_t> check(nt);
+  for (std::size_t t = 0; t < nt; ++t) check[t] = t;
+  std::vector<char> straight(s.num_dofs() - nv, 0);
+  while (!check.empty()) {
+    std::vector<std::size_t> folded;
+    for (const std::size_t t : check)
+      if (curved_jacobian_ratio(element_nodes(s, t)) < kMinCurvedJacobian) folded.push_back(t);
+    std::vector<std::size_t> next;
+    for (const std::size_t t : folded) {
+      for (int k = 0; k < 3; ++k) {
+        const std::int32_t node = s.edge_nodes[t][k];
+        const std::size_t e = static_cast<std::size_t>(node) - nv;
+        if (straight[e]) continue;
+        straight[e] = 1;
+        const Vec3 middle = 0.5 * (s.points[s.triangles[t][k]] + s.points[s.triangles[t][(k + 1) % 3]]);
+        if (s.straightened_gap.empty()) s.straightened_gap.assign(s.num_dofs(), 0.0);
+        s.straightened_gap[static_cast<std::size_t>(node)] = distance(s.points[node], middle);
+        s.points[node] = middle;
+        for (const std::int32_t other : sides[e])
+          if (other >= 0 && static_cast<std::size_t>(other) != t) next.push_back(static_cast<std::size_t>(other));
+      }
+    }
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+    check = std::move(next);
+  }
+}
+
 // P2: one node per edge, numbered after the vertices in the order the triangles meet the
 // edges. With a projection, at the projection of the edge's midpoint; on the Loop limit surface,
 // at the limit position of the vertex that splitting the edge would insert (RgbMesh::
@@ -135,6 +237,7 @@ void add_edge_nodes(SurfaceMesh& s, RgbMesh& mesh) {
     else
       s.points.push_back(std::isfinite(limits[i].x) ? limits[i] : middle);
   }
+  straighten_folded_elements(s);
   // A boundary edge is edge k of its triangle where its ends are corners k and k+1.
   for (SurfaceMesh::BoundaryEdge& e : s.boundary_edges)
     for (int k = 0; k < 3; ++k)

@@ -45,6 +45,11 @@ struct SurfaceMesh {
   };
   std::vector<BoundaryEdge> boundary_edges;
   std::optional<Projection> projection;  ///< set in exact-geometry mode
+  /// P2: per DOF, how far an edge node that build_surface_mesh moved to its chord's midpoint
+  /// (to keep an element from folding: kMinCurvedJacobian) lies from the surface point it stood
+  /// for; 0 for every other DOF. Empty when no node was moved. The residual estimator counts
+  /// this gap as distance between the discrete and the exact surface.
+  std::vector<double> straightened_gap;
 
   std::size_t num_dofs() const { return points.size(); }
   /// The point of the surface that x on the flat triangles stands for.
@@ -73,6 +78,26 @@ struct SurfaceMesh {
 /// was), so that all six nodes lie on the Loop limit surface; a red edge (no subdivision vertex
 /// splits it) gets the midpoint of its ends.
 SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projection = std::nullopt, int order = 1);
+
+/// The smallest Jacobian, relative to that of its flat triangle, that build_surface_mesh
+/// accepts for a curved P2 element (curved_jacobian_ratio). Below it the quadratic map through
+/// the six nodes folds over, or nearly: its area element vanishes inside the element, the
+/// metric's inverse blows up there and with it the element's stiffness and its Laplace-Beltrami
+/// residual (measured on CGAL's boeing.off: 357 of 2,564 elements folded, residuals 10^9 times
+/// their neighbours'). Such an element gets straight edges instead (see build_surface_mesh).
+/// 1/4 keeps the projected area element within a factor 4 of the flat triangle's. Irregular
+/// base meshes have such elements too: 56 of the cow's 5,804 fold, 547 fall below 1/4 (1,307
+/// of its 8,706 edges are straightened); the sphere's meshes have none.
+inline constexpr double kMinCurvedJacobian = 0.25;
+
+/// The smallest value over a curved P2 triangle (six nodes: the corners, then the nodes of
+/// edges 0-1, 1-2, 2-0) of det D(P∘X) / det DX_A: the Jacobian of the element's quadratic map X
+/// projected onto the plane of its corners (P), relative to the affine map X_A through the
+/// corners alone; 1 for straight edges. Exact: the Jacobian is a quadratic polynomial on the
+/// reference triangle, minimized over its corners, its edges and its interior. Negative where
+/// the element folds over its flat triangle (not a graph over it), 0 where it is degenerate.
+/// This is the "scaled Jacobian" by which high-order meshers judge curved elements valid.
+double curved_jacobian_ratio(const std::array<Vec3, 6>& nodes);
 
 /// Geometry of one flat triangle: area, unit normal and the (constant) gradients of its three
 /// barycentric coordinates.
