@@ -5,8 +5,9 @@
 # cycle to the next, the smallest growth of the unknowns from one cycle to the next after the
 # first three (a stalled run adds a few triangles per cycle: 1.00), and the log-log slope of the
 # estimate against the unknowns (least squares over the cycles after the first three; an
-# adaptive P2 run that works falls at about -1, P1 at about -1/2). A mesh whose first mesh
-# already has more unknowns than --max-dofs is refused by the tool (exit 2): its row says so.
+# adaptive P2 run that works falls at about -1, P1 at about -1/2), and the slope between the fifth
+# last cycle and the last (the asymptotic rate). A mesh whose first mesh already has more
+# unknowns than --max-dofs is refused by the tool (exit 2): its row says so.
 # Not part of the test command: a sweep takes half an hour.
 #
 # Usage: bench/p2_cad_sweep.sh MESH_DIR [BUILD_DIR] [ORDERS] [MESH ...]
@@ -34,8 +35,8 @@ meshes=("$@")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-echo "| mesh | order | cycles | final unknowns | stopped | rises | min growth | slope (cycles 3..) |"
-echo "| --- | ---: | ---: | ---: | --- | ---: | ---: | ---: |"
+echo "| mesh | order | cycles | final unknowns | stopped | rises | min growth | slope (cycles 3..) | slope (last 5) |"
+echo "| --- | ---: | ---: | ---: | --- | ---: | ---: | ---: | ---: |"
 for m in "${meshes[@]}"; do
   for order in $orders; do
     out="$work/run"
@@ -44,7 +45,7 @@ for m in "${meshes[@]}"; do
       --cycles "${CYCLES:-20}" --out "$out" > "$work/stdout" 2> "$work/stderr" || code=$?
     if [ "$code" -ne 0 ]; then
       why=$(grep -m1 -i "error" "$work/stderr" | sed 's/^rgbmesh: error: //; s/;.*//; s/|/\\|/g')
-      echo "| $m | $order | 0 | – | exit $code: $why | – | – | – |"
+      echo "| $m | $order | 0 | – | exit $code: $why | – | – | – | – |"
       continue
     fi
     python3 - "$out/report.json" "$m" "$order" <<'PY'
@@ -62,8 +63,13 @@ if len(fit) >= 2 and max(x for x, _ in fit) > min(x for x, _ in fit):
     mx = sum(x for x, _ in fit) / len(fit)
     my = sum(y for _, y in fit) / len(fit)
     slope = "%.2f" % (sum((x - mx) * (y - my) for x, y in fit) / sum((x - mx) ** 2 for x, _ in fit))
-print("| %s | %s | %d | %d | %s | %d | %s | %s |" % (sys.argv[2], sys.argv[3], len(cycles), n[-1], report["stopped"], rises, least,
-                                                    slope))
+# The last five cycles alone: the asymptotic rate, once the first cycles' local features (the
+# source's peak, straightened elements) are resolved.
+last = "–"
+if len(n) >= 8 and n[-1] > n[-5] and e[-5] > 0 and e[-1] > 0:
+    last = "%.2f" % (math.log(e[-1] / e[-5]) / math.log(n[-1] / n[-5]))
+print("| %s | %s | %d | %d | %s | %d | %s | %s | %s |" % (sys.argv[2], sys.argv[3], len(cycles), n[-1], report["stopped"], rises,
+                                                         least, slope, last))
 PY
   done
 done
