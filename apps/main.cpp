@@ -79,6 +79,15 @@ void check_output_path(const std::string& out) {
     throw OutputError(out + ": cannot write: the folder " + dir.string() + " does not exist");
 }
 
+// A CLI11 check that a path option names something: an empty value (an unset shell variable,
+// `--resume "$RUN"`) would otherwise be taken as "not given" and, for --resume, start a new run
+// over the folder's previous one.
+const CLI::Validator kNonEmptyPath(
+    [](std::string& value) -> std::string {
+      return value.empty() ? "must name a file or folder, got an empty string (an unset shell variable?)" : "";
+    },
+    "");
+
 // A CLI11 check that the option's value is a number accepted by `ok`; the message names what
 // is expected and what was given ("--theta: must be a number in (0, 1], got 0").
 CLI::Validator number_in(const std::string& what, bool (*ok)(double)) {
@@ -298,7 +307,8 @@ int main(int argc, char** argv) {
   auto* global_out_option =
       app.add_option("--out", global_out,
                      "Output directory of the default job, and of adapt and fit when given before the subcommand")
-          ->capture_default_str();
+          ->capture_default_str()
+          ->check(kNonEmptyPath);
 
   const std::string repair_help =
       "Repair the mesh first: merge vertices at equal positions, collapse degenerate and needle triangles, remove "
@@ -444,15 +454,18 @@ int main(int argc, char** argv) {
   adapt_cmd->add_option("--width", adapt_args.width, "gaussian: the source's width sigma [default: diagonal / 20]")
       ->check(number_in("a finite number > 0", [](double x) { return x > 0 && std::isfinite(x); }));
   adapt_cmd->add_option("--solver", adapt_args.solver, "auto, ldlt, cg, cholmod or amg (CG with algebraic multigrid: hypre BoomerAMG through PETSc)")->capture_default_str();
-  auto* adapt_out = adapt_cmd->add_option("--out", adapt_args.out, "Output directory")->capture_default_str();
+  auto* adapt_out =
+      adapt_cmd->add_option("--out", adapt_args.out, "Output directory")->capture_default_str()->check(kNonEmptyPath);
   add_compression(adapt_cmd);
   adapt_cmd->add_option("--report", adapt_args.report,
                         "Also write the JSON report (settings, cycles, why the run stopped; always written as "
-                        "DIR/report.json) to this file, after every cycle");
+                        "DIR/report.json) to this file, after every cycle")
+      ->check(kNonEmptyPath);
   adapt_cmd->add_option("--resume", adapt_args.resume,
                         "Continue the run in this folder from its last cycle, with its settings (--cycles and "
                         "--max-dofs may extend it)")
-      ->type_name("DIR");
+      ->type_name("DIR")
+      ->check(kNonEmptyPath);
 
   // fit
   auto* fit_cmd = app.add_subcommand(
@@ -494,8 +507,9 @@ int main(int argc, char** argv) {
   fit_cmd->add_option("--iterations", fit_args.iterations, "Maximum outer iterations")
       ->capture_default_str()
       ->check(number_in("an integer in [1, 1000]", [](double x) { return x >= 1 && x <= 1000; }));
-  auto* fit_out = fit_cmd->add_option("--out", fit_args.out, "Output directory")->capture_default_str();
-  fit_cmd->add_option("--report", fit_args.report, "Write a JSON report to this file");
+  auto* fit_out =
+      fit_cmd->add_option("--out", fit_args.out, "Output directory")->capture_default_str()->check(kNonEmptyPath);
+  fit_cmd->add_option("--report", fit_args.report, "Write a JSON report to this file")->check(kNonEmptyPath);
   add_compression(fit_cmd);
 
   try {

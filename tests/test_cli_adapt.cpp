@@ -7,10 +7,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <set>
 #include <thread>
+#include <vector>
 
 #include "cli_fixture.hpp"
 #include "public_data.hpp"
@@ -135,6 +137,21 @@ TEST_F(Cli, MovingPeakObeysEveryOption) {
   ASSERT_EQ(sizes.size(), 25u);
   const auto [lo, hi] = std::minmax_element(sizes.begin() + 5, sizes.end());
   EXPECT_LT(*hi / *lo, 1.3) << "triangles between " << *lo << " and " << *hi;
+}
+
+TEST_F(Cli, EmptyPathsAreRefusedNotIgnored) {
+  // An empty value (an unset shell variable) was taken as "not given": --report "" wrote no
+  // report without a word, --out "" failed to write (exit 1) after solving.
+  for (const std::string& args : std::vector<std::string>{"adapt --report \"\" --out " + path("a"), "adapt --out \"\"", "--out \"\" adapt",
+                                  "fit --target cloud.xyz --report \"\" --out " + path("f"),
+                                  "fit --target cloud.xyz --out \"\""}) {
+    const RunResult r = run(args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("must name a file or folder, got an empty string"), std::string::npos) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(path("a"))) << args << ": nothing is solved or written";
+    EXPECT_FALSE(fs::exists(path("f"))) << args;
+  }
 }
 
 TEST_F(Cli, OptionsThatDoNotApplyOrAreOutOfRangeAreRefused) {

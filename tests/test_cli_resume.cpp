@@ -156,6 +156,9 @@ TEST_F(Resume, ConflictingOptionsAndDamagedFoldersAreRefused) {
   refused(dir + " --cycles 5 --out " + path("elsewhere"), "--out");
   refused(dir, "has done 3 cycles");
   refused(path("nowhere") + " --cycles 5", "no such folder");
+  // An unset shell variable (--resume "$RUN") is no folder either: it used to start a new run
+  // in the default folder, over whatever run was there.
+  refused("\"\" --cycles 5 --out " + dir, "--resume: must name a file or folder, got an empty string");
   EXPECT_EQ(read_text(dir + "/report.json"), report) << "refusals write nothing";
   // The same value as the run's is no conflict.
   ASSERT_EQ(run("adapt --resume " + dir + " --cycles 4 --theta 0.4").code, 0);
