@@ -29,6 +29,7 @@
 #include "processes.hpp"
 #include "fit_command.hpp"
 #include "json.hpp"
+#include "one_line.hpp"
 #include "rgbmesh/fit/base.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
@@ -61,7 +62,7 @@ double peak_rss_mb() {
 // first when asked.
 RgbMesh load_mesh(const std::string& path, bool triangulate, bool repair) {
   RgbMeshFile file = read_rgb_mesh(path, repair::soup_options(triangulate, repair));
-  for (const auto& note : file.notes) std::cerr << "rgbmesh: note: " << path << ": " << note << "\n";
+  for (const auto& note : file.notes) std::cerr << "rgbmesh: note: " << one_line(path + ": " + note) << "\n";
   return std::move(file.mesh);
 }
 
@@ -182,7 +183,7 @@ std::optional<PointCloud> point_cloud_instead(const std::string& path) {
 }
 
 void print_point_cloud(const std::string& name, const PointCloud& cloud, bool json) {
-  for (const auto& note : cloud.notes) std::cerr << "rgbmesh: note: " << note << "\n";
+  for (const auto& note : cloud.notes) std::cerr << "rgbmesh: note: " << one_line(note) << "\n";
   Vec3 lo = cloud.points.front(), hi = lo;
   for (const Vec3& p : cloud.points) {
     lo = Vec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
@@ -270,6 +271,12 @@ int main(int argc, char** argv) {
   // threshold after the first such free, after which freed blocks stay in the heap and count
   // in the resident size.
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  // A library loaded with the tool (SuperLU_DIST, through PETSc) switches mappings off
+  // (M_MMAP_MAX 0) and heap trimming too before main runs: every block then came from the
+  // heap and stayed resident once freed, and a refinement that passed --memory-limit 600M by
+  // a quarter held a grown queue's old 200 MB block. glibc's defaults again.
+  mallopt(M_MMAP_MAX, 65536);
+  mallopt(M_TRIM_THRESHOLD, 128 * 1024);
 #endif
   remove_temporaries_on_signals();
   const Processes processes = start_processes(&argc, &argv);
@@ -516,7 +523,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    std::cerr << "rgbmesh: error: " << e.what() << " (see --help)\n";
+    std::cerr << "rgbmesh: error: " << one_line(e.what()) << " (see --help)\n";
     return 2;
   }
   // Global options work wherever they stand: `rgbmesh --out D adapt` is `rgbmesh adapt --out D`.
@@ -558,11 +565,12 @@ int main(int argc, char** argv) {
 
   // A failure: one line (rank 0 speaks for the run), and on several processes, an end for all.
   const auto fail = [&processes](int code, const std::string& message) {
-    std::cerr << "rgbmesh: " << message << "\n";
+    std::cerr << "rgbmesh: " << one_line(message) << "\n";
     return finish(processes, code, message);
   };
   try {
     const MemoryCeiling ceiling = MemoryCeiling::from_option(memory_limit);
+    if (!ceiling.note().empty()) std::cerr << "rgbmesh: note: " << one_line(ceiling.note()) << "\n";
     adapt_args.memory_limit = memory_limit;
     fit_args.memory_limit = memory_limit;
     // Only adapt runs on several processes; any other command is rank 0's alone.
