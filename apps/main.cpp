@@ -331,7 +331,8 @@ int main(int argc, char** argv) {
   info->add_option("MESH", info_path,
                    "Input mesh (" + supported_input_extensions() +
                        "), or a point cloud (.xyz, .pwn, a file without faces)")
-      ->required();
+      ->required()
+      ->check(kNonEmptyPath);
   info->add_flag("--json", info_json, "Print one JSON object instead of text");
   info->add_flag("--triangulate", info_triangulate, "Fan-split polygons with more than three vertices");
   info->add_flag("--repair", info_repair, repair_help);
@@ -340,8 +341,12 @@ int main(int argc, char** argv) {
   auto* convert = app.add_subcommand("convert", "Convert a mesh between formats (checked like any input)");
   std::string convert_in, convert_out;
   bool convert_triangulate = false, convert_repair = false;
-  convert->add_option("IN", convert_in, "Input mesh (" + supported_input_extensions() + ")")->required();
-  convert->add_option("OUT", convert_out, "Output mesh (" + supported_output_extensions() + ")")->required();
+  convert->add_option("IN", convert_in, "Input mesh (" + supported_input_extensions() + ")")
+      ->required()
+      ->check(kNonEmptyPath);
+  convert->add_option("OUT", convert_out, "Output mesh (" + supported_output_extensions() + ")")
+      ->required()
+      ->check(kNonEmptyPath);
   convert->add_flag("--triangulate", convert_triangulate, "Fan-split polygons with more than three vertices");
   convert->add_flag("--repair", convert_repair, repair_help);
   add_compression(convert);
@@ -353,8 +358,11 @@ int main(int argc, char** argv) {
                          "Stages may repeat; --max-level caps the stages after it.");
   std::string refine_in, refine_out;
   bool refine_stats = false, refine_triangulate = false, refine_limit = false, refine_repair = false;
-  refine->add_option("IN", refine_in, "Input (base) mesh (" + supported_input_extensions() + ")")->required();
+  refine->add_option("IN", refine_in, "Input (base) mesh (" + supported_input_extensions() + ")")
+      ->required()
+      ->check(kNonEmptyPath);
   refine->add_option("OUT", refine_out, "Output mesh (" + supported_output_extensions() + "), or - for none")
+      ->check(kNonEmptyPath)
       ->required();
   std::vector<std::string> uniform_v, ball_v, max_edge_v, geometric_tol_v, budget_v, max_level_v, walk_v;
   struct StageOption {
@@ -409,7 +417,8 @@ int main(int argc, char** argv) {
       "distributes the mesh (each process holds its part); --min-level K sets the floor whose units\n"
       "they share.");
   AdaptArgs adapt_args;
-  adapt_cmd->add_option("--mesh", adapt_args.mesh, "Base mesh (default: an embedded icosahedron)");
+  // (Empty is refused: an unset shell variable would silently give the icosahedron.)
+  adapt_cmd->add_option("--mesh", adapt_args.mesh, "Base mesh (default: an embedded icosahedron)")->check(kNonEmptyPath);
   adapt_cmd->add_flag("--triangulate", adapt_args.triangulate, "Fan-split the mesh's polygons with more than three vertices");
   adapt_cmd->add_flag("--repair", adapt_args.repair, repair_help);
   adapt_cmd->add_option("--problem", adapt_args.problem,
@@ -484,8 +493,10 @@ int main(int argc, char** argv) {
       ->add_option("--target", fit_args.target,
                    "Target points: a point cloud (" + supported_point_cloud_extensions() +
                        ", or a mesh format without faces) or a mesh (its vertices)")
-      ->required();
-  auto* fit_base = fit_cmd->add_option("--base", fit_args.base, "Base mesh (its points are the starting controls)");
+      ->required()
+      ->check(kNonEmptyPath);
+  auto* fit_base = fit_cmd->add_option("--base", fit_args.base, "Base mesh (its points are the starting controls)")
+                       ->check(kNonEmptyPath);
   fit_cmd
       ->add_option("--base-faces", fit_args.base_faces,
                    "Without --base: triangles of the base built from the target (decimated, or reconstructed from a "

@@ -71,7 +71,17 @@ RunLock::RunLock(const fs::path& dir) : file_(dir / kRunLockFile) {
       const int error = errno;
       const long holder = error == EWOULDBLOCK ? holder_of_busy_lock(fd_) : 0;
       ::close(fd_);
+      fd_ = -1;
       if (error == EWOULDBLOCK) busy(dir, holder);
+      if (error == ENOLCK || error == EOPNOTSUPP) {
+        // A file system without locks (some network mounts): the run goes ahead unguarded
+        // rather than not at all.
+        ::unlink(file_.c_str());
+        std::cerr << "rgbmesh: note: " << one_line(dir.string())
+                  << ": cannot lock the run folder (the file system has no locks): a second run into it would not "
+                     "be refused\n";
+        return;
+      }
       cannot_lock(dir, std::strerror(error));
     }
     if (still_linked(fd_, file_)) break;
@@ -96,6 +106,7 @@ RunLock::RunLock(const fs::path& dir) : file_(dir / kRunLockFile) {
 }
 
 RunLock::~RunLock() {
+  if (fd_ < 0) return;  // unguarded (no locks on the file system)
   forget_on_signals(signal_registration_);
   // Removed while still locked: a run that opens the file now finds it gone once it holds
   // the lock (still_linked), and starts over with a new one.

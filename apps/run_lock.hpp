@@ -20,7 +20,8 @@ class RunLock {
  public:
   // Locks the folder `dir`, which must exist. InputError (exit code 2: the run is refused,
   // nothing is written) naming the process that holds it; OutputError when the lock file
-  // cannot be created (an unwritable folder).
+  // cannot be created (an unwritable folder). On a file system without locks: a note, and
+  // the run goes ahead unguarded.
   explicit RunLock(const std::filesystem::path& dir);
   ~RunLock();
   RunLock(const RunLock&) = delete;

@@ -1,7 +1,7 @@
 // Runs and their folders, where a user could lose work (issue 24): two runs on one folder
 // (the second is refused, naming the first's process; a killed run's lock is taken over), a
 // run that fails while writing (its report says so), paths that would break a message in
-// two, and a --memory-limit above what the machine has.
+// two or are empty, and a --memory-limit above what the machine has.
 
 #include <fcntl.h>
 #include <signal.h>
@@ -169,6 +169,23 @@ TEST_F(Cli, APathWithANewlineGivesOneLine) {
   const RunResult r = run("adapt --cycles 1 --out \"" + odd + "\"");
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(fs::exists(odd + "/cycle_000.vtp"));
+}
+
+TEST_F(Cli, EveryPathRefusesAnEmptyValue) {
+  // An unset shell variable: adapt --mesh "" ran the embedded icosahedron and fit --base ""
+  // built a base of its own, without a word; the others named a format ''.
+  const std::string octa = write_octahedron("octa.off");
+  for (const std::string& args :
+       {"adapt --mesh \"\" --cycles 1 --out " + path("a"), "fit --target " + octa + " --base \"\" --out " + path("f"),
+        "fit --target \"\" --out " + path("f"), std::string("info \"\""), "convert \"\" " + path("x.obj"),
+        "convert " + octa + " \"\"", "refine \"\" " + path("x.obj") + " --uniform 1",
+        "refine " + octa + " \"\" --uniform 1"}) {
+    const RunResult r = run(args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("must name a file or folder, got an empty string"), std::string::npos) << args << ": " << r.err;
+    EXPECT_FALSE(fs::exists(path("a")) || fs::exists(path("f")) || fs::exists(path("x.obj"))) << args;
+  }
 }
 
 TEST_F(Cli, AMemoryLimitAboveTheMachinesIsCappedWithANote) {
