@@ -16,6 +16,7 @@
 
 #include "json.hpp"
 #include "json_read.hpp"
+#include "one_line.hpp"
 #include "output_dir.hpp"
 #include "resources.hpp"
 #include "rgbmesh/errors.hpp"
@@ -25,6 +26,7 @@
 #include "rgbmesh/repair/repair.hpp"
 #include "rgbmesh/shapes.hpp"
 #include "rgbmesh/vtk_io.hpp"
+#include "run_lock.hpp"
 #include "write_progress.hpp"
 
 #ifndef RGBMESH_VERSION
@@ -549,6 +551,11 @@ bool is_vtk_xml(const std::string& path) {
 }  // namespace
 
 int run_adapt(const AdaptArgs& args) {
+  // One run per folder (run_lock.hpp). A resumed run's folder is locked before its report is
+  // read (a run still writing it is refused); a missing one is read_prior_run's to refuse.
+  std::optional<RunLock> lock;
+  std::error_code ec;
+  if (args.writes && !args.resume.empty() && fs::is_directory(args.resume, ec)) lock.emplace(args.resume);
   // Resuming: the run folder's settings and last mesh.
   std::optional<PriorRun> prior;
   if (!args.resume.empty()) prior = read_prior_run(args.resume);
@@ -563,12 +570,12 @@ int run_adapt(const AdaptArgs& args) {
     base = base_of(mesh);
   } else if (is_vtk_xml(a.mesh)) {
     RgbMeshFile file = read_rgb_mesh(a.mesh, read_options);
-    for (const auto& note : file.notes) std::cerr << "rgbmesh: note: " << a.mesh << ": " << note << "\n";
+    for (const auto& note : file.notes) std::cerr << "rgbmesh: note: " << one_line(a.mesh + ": " + note) << "\n";
     mesh = std::move(file.mesh);
     base = base_of(mesh);
   } else {
     base = a.mesh.empty() ? icosahedron() : read_mesh(a.mesh, read_options);
-    for (const auto& note : base.notes) std::cerr << "rgbmesh: note: " << a.mesh << ": " << note << "\n";
+    for (const auto& note : base.notes) std::cerr << "rgbmesh: note: " << one_line(a.mesh + ": " + note) << "\n";
   }
   Settings s = settle(a, base);
   if (prior) {
@@ -612,7 +619,13 @@ int run_adapt(const AdaptArgs& args) {
   // Output: the folder, the per-cycle files, the series and the report after every cycle.
   // A resumed run keeps its folder, series and report, and goes on with them.
   const fs::path dir(a.out);
-  if (!prior && a.writes) prepare_output_directory(dir);
+  if (!prior && a.writes) {
+    // A new run's folder is locked once every setting is checked (a refused run creates no
+    // folder), before the previous run's files are removed.
+    create_output_directory(dir);
+    lock.emplace(dir);
+    prepare_output_directory(dir);
+  }
   std::vector<std::pair<double, std::string>> series;
   adapt::AdaptRun progress;  // what has been computed so far, for the report
   std::vector<std::string> resumed;
@@ -722,34 +735,52 @@ int run_adapt(const AdaptArgs& args) {
               << (r.error_h1 ? number(*r.error_h1, "%12.4e") : std::string(12, ' ')) << number(r.seconds, "%9.3f")
               << std::endl;
   };
+  // A failure while the run works (a full disk, the memory) would leave the last report
+  // saying "running": it says "failed" and why, where the report can still be written (a
+  // failed large write has removed its temporary). The error goes on to the caller.
+  const auto report_failure = [&](const std::string& why) {
+    try {
+      write_report(report_json("failed", "error", why));
+    } catch (const std::exception&) {
+    }
+  };
   adapt::AdaptRun run;
-  if (s.moving) {
-    s.dynamic.on_started = [&](const std::vector<adapt::CycleReport>& start, double target) {
-      progress.start = start;
-      progress.target_estimate = target;
-      std::cout << "  (adapted to the start in " << start.size() << " cycles: " << start.back().dofs
-                << " unknowns, estimate " << number(start.back().estimate, "%.4e");
-      if (s.options.marking == adapt::Marking::equidistribution)
-        std::cout << "; every step keeps each triangle's indicator below " << number(target, "%.4e")
-                  << " / sqrt(triangles)";
-      std::cout << ")\n";
-    };
-    run = adapt::run_dynamic(
-        mesh, [](double t) { return adapt::moving_peak(t); }, s.options, s.dynamic, on_cycle);
-  } else {
-    run = adapt::run_cycles(mesh, problem, s.options, on_cycle);
+  std::string message;
+  try {
+    if (s.moving) {
+      s.dynamic.on_started = [&](const std::vector<adapt::CycleReport>& start, double target) {
+        progress.start = start;
+        progress.target_estimate = target;
+        std::cout << "  (adapted to the start in " << start.size() << " cycles: " << start.back().dofs
+                  << " unknowns, estimate " << number(start.back().estimate, "%.4e");
+        if (s.options.marking == adapt::Marking::equidistribution)
+          std::cout << "; every step keeps each triangle's indicator below " << number(target, "%.4e")
+                    << " / sqrt(triangles)";
+        std::cout << ")\n";
+      };
+      run = adapt::run_dynamic(
+          mesh, [](double t) { return adapt::moving_peak(t); }, s.options, s.dynamic, on_cycle);
+    } else {
+      run = adapt::run_cycles(mesh, problem, s.options, on_cycle);
+    }
+    if (prior) {  // the report lists every cycle of the run
+      run.cycles.insert(run.cycles.begin(), prior->done.cycles.begin(), prior->done.cycles.end());
+      run.start = prior->done.start;
+      run.target_estimate = prior->done.target_estimate;
+    }
+    // (The times of writing each cycle are the tool's own: measured above.)
+    for (std::size_t i = 0; i < run.cycles.size() && i < progress.cycles.size(); ++i)
+      run.cycles[i].output_seconds = progress.cycles[i].output_seconds;
+    progress = run;
+    message = stop_message(run.stopped, s, a, run);
+    write_report(report_json("finished", adapt::to_string(run.stopped), message));
+  } catch (const std::bad_alloc&) {
+    report_failure("out of memory");
+    throw;
+  } catch (const std::exception& e) {
+    report_failure(e.what());
+    throw;
   }
-  if (prior) {  // the report lists every cycle of the run
-    run.cycles.insert(run.cycles.begin(), prior->done.cycles.begin(), prior->done.cycles.end());
-    run.start = prior->done.start;
-    run.target_estimate = prior->done.target_estimate;
-  }
-  // (The times of writing each cycle are the tool's own: measured above.)
-  for (std::size_t i = 0; i < run.cycles.size() && i < progress.cycles.size(); ++i)
-    run.cycles[i].output_seconds = progress.cycles[i].output_seconds;
-  progress = run;
-  const std::string message = stop_message(run.stopped, s, a, run);
-  write_report(report_json("finished", adapt::to_string(run.stopped), message));
   if (a.processes > 1) {
     double sent = 0;
     for (const auto& r : run.cycles) sent += static_cast<double>(r.bytes_sent);

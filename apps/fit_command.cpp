@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "json.hpp"
+#include "one_line.hpp"
 #include "output_dir.hpp"
 #include "resources.hpp"
 #include "rgbmesh/fit/base.hpp"
@@ -18,6 +19,7 @@
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/repair/repair.hpp"
 #include "rgbmesh/vtk_io.hpp"
+#include "run_lock.hpp"
 #include "write_progress.hpp"
 
 namespace rgbmesh::cli {
@@ -232,7 +234,7 @@ int run_fit(const FitArgs& a) {
   const MemoryCeiling ceiling = MemoryCeiling::from_option(a.memory_limit);
   const fit::StageControl control = stage_control(ceiling);
   const PointCloud cloud = read_point_cloud(a.target);
-  for (const std::string& note : cloud.notes) std::cerr << "rgbmesh: note: " << note << "\n";
+  for (const std::string& note : cloud.notes) std::cerr << "rgbmesh: note: " << one_line(note) << "\n";
   const std::optional<fit::Base> given = given_base(a);
   PolygonSoup soup;
   soup.points = cloud.points;
@@ -251,8 +253,8 @@ int run_fit(const FitArgs& a) {
     if (what.rfind("reconstructing", 0) == 0 || what.rfind("decimating", 0) == 0) throw;
     throw InputError(a.target + ": " + what);
   }
-  for (const std::string& note : f.target_notes) std::cerr << "rgbmesh: note: " << a.target << ": " << note << "\n";
-  for (const std::string& note : f.notes) std::cerr << "rgbmesh: note: " << note << "\n";
+  for (const std::string& note : f.target_notes) std::cerr << "rgbmesh: note: " << one_line(a.target + ": " + note) << "\n";
+  for (const std::string& note : f.notes) std::cerr << "rgbmesh: note: " << one_line(note) << "\n";
   const std::size_t notes_before_fit = f.notes.size();
   const double needed = fit::estimated_fit_bytes(f.targets.size(), f.base.mesh.triangles.size(), a.levels);
   if (needed > static_cast<double>(ceiling.headroom()))
@@ -260,6 +262,9 @@ int run_fit(const FitArgs& a) {
                         std::to_string(a.levels) + " needs about " + human_bytes(needed) + ", more than the " +
                         human_bytes(static_cast<double>(ceiling.headroom())) + " free under the memory limit of " +
                         ceiling.describe() + ": average the points first, or lower --levels or --base-faces");
+  // One run per folder (run_lock.hpp): locked before the previous run's files are removed.
+  create_output_directory(a.out);
+  const RunLock lock(a.out);
   prepare_output_directory(a.out);
 
   std::printf(
@@ -284,7 +289,7 @@ int run_fit(const FitArgs& a) {
       },
       control);
   for (std::size_t i = notes_before_fit; i < f.notes.size(); ++i)
-    std::cerr << "rgbmesh: note: " << f.notes[i] << "\n";
+    std::cerr << "rgbmesh: note: " << one_line(f.notes[i]) << "\n";
 
   write_outputs(a, f);
   const double total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -29,6 +29,7 @@
 #include "processes.hpp"
 #include "fit_command.hpp"
 #include "json.hpp"
+#include "one_line.hpp"
 #include "rgbmesh/fit/base.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
@@ -61,7 +62,7 @@ double peak_rss_mb() {
 // first when asked.
 RgbMesh load_mesh(const std::string& path, bool triangulate, bool repair) {
   RgbMeshFile file = read_rgb_mesh(path, repair::soup_options(triangulate, repair));
-  for (const auto& note : file.notes) std::cerr << "rgbmesh: note: " << path << ": " << note << "\n";
+  for (const auto& note : file.notes) std::cerr << "rgbmesh: note: " << one_line(path + ": " + note) << "\n";
   return std::move(file.mesh);
 }
 
@@ -182,7 +183,7 @@ std::optional<PointCloud> point_cloud_instead(const std::string& path) {
 }
 
 void print_point_cloud(const std::string& name, const PointCloud& cloud, bool json) {
-  for (const auto& note : cloud.notes) std::cerr << "rgbmesh: note: " << note << "\n";
+  for (const auto& note : cloud.notes) std::cerr << "rgbmesh: note: " << one_line(note) << "\n";
   Vec3 lo = cloud.points.front(), hi = lo;
   for (const Vec3& p : cloud.points) {
     lo = Vec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
@@ -270,6 +271,12 @@ int main(int argc, char** argv) {
   // threshold after the first such free, after which freed blocks stay in the heap and count
   // in the resident size.
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  // A library loaded with the tool (SuperLU_DIST, through PETSc) switches mappings off
+  // (M_MMAP_MAX 0) and heap trimming too before main runs: every block then came from the
+  // heap and stayed resident once freed, and a refinement that passed --memory-limit 600M by
+  // a quarter held a grown queue's old 200 MB block. glibc's defaults again.
+  mallopt(M_MMAP_MAX, 65536);
+  mallopt(M_TRIM_THRESHOLD, 128 * 1024);
 #endif
   remove_temporaries_on_signals();
   const Processes processes = start_processes(&argc, &argv);
@@ -324,7 +331,8 @@ int main(int argc, char** argv) {
   info->add_option("MESH", info_path,
                    "Input mesh (" + supported_input_extensions() +
                        "), or a point cloud (.xyz, .pwn, a file without faces)")
-      ->required();
+      ->required()
+      ->check(kNonEmptyPath);
   info->add_flag("--json", info_json, "Print one JSON object instead of text");
   info->add_flag("--triangulate", info_triangulate, "Fan-split polygons with more than three vertices");
   info->add_flag("--repair", info_repair, repair_help);
@@ -333,8 +341,12 @@ int main(int argc, char** argv) {
   auto* convert = app.add_subcommand("convert", "Convert a mesh between formats (checked like any input)");
   std::string convert_in, convert_out;
   bool convert_triangulate = false, convert_repair = false;
-  convert->add_option("IN", convert_in, "Input mesh (" + supported_input_extensions() + ")")->required();
-  convert->add_option("OUT", convert_out, "Output mesh (" + supported_output_extensions() + ")")->required();
+  convert->add_option("IN", convert_in, "Input mesh (" + supported_input_extensions() + ")")
+      ->required()
+      ->check(kNonEmptyPath);
+  convert->add_option("OUT", convert_out, "Output mesh (" + supported_output_extensions() + ")")
+      ->required()
+      ->check(kNonEmptyPath);
   convert->add_flag("--triangulate", convert_triangulate, "Fan-split polygons with more than three vertices");
   convert->add_flag("--repair", convert_repair, repair_help);
   add_compression(convert);
@@ -346,8 +358,11 @@ int main(int argc, char** argv) {
                          "Stages may repeat; --max-level caps the stages after it.");
   std::string refine_in, refine_out;
   bool refine_stats = false, refine_triangulate = false, refine_limit = false, refine_repair = false;
-  refine->add_option("IN", refine_in, "Input (base) mesh (" + supported_input_extensions() + ")")->required();
+  refine->add_option("IN", refine_in, "Input (base) mesh (" + supported_input_extensions() + ")")
+      ->required()
+      ->check(kNonEmptyPath);
   refine->add_option("OUT", refine_out, "Output mesh (" + supported_output_extensions() + "), or - for none")
+      ->check(kNonEmptyPath)
       ->required();
   std::vector<std::string> uniform_v, ball_v, max_edge_v, geometric_tol_v, budget_v, max_level_v, walk_v;
   struct StageOption {
@@ -402,7 +417,8 @@ int main(int argc, char** argv) {
       "distributes the mesh (each process holds its part); --min-level K sets the floor whose units\n"
       "they share.");
   AdaptArgs adapt_args;
-  adapt_cmd->add_option("--mesh", adapt_args.mesh, "Base mesh (default: an embedded icosahedron)");
+  // (Empty is refused: an unset shell variable would silently give the icosahedron.)
+  adapt_cmd->add_option("--mesh", adapt_args.mesh, "Base mesh (default: an embedded icosahedron)")->check(kNonEmptyPath);
   adapt_cmd->add_flag("--triangulate", adapt_args.triangulate, "Fan-split the mesh's polygons with more than three vertices");
   adapt_cmd->add_flag("--repair", adapt_args.repair, repair_help);
   adapt_cmd->add_option("--problem", adapt_args.problem,
@@ -477,8 +493,10 @@ int main(int argc, char** argv) {
       ->add_option("--target", fit_args.target,
                    "Target points: a point cloud (" + supported_point_cloud_extensions() +
                        ", or a mesh format without faces) or a mesh (its vertices)")
-      ->required();
-  auto* fit_base = fit_cmd->add_option("--base", fit_args.base, "Base mesh (its points are the starting controls)");
+      ->required()
+      ->check(kNonEmptyPath);
+  auto* fit_base = fit_cmd->add_option("--base", fit_args.base, "Base mesh (its points are the starting controls)")
+                       ->check(kNonEmptyPath);
   fit_cmd
       ->add_option("--base-faces", fit_args.base_faces,
                    "Without --base: triangles of the base built from the target (decimated, or reconstructed from a "
@@ -516,7 +534,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
-    std::cerr << "rgbmesh: error: " << e.what() << " (see --help)\n";
+    std::cerr << "rgbmesh: error: " << one_line(e.what()) << " (see --help)\n";
     return 2;
   }
   // Global options work wherever they stand: `rgbmesh --out D adapt` is `rgbmesh adapt --out D`.
@@ -558,11 +576,12 @@ int main(int argc, char** argv) {
 
   // A failure: one line (rank 0 speaks for the run), and on several processes, an end for all.
   const auto fail = [&processes](int code, const std::string& message) {
-    std::cerr << "rgbmesh: " << message << "\n";
+    std::cerr << "rgbmesh: " << one_line(message) << "\n";
     return finish(processes, code, message);
   };
   try {
     const MemoryCeiling ceiling = MemoryCeiling::from_option(memory_limit);
+    if (!ceiling.note().empty()) std::cerr << "rgbmesh: note: " << one_line(ceiling.note()) << "\n";
     adapt_args.memory_limit = memory_limit;
     fit_args.memory_limit = memory_limit;
     // Only adapt runs on several processes; any other command is rank 0's alone.

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "one_line.hpp"
 #include "rgbmesh/errors.hpp"
 #include <system_error>
 #include <vector>
@@ -65,12 +66,17 @@ bool is_run_output(const std::string& name) {
   return false;
 }
 
-void prepare_output_directory(const fs::path& dir) {
+void create_output_directory(const fs::path& dir) {
   std::error_code ec;
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
     throw OutputError(dir.string() + ": cannot write the outputs there: it exists and is not a folder");
   fs::create_directories(dir, ec);
   if (ec) throw OutputError(dir.string() + ": cannot create the output folder: " + ec.message());
+}
+
+void prepare_output_directory(const fs::path& dir) {
+  create_output_directory(dir);
+  std::error_code ec;
   std::vector<fs::path> old;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     const std::string name = entry.path().filename().string();
@@ -83,7 +89,7 @@ void prepare_output_directory(const fs::path& dir) {
   }
   if (!old.empty())
     std::cerr << "rgbmesh: note: removed " << old.size() << " file" << (old.size() == 1 ? "" : "s")
-              << " of a previous run from " << dir.string() << "\n";
+              << " of a previous run from " << one_line(dir.string()) << "\n";
 }
 
 }  // namespace rgbmesh::cli

@@ -17,6 +17,10 @@ namespace rgbmesh::cli {
 // True for the names listed above.
 bool is_run_output(const std::string& file_name);
 
+// Creates `dir` (and its parents) if needed. OutputError naming the folder if it cannot be
+// created or is not a folder (the CLI's exit code 1).
+void create_output_directory(const std::filesystem::path& dir);
+
 // Creates `dir` (and its parents) if needed and removes the outputs of a previous run, with
 // a note on standard error saying how many. OutputError naming the folder if it cannot be
 // created or is not a folder (the CLI's exit code 1).

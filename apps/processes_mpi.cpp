@@ -1,5 +1,6 @@
 #include <iostream>
 
+#include "one_line.hpp"
 #include "processes.hpp"
 #include "rgbmesh/parallel/mpi.hpp"
 #include "rgbmesh/parallel/adaptive.hpp"
@@ -42,7 +43,7 @@ int finish(const Processes& processes, int code, const std::string& message) {
   if (parallel::every_process_stops(10.0)) return code;
   if (processes.rank != 0) {
     std::cerr.clear();
-    std::cerr << "rgbmesh (process " << processes.rank << " of " << processes.count << "): " << message << std::endl;
+    std::cerr << "rgbmesh (process " << processes.rank << " of " << processes.count << "): " << one_line(message) << std::endl;
   }
   parallel::abort_all(code);
 }

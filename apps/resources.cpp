@@ -50,6 +50,25 @@ std::size_t available_memory_bytes() {
   return static_cast<std::size_t>(available);
 }
 
+std::size_t machine_memory_bytes() {
+  double total = 0;
+  std::ifstream meminfo("/proc/meminfo");
+  for (std::string key; meminfo >> key;) {
+    double kb = 0;
+    std::string unit;
+    meminfo >> kb >> unit;
+    if (key == "MemTotal:") {
+      total = kb * 1024.0;
+      break;
+    }
+  }
+  double limit = 0;
+  if (read_number("/sys/fs/cgroup/memory.max", limit) ||
+      (read_number("/sys/fs/cgroup/memory/memory.limit_in_bytes", limit) && limit < 1e18))
+    total = total > 0 ? std::min(total, limit) : limit;
+  return static_cast<std::size_t>(total);
+}
+
 std::size_t resident_memory_bytes() {
   std::ifstream statm("/proc/self/statm");
   std::size_t pages_total = 0, pages_resident = 0;
@@ -97,8 +116,15 @@ MemoryCeiling MemoryCeiling::from_option(const std::string& text) {
                                           : -1.0;
     value *= scale;
     if (end == text.c_str() || !(scale > 0) || !(value >= 1e6) || !std::isfinite(value)) throw bad();
-    c.bytes_ = static_cast<std::size_t>(std::min(value, 9e18));
     c.origin_ = "--memory-limit";
+    const double machine = static_cast<double>(machine_memory_bytes());
+    if (machine > 0 && value > machine) {
+      c.note_ = "--memory-limit " + text + " is more than the " + human_bytes(machine) +
+                " of memory the machine has: the ceiling is " + human_bytes(machine);
+      value = machine;
+      c.origin_ = "the machine's memory; --memory-limit " + text + " is more";
+    }
+    c.bytes_ = static_cast<std::size_t>(std::min(value, 9e18));
     return c;
   }
   if (available <= 0) {

@@ -17,6 +17,10 @@ namespace rgbmesh::cli {
 // cgroup's remaining allowance when the process runs under a memory limit; 0 if unknown.
 std::size_t available_memory_bytes();
 
+// The memory of the machine (MemTotal), lowered to the cgroup's limit when the process runs
+// under one; 0 if unknown.
+std::size_t machine_memory_bytes();
+
 // The process's resident memory now (0 if unknown).
 std::size_t resident_memory_bytes();
 
@@ -26,8 +30,12 @@ std::string human_bytes(double bytes);
 class MemoryCeiling {
  public:
   // From the option's text: "" (the default: 80% of the available memory), "75%", "8G",
-  // "512M", "1000000". InputError for anything else.
+  // "512M", "1000000". InputError for anything else. A size above the machine's memory is
+  // capped at it, with a note() saying so: an estimate that no machine could hold would
+  // otherwise never be refused up front.
   static MemoryCeiling from_option(const std::string& text);
+  // "" or one line for standard error, to print once.
+  const std::string& note() const { return note_; }
 
   std::size_t bytes() const { return bytes_; }
   // What the limit is, for messages: "7.5 GB (80% of the available memory; --memory-limit to
@@ -38,7 +46,7 @@ class MemoryCeiling {
 
  private:
   std::size_t bytes_ = 0;
-  std::string origin_;
+  std::string origin_, note_;
 };
 
 }  // namespace rgbmesh::cli

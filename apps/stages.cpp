@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -244,6 +245,75 @@ void check_predictable(const RgbMesh& mesh, const Stage& s, int cap, const Memor
                   ceiling);
 }
 
+// Open-ended stages between the refinement's own checks. The refinement weighs the mesh's
+// arrays and its queue by their sizes, but the queue is a vector that doubles: for a moment
+// the old block and the copy are both resident, 200 MB more for 8 million entries, and a
+// stage under --memory-limit 600M reached 623 MB. Every progress report (each 65,536
+// operations) weighs what the process really holds and what may come before the next one:
+// the growth seen over the last interval, and the larger of the queue's next doubling (when
+// the queue may reach its capacity, a power of two, by then) and a mesh array group's growth
+// (half the arrays, as the refinement counts it). When that would pass the ceiling, the stage
+// stops there (the mesh stays valid; the stage fails as at the refinement's own stop).
+class MemoryWatch {
+ public:
+  struct Stop {};
+  MemoryWatch(const RgbMesh& mesh, const MemoryCeiling& ceiling) : mesh_(mesh), ceiling_(ceiling) {}
+
+  void check(std::size_t queued) {
+    const double resident = static_cast<double>(resident_memory_bytes());
+    if (resident <= 0) return;  // not Linux: the refinement's own checks only
+    const double q = static_cast<double>(queued);
+    most_queued_ = std::max(most_queued_, q);
+    const double capacity = std::exp2(std::ceil(std::log2(std::max(most_queued_, 1.0))));
+    const double growth = last_resident_ > 0 ? std::max(0.0, resident - last_resident_) : 0.0;
+    const double queue_growth = std::max(0.0, q - last_queued_);
+    last_resident_ = resident;
+    last_queued_ = q;
+    const double doubling = q + queue_growth >= capacity ? capacity * kEntryBytes : 0.0;
+    const double arrays = 0.5 * static_cast<double>(mesh_.memory_bytes());
+    if (resident + growth + std::max(doubling, arrays) > static_cast<double>(ceiling_.bytes())) throw Stop{};
+  }
+
+ private:
+  static constexpr double kEntryBytes = 24;  // an edge's queue entry (the vertices' are smaller)
+  const RgbMesh& mesh_;
+  const MemoryCeiling& ceiling_;
+  double most_queued_ = 0, last_queued_ = 0, last_resident_ = 0;
+};
+
+// One stage on the mesh (--max-level only sets the cap of the later ones).
+RefinementResult apply(RgbMesh& mesh, const Stage& s, int& cap, const RefinementOptions& options, Progress& progress) {
+  switch (s.kind) {
+    case Stage::uniform:
+      return selective_refinement(mesh, UniformLevel(s.level), options);
+    case Stage::ball:
+      return selective_refinement(mesh, BallLevel({s.x, s.y, s.z}, s.radius, s.level), options);
+    case Stage::max_edge:
+      return selective_refinement(mesh, MaxEdgeLength(s.length), options);
+    case Stage::geometric_tol:
+      return selective_refinement(mesh, GeometricTolerance(s.length), options);
+    case Stage::budget:
+      return selective_refinement(mesh, TriangleBudget(s.count), options);
+    case Stage::coarsen_all:
+      return selective_refinement(mesh, CoarsenAll(), options);
+    case Stage::max_level:
+      cap = s.level;
+      break;
+    case Stage::random_walk: {
+      RandomWalkOptions walk;
+      // Random splits concentrate where the mesh is already fine; a level cap keeps the
+      // walk spread out (the triangle cap of random_walk bounds the size).
+      walk.max_level = std::min(cap, 8);
+      std::uint64_t done = 0;
+      walk.after_step = [&](std::uint64_t) {
+        if ((++done & 4095) == 0) progress.update(done, s.count - done);
+      };
+      return random_walk(mesh, s.count, s.seed, walk);
+    }
+  }
+  return {};
+}
+
 }  // namespace
 
 void check_output_memory(const RgbMesh& mesh, const std::string& output_path, const MemoryCeiling& ceiling) {
@@ -271,42 +341,16 @@ StageTotals run_stages(RgbMesh& mesh, const std::vector<Stage>& stages, const Me
     RefinementOptions options;
     options.max_level = cap;
     options.max_mesh_bytes = mesh.memory_bytes() + ceiling.headroom();
-    options.progress = [&progress](std::uint64_t ops, std::size_t queued) { progress.update(ops, queued); };
+    MemoryWatch watch(mesh, ceiling);
+    options.progress = [&progress, &watch](std::uint64_t ops, std::size_t queued) {
+      progress.update(ops, queued);
+      watch.check(queued);
+    };
     RefinementResult r;
-    switch (s.kind) {
-      case Stage::uniform:
-        r = selective_refinement(mesh, UniformLevel(s.level), options);
-        break;
-      case Stage::ball:
-        r = selective_refinement(mesh, BallLevel({s.x, s.y, s.z}, s.radius, s.level), options);
-        break;
-      case Stage::max_edge:
-        r = selective_refinement(mesh, MaxEdgeLength(s.length), options);
-        break;
-      case Stage::geometric_tol:
-        r = selective_refinement(mesh, GeometricTolerance(s.length), options);
-        break;
-      case Stage::budget:
-        r = selective_refinement(mesh, TriangleBudget(s.count), options);
-        break;
-      case Stage::coarsen_all:
-        r = selective_refinement(mesh, CoarsenAll(), options);
-        break;
-      case Stage::max_level:
-        cap = s.level;
-        break;
-      case Stage::random_walk: {
-        RandomWalkOptions walk;
-        // Random splits concentrate where the mesh is already fine; a level cap keeps the
-        // walk spread out (the triangle cap of random_walk bounds the size).
-        walk.max_level = std::min(cap, 8);
-        std::uint64_t done = 0;
-        walk.after_step = [&](std::uint64_t) {
-          if ((++done & 4095) == 0) progress.update(done, s.count - done);
-        };
-        r = random_walk(mesh, s.count, s.seed, walk);
-        break;
-      }
+    try {
+      r = apply(mesh, s, cap, options, progress);
+    } catch (const MemoryWatch::Stop&) {
+      r.stopped_at_memory_limit = true;
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start).count();
     if (r.stopped_at_memory_limit)

@@ -5,9 +5,11 @@
 #include <cstdio>
 #include <memory>
 
+#include "one_line.hpp"
+
 namespace rgbmesh::cli {
 
-ProgressLine::ProgressLine(std::string task) : task_(std::move(task)), start_(clock::now()), tty_(isatty(2) != 0) {}
+ProgressLine::ProgressLine(std::string task) : task_(one_line(task)), start_(clock::now()), tty_(isatty(2) != 0) {}
 
 void ProgressLine::print(double fraction, double seconds, bool last) {
   if (fraction >= 0)

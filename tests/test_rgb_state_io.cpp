@@ -9,6 +9,7 @@
 #include <vtkFieldData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
@@ -17,6 +18,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <map>
 #include <set>
@@ -265,6 +267,49 @@ TEST_F(EditedFile, ChangedBasePoints) {
     base->SetComponent(4, 2, base->GetComponent(4, 2) + 0.5);
   });
   expect_refused("edited base points");
+}
+
+// Points are what ParaView shows and what a user edits; the state alone gives the mesh, so
+// an edit used to be dropped without a word.
+void edit_points(const fs::path& file, const std::function<Vec3(vtkIdType, const Vec3&)>& move, bool single = false) {
+  edit_file(file, [&](vtkPolyData& d) {
+    vtkNew<vtkPoints> points;
+    if (single) points->SetDataTypeToFloat();
+    for (vtkIdType i = 0; i < d.GetNumberOfPoints(); ++i) {
+      double p[3];
+      d.GetPoint(i, p);
+      const Vec3 q = move(i, Vec3(p[0], p[1], p[2]));
+      points->InsertNextPoint(q.x, q.y, q.z);
+    }
+    d.SetPoints(points);
+  });
+}
+
+TEST_F(EditedFile, MovedPoint) {
+  edit_points(file, [](vtkIdType i, const Vec3& p) { return i == 17 ? p + Vec3(0, 0, 1e-3) : p; });
+  expect_refused("point 17: its position (Points) is 0.001 away from where the state puts it");
+}
+
+TEST_F(EditedFile, ScaledPoints) {
+  edit_points(file, [](vtkIdType, const Vec3& p) { return 2.0 * p; });
+  expect_refused(": its position (Points) is ");
+}
+
+TEST_F(EditedFile, PointsStoredInSinglePrecisionAreNoEdit) {
+  // Float32 Points (a file saved again by another tool) are the positions rounded: accepted.
+  // A move far above the rounding is not.
+  edit_points(file, [](vtkIdType, const Vec3& p) { return p; }, true);
+  EXPECT_EQ(refusal(file), "");
+  edit_points(file, [](vtkIdType i, const Vec3& p) { return i == 3 ? p + Vec3(1e-4, 0, 0) : p; }, true);
+  expect_refused("point 3: its position (Points)");
+}
+
+TEST_F(EditedFile, LimitPointsAreNoEdit) {
+  // Points at the limit positions (refine --limit) are what rgbmesh writes too.
+  write_mesh(file, snapshot_for_file(mesh, file, true));
+  EXPECT_EQ(refusal(file), "");
+  edit_points(file, [](vtkIdType i, const Vec3& p) { return i == 40 ? p + Vec3(0, 1e-3, 0) : p; });
+  expect_refused("point 40: its position (Points)");
 }
 
 TEST_F(EditedFile, MissingArrayAndBadValues) {

@@ -125,6 +125,10 @@ void remove_temporaries_on_signals() {
   });
 }
 
+int remove_on_signals(const fs::path& path) { return register_temporary(path); }
+
+void forget_on_signals(int registration) { unregister_temporary(registration); }
+
 namespace detail {
 
 void replace_atomically(const fs::path& requested, const std::function<void(const fs::path&)>& write) {

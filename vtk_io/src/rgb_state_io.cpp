@@ -10,10 +10,13 @@
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkPointData.h>
+#include <vtkPointSet.h>
+#include <vtkPoints.h>
 #include <vtkSmartPointer.h>
 #include <vtkTypeInt32Array.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "io_common.hpp"
@@ -124,7 +127,60 @@ void read_rgb_state(vtkDataSet& data, const fs::path& path, SavedState& out) {
   x.triangle_color = bytes_of(array_of(data.GetCellData(), "color", 1, cells, path, "cell data"), path);
   x.control_points = vectors(array_of(point_data, "control_point", 3, n, path, "point data"));
   x.limits = vectors(array_of(point_data, "limit", 3, n, path, "point data"));
+  if (auto* points = vtkPointSet::SafeDownCast(&data); points != nullptr && points->GetPoints() != nullptr)
+    out.single_precision_points = points->GetPoints()->GetDataType() == VTK_FLOAT;
 }
+
+namespace {
+
+// The file's Points are what ParaView shows and what a user edits, but the restored mesh takes
+// its positions from the state alone: an edit would be dropped without a word. So every point
+// must be where the state puts it as rgbmesh writes points: all at their shown control points
+// (refine, convert), all at their limit positions (refine --limit, adapt --geometry loop), or
+// all at those projected onto the unit sphere (adapt --geometry sphere). Within 1e-9 of the
+// points' bounding-box diagonal, as control_point and limit are checked, plus the rounding of
+// Float32 where the file stores Points so (2^-24 of each coordinate; twice that for margin).
+void check_points(const fs::path& path, const std::vector<Vec3>& points, RestoredMesh& r, bool single_precision) {
+  if (points.empty()) return;
+  r.mesh.compute_limits();  // leaves the mesh as it is
+  // 0: the shown control point, 1: the limit position, 2: that on the unit sphere.
+  const auto position = [&](int kind, std::size_t i) {
+    if (kind == 0) return r.mesh.control_point(r.vertex[i]);
+    const Vec3 p = r.mesh.limit_position(r.vertex[i]);
+    return kind == 1 ? p : p * (1.0 / norm(p));
+  };
+  Vec3 lo = points[0], hi = points[0];
+  for (const Vec3& p : points) {
+    lo = Vec3(std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z));
+    hi = Vec3(std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z));
+  }
+  const double absolute = 1e-9 * std::max(norm(hi - lo), 1e-300);
+  const double relative = single_precision ? std::ldexp(1.0, -23) : 0.0;
+  // The kind that matches the longest run of points is the one the file was written with; its
+  // first mismatch is the point to name.
+  std::size_t worst = 0;
+  double distance = 0;
+  for (int kind = 0; kind < 3; ++kind) {
+    std::size_t i = 0;
+    double d = 0;
+    for (; i < points.size(); ++i) {
+      const Vec3 expected = position(kind, i);
+      d = norm(points[i] - expected);
+      if (!(d <= absolute + relative * norm(expected))) break;
+    }
+    if (i == points.size()) return;
+    if (i >= worst) {
+      worst = i;
+      distance = d;
+    }
+  }
+  char away[32];
+  std::snprintf(away, sizeof away, "%.3g", distance);
+  bad(path, "point " + std::to_string(worst) + ": its position (Points) is " + away +
+                " away from where the state puts it (moved points? the state decides where points are)");
+}
+
+}  // namespace
 
 }  // namespace detail
 
@@ -158,11 +214,14 @@ RgbMeshFile read_rgb_mesh(const std::filesystem::path& path, const SoupOptions& 
     saved.expected.triangles.push_back(
         {static_cast<std::int32_t>(f[0]), static_cast<std::int32_t>(f[1]), static_cast<std::int32_t>(f[2])});
   }
+  RestoredMesh restored;
   try {
-    file.mesh = std::move(restore_state(*saved.state, saved.expected).mesh);
+    restored = restore_state(*saved.state, saved.expected);
   } catch (const InputError& e) {
     throw InputError(path.string() + ": " + e.what());
   }
+  detail::check_points(path, soup.points, restored, saved.single_precision_points);
+  file.mesh = std::move(restored.mesh);
   file.restored = true;
   // The state is the mesh exactly as rgbmesh wrote it, checked point by point: nothing to repair,
   // and repairing would break the state.

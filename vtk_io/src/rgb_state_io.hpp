@@ -11,7 +11,8 @@
 //
 // The file's own cells give the triangles (and with them the trapezoid diagonals), and its
 // arrays "level" (point and cell), "color", "control_point" and "limit", when present, are
-// compared with what the state gives. A file with none of these arrays has no state; a file
+// compared with what the state gives; so are its Points (what ParaView shows), which must be
+// one of the positions rgbmesh writes as points for every point. A file with none of these arrays has no state; a file
 // with some but not all of them is refused.
 
 #include <filesystem>
@@ -34,6 +35,7 @@ inline constexpr const char* kBaseTrianglesArray = "rgb_base_triangles";
 struct SavedState {
   std::optional<RgbState> state;
   RestoreExpectations expected;  // all but the triangles (read_rgb_mesh adds them)
+  bool single_precision_points = false;  // Points stored as Float32 (rounded to 24 bits)
 };
 
 // Reads the arrays above from a data set read from `path`; InputError naming the file and the

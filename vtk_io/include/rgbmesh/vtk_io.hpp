@@ -176,6 +176,12 @@ void write_rgb_mesh(const std::filesystem::path& path, RgbMesh& mesh, const Writ
 /// The CLI calls it first thing; a program embedding rgbmesh may.
 void remove_temporaries_on_signals();
 
+/// Has those signals remove `path` too, until forget_on_signals(the returned number): for a
+/// file that only means something while the process runs (the CLI's run-folder lock). -1 when
+/// it cannot (the path is longer than 4095 bytes, or 32 files are registered already).
+int remove_on_signals(const std::filesystem::path& path);
+void forget_on_signals(int registration);
+
 /// Replaces `path` by a file holding `contents`, atomically.
 void write_text_atomically(const std::filesystem::path& path, const std::string& contents);
 
