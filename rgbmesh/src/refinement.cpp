@@ -6,6 +6,7 @@
 #include <cmath>
 #include <queue>
 
+#include "rgbmesh/canonical.hpp"
 #include "rgbmesh/geometry.hpp"
 
 namespace rgbmesh {
@@ -21,16 +22,26 @@ void edges_raising(const RgbMesh& mesh, TriangleHandle t, std::vector<EdgeHandle
 
 namespace {
 
+// Queue entries pop by priority, then by name (the smaller first): a total order on the
+// elements, so that the queue's order, and with it the stage's result, depends on the mesh and
+// the criterion only, never on the slots the elements happen to occupy or the order in which
+// they were pushed (issue 24; canonical.hpp). An edge's name is its endpoints' names, smaller
+// first.
 struct EdgeEntry {
   double priority;
+  VertexName low, high;
   std::int32_t edge, a, b;
-  bool operator<(const EdgeEntry& o) const { return priority < o.priority; }
+  bool operator<(const EdgeEntry& o) const {
+    if (priority != o.priority) return priority < o.priority;
+    return low != o.low ? low > o.low : high > o.high;
+  }
 };
 
 struct VertexEntry {
   double priority;
+  VertexName name;
   std::int32_t vertex;
-  bool operator<(const VertexEntry& o) const { return priority < o.priority; }
+  bool operator<(const VertexEntry& o) const { return priority != o.priority ? priority < o.priority : name > o.name; }
 };
 
 // Unregisters an observer when the run ends, also on exceptions.
@@ -48,9 +59,27 @@ class ObserverGuard {
 
 class Refiner {
  public:
-  Refiner(RgbMesh& m, const LodCriterion& c, const RefinementOptions& o) : mesh_(m), crit_(c), opt_(o) {}
+  Refiner(RgbMesh& m, const LodCriterion& c, const RefinementOptions& o)
+      : mesh_(m), crit_(c), opt_(o), names_(vertex_names(m)) {}
 
   RefinementResult run() {
+    // The names of vertices inserted during the run, from their parents' (the slot of a
+    // removed vertex may be reused).
+    const int id = mesh_.add_insertion_observer([this](VertexHandle v, VertexHandle a, VertexHandle b) {
+      const auto slot = static_cast<std::size_t>(v.idx);
+      if (names_.size() <= slot) names_.resize(slot + 1, 0);
+      names_[slot] = child_name(name(a), name(b));
+    });
+    ObserverGuard guard(mesh_, id);
+    // The criteria read Loop points of the vertices' levels (level_point), exact once a
+    // vertex's limit is known and the shown control point before. Which limits a mesh has
+    // cached depends on its history (a saved and restored mesh has all of them), so every
+    // limit is made known first: the criteria then see the same points in every copy.
+    mesh_.compute_limits();
+    // The diagonals by names (canonical.hpp), from the start and after every operation: the
+    // mesh between operations is then a function of its vertex set too, which the criteria
+    // read (whether a triangle meets a ball depends on the diagonal it has).
+    canonical_diagonals(mesh_, names_);
     for (EdgeHandle e : mesh_.edges()) test_edge(e);
     for (TriangleHandle t : mesh_.triangles()) test_triangle(t);
     for (VertexHandle v : mesh_.vertices()) test_vertex(v);
@@ -84,12 +113,15 @@ class Refiner {
   void test_vertex(VertexHandle v) {
     if (!mesh_.is_removable(v)) return;
     const double p = crit_.vertex_priority(mesh_, v);
-    if (p > 0) qc_.push({p, v.idx});
+    if (p > 0) qc_.push({p, name(v), v.idx});
   }
+
+  VertexName name(VertexHandle v) const { return names_[static_cast<std::size_t>(v.idx)]; }
 
   void push_edge(EdgeHandle e, double p) {
     const auto& ev = mesh_.edge_vertices(e);
-    qr_.push({p, e.idx, ev[0].idx, ev[1].idx});
+    const VertexName a = name(ev[0]), b = name(ev[1]);
+    qr_.push({p, std::min(a, b), std::max(a, b), e.idx, ev[0].idx, ev[1].idx});
   }
 
   // Whether a popped edge still needs splitting: its own priority, or a triangle it raises.
@@ -132,6 +164,7 @@ class Refiner {
       mesh_.star(v, s);
       neighbours = s.neighbors;
       mesh_.remove_vertex(v);
+      canonical_diagonals_near(mesh_, names_, neighbours);
       ++result_.removals;
       // Only neighbours can become removable by a removal (section V-A).
       for (VertexHandle n : neighbours) {
@@ -174,6 +207,7 @@ class Refiner {
       }
       inserted.clear();
       mesh_.split_edge(e);
+      canonical_diagonals_near(mesh_, names_, inserted);
       result_.splits += inserted.size();
       if (crit_.tests_new_elements()) {
         for (VertexHandle m : inserted) {
@@ -205,6 +239,7 @@ class Refiner {
   RefinementResult result_;
   std::uint64_t next_report_ = 1u << 16;
   std::uint64_t memory_checks_ = 0;
+  std::vector<VertexName> names_;  // by vertex slot
 };
 
 }  // namespace
