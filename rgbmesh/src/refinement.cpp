@@ -71,18 +71,21 @@ class Refiner {
       names_[slot] = child_name(name(a), name(b));
     });
     ObserverGuard guard(mesh_, id);
-    // The criteria read Loop points of the vertices' levels (level_point), exact once a
-    // vertex's limit is known and the shown control point before. Which limits a mesh has
-    // cached depends on its history (a saved and restored mesh has all of them), so every
-    // limit is made known first: the criteria then see the same points in every copy.
+    // Marks computed once on the mesh as given (FieldCriterion: values by the slots of its
+    // triangles and vertices) are read before anything moves; the queue finds their edges
+    // again by their ends.
+    const bool static_marks = !crit_.tests_new_elements();
+    if (static_marks) test_everything();
+    // Criteria that measure the mesh read Loop points of the vertices' levels (level_point),
+    // exact once a vertex's limit is known and the shown control point before. Which limits a
+    // mesh has cached depends on its history (a saved and restored mesh has all of them), so
+    // every limit is made known first: the criteria then see the same points in every copy.
     mesh_.compute_limits();
     // The diagonals by names (canonical.hpp), from the start and after every operation: the
     // mesh between operations is then a function of its vertex set too, which the criteria
     // read (whether a triangle meets a ball depends on the diagonal it has).
     canonical_diagonals(mesh_, names_);
-    for (EdgeHandle e : mesh_.edges()) test_edge(e);
-    for (TriangleHandle t : mesh_.triangles()) test_triangle(t);
-    for (VertexHandle v : mesh_.vertices()) test_vertex(v);
+    if (!static_marks) test_everything();
     coarsen();
     refine();
     while (crit_.priorities_change_nearby() && !crit_.satisfied(mesh_) && !result_.stopped_at_memory_limit) {
@@ -96,6 +99,28 @@ class Refiner {
   }
 
  private:
+  void test_everything() {
+    for (EdgeHandle e : mesh_.edges()) test_edge(e);
+    for (TriangleHandle t : mesh_.triangles()) test_triangle(t);
+    for (VertexHandle v : mesh_.vertices()) test_vertex(v);
+  }
+
+  // The edge of a queue entry, if it is still in the mesh as a green edge to split: between
+  // the same two vertices (by name: a removed vertex's slot may be reused), in the slot it
+  // had or, after compute_limits moved it, found by its ends.
+  EdgeHandle current_edge(const EdgeEntry& entry) const {
+    const VertexHandle a(entry.a), b(entry.b);
+    if (!mesh_.alive(a) || !mesh_.alive(b)) return EdgeHandle();
+    const VertexName na = name(a), nb = name(b);
+    if (std::min(na, nb) != entry.low || std::max(na, nb) != entry.high) return EdgeHandle();
+    EdgeHandle e(entry.edge);
+    const bool same_slot = mesh_.alive(e) && ((mesh_.edge_vertices(e)[0] == a && mesh_.edge_vertices(e)[1] == b) ||
+                                              (mesh_.edge_vertices(e)[0] == b && mesh_.edge_vertices(e)[1] == a));
+    if (!same_slot) e = mesh_.find_edge(a, b);
+    if (!e.valid() || mesh_.is_red(e) || mesh_.level(e) >= opt_.max_level) return EdgeHandle();
+    return e;
+  }
+
   void test_edge(EdgeHandle e) {
     if (mesh_.is_red(e) || mesh_.level(e) >= opt_.max_level) return;
     const double p = crit_.edge_priority(mesh_, e);
@@ -195,13 +220,8 @@ class Refiner {
     while (!qr_.empty() && !crit_.satisfied(mesh_) && !at_memory_limit()) {
       const EdgeEntry top = qr_.top();
       qr_.pop();
-      const EdgeHandle e(top.edge);
-      // Slots are reused: the entry is current only if the slot still joins the same pair.
-      const bool current =
-          mesh_.alive(e) && !mesh_.is_red(e) && mesh_.level(e) < opt_.max_level &&
-          ((mesh_.edge_vertices(e)[0].idx == top.a && mesh_.edge_vertices(e)[1].idx == top.b) ||
-           (mesh_.edge_vertices(e)[0].idx == top.b && mesh_.edge_vertices(e)[1].idx == top.a));
-      if (!current || !still_wanted(e)) {
+      const EdgeHandle e = current_edge(top);
+      if (!e.valid() || !still_wanted(e)) {
         ++result_.skipped;
         continue;
       }
