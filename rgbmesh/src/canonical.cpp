@@ -95,8 +95,10 @@ std::size_t canonical_diagonals_near(RgbMesh& mesh, const std::vector<VertexName
                                      const std::vector<VertexHandle>& vertices) {
   // A trapezoid that an operation made or changed has a triangle at one of the vertices it
   // inserted or whose star it changed; its diagonal is an edge of that triangle.
-  std::vector<EdgeHandle> candidates;
-  VertexStar star;
+  // Called after every operation of a stage: the scratch space is kept between calls.
+  thread_local std::vector<EdgeHandle> candidates;
+  thread_local VertexStar star;
+  candidates.clear();
   for (const VertexHandle v : vertices) {
     if (!mesh.alive(v)) continue;
     mesh.star(v, star);
