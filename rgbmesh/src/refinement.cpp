@@ -95,10 +95,10 @@ class Refiner {
     // exact once a vertex's limit is known and the shown control point before. Which limits a
     // mesh has cached depends on its history (a saved and restored mesh has all of them), so
     // every limit is made known first: the criteria then see the same points in every copy.
-    mesh_.compute_limits();
-    // The diagonals by names (canonical.hpp), from the start and after every operation: the
-    // mesh between operations is then a function of its vertex set too, which the criteria
-    // read (whether a triangle meets a ball depends on the diagonal it has).
+    if (!static_marks) mesh_.compute_limits();
+    // The diagonals by names (canonical.hpp), from the start and after every operation that
+    // needs it: the mesh between operations is then a function of its vertex set too, which
+    // the criteria read (whether a triangle meets a ball depends on the diagonal it has).
     canonical_diagonals(mesh_, names_);
     if (!static_marks) test_everything();
     coarsen();
@@ -111,6 +111,7 @@ class Refiner {
       refine();
       if (result_.splits == before) break;
     }
+    if (!crit_.tests_new_elements()) canonical_diagonals(mesh_, names_);
     return result_;
   }
 
@@ -234,6 +235,8 @@ class Refiner {
       mesh_.star(v, s);
       neighbours = s.neighbors;
       mesh_.remove_vertex(v);
+      // Whether a neighbour is removable depends on the configuration of its star, diagonals
+      // included: they are chosen by names after every removal.
       canonical_diagonals_near(mesh_, names_, neighbours);
       ++result_.removals;
       // Only neighbours can become removable by a removal (section V-A).
@@ -273,7 +276,11 @@ class Refiner {
       }
       inserted.clear();
       mesh_.split_edge(e);
-      canonical_diagonals_near(mesh_, names_, inserted);
+      // Criteria that test new elements read their shapes (a triangle in a ball): the diagonals
+      // are chosen by names after every split. Marks fixed on the mesh as given (FieldCriterion)
+      // split the same edges whatever the diagonals in between (forced splits follow levels,
+      // which both diagonals share), so they are chosen once, at the end.
+      if (crit_.tests_new_elements()) canonical_diagonals_near(mesh_, names_, inserted);
       result_.splits += inserted.size();
       if (crit_.tests_new_elements()) {
         for (VertexHandle m : inserted) {
