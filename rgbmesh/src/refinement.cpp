@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <queue>
 
 #include "rgbmesh/canonical.hpp"
@@ -25,11 +26,13 @@ namespace {
 
 // Queue entries pop by priority, then the newest first. "Newest" is a sequence number given
 // in a canonical order: the elements tested together (the first fill, or the tests after one
-// operation) are numbered in the order of their names, never of the slots they happen to
-// occupy, so that the queue's order, and with it the stage's result, depends on the mesh and
-// the criterion only (issue 24; canonical.hpp). Equal priorities still pop near the last
-// operation, as a stack would: an order by names alone jumps across the mesh (3.5 times
-// slower for a ball). An edge's name is its endpoints' names, smaller first.
+// operation) are numbered in the order of their vertices' control points (at each vertex's own
+// level: the same in every copy of the mesh), never of the slots they happen to occupy. With
+// split_edge's own choices made the same way (RgbMesh::edge_precedes), a stage's result then
+// depends on the mesh and the criterion only (issue 24): the same vertices and, with the
+// diagonals of the mesh as given, the same triangles, whether the mesh was refined in this
+// process or restored from a file. Equal priorities still pop near the last operation, as a
+// stack would (an order by position alone jumps across the mesh: 3.5 times slower for a ball).
 struct EdgeEntry {
   double priority;
   std::uint64_t sequence;
@@ -48,14 +51,34 @@ struct VertexEntry {
   }
 };
 
-// An element tested but not yet numbered and queued, with its name for the numbering.
+// The order of two points: lexicographic on x, y, z.
+bool point_less(const Vec3& p, const Vec3& q) { return p.x != q.x ? p.x < q.x : (p.y != q.y ? p.y < q.y : p.z < q.z); }
+
+// A 64-bit digest of an edge's ends (their control points, the smaller first), which tells a
+// vertex in a reused slot from the one that was there (collisions: 2^-64 per pair).
+std::uint64_t ends_hash(const Vec3& low, const Vec3& high) {
+  std::uint64_t h = 0x9E3779B97F4A7C15ull;
+  for (const double x : {low.x, low.y, low.z, high.x, high.y, high.z}) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    h ^= bits + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 31;
+  }
+  return h;
+}
+
+// An element tested but not yet numbered and queued, with its key for the numbering: the
+// control points of an edge's ends (the smaller first) or a vertex's (twice).
 template <class Entry>
-struct Named {
+struct Keyed {
   Entry entry;
-  VertexName low, high;  // a vertex: its name twice
-  bool operator<(const Named& o) const {
+  Vec3 low, high;
+  bool operator<(const Keyed& o) const {
     if (entry.priority != o.entry.priority) return entry.priority < o.entry.priority;
-    return low != o.low ? low < o.low : high < o.high;
+    if (point_less(low, o.low)) return true;
+    if (point_less(o.low, low)) return false;
+    return point_less(high, o.high);
   }
 };
 
@@ -74,33 +97,25 @@ class ObserverGuard {
 
 class Refiner {
  public:
-  Refiner(RgbMesh& m, const LodCriterion& c, const RefinementOptions& o)
-      : mesh_(m), crit_(c), opt_(o), names_(vertex_names(m)) {}
+  Refiner(RgbMesh& m, const LodCriterion& c, const RefinementOptions& o) : mesh_(m), crit_(c), opt_(o) {}
 
   RefinementResult run() {
-    // The names of vertices inserted during the run, from their parents' (the slot of a
-    // removed vertex may be reused).
-    const int id = mesh_.add_insertion_observer([this](VertexHandle v, VertexHandle a, VertexHandle b) {
-      const auto slot = static_cast<std::size_t>(v.idx);
-      if (names_.size() <= slot) names_.resize(slot + 1, 0);
-      names_[slot] = child_name(name(a), name(b));
-    });
-    ObserverGuard guard(mesh_, id);
     // Marks computed once on the mesh as given (FieldCriterion: values by the slots of its
     // triangles and vertices) are read before anything moves; the queue finds their edges
     // again by their ends.
     const bool static_marks = !crit_.tests_new_elements();
-    if (static_marks) test_everything();
+    if (static_marks) {
+      test_everything();
+      canonical_diagonals(mesh_);
+    }
     // Criteria that measure the mesh read Loop points of the vertices' levels (level_point),
     // exact once a vertex's limit is known and the shown control point before. Which limits a
     // mesh has cached depends on its history (a saved and restored mesh has all of them), so
     // every limit is made known first: the criteria then see the same points in every copy.
-    if (!static_marks) mesh_.compute_limits();
-    // The diagonals by names (canonical.hpp), from the start and after every operation that
-    // needs it: the mesh between operations is then a function of its vertex set too, which
-    // the criteria read (whether a triangle meets a ball depends on the diagonal it has).
-    canonical_diagonals(mesh_, names_);
-    if (!static_marks) test_everything();
+    if (!static_marks) {
+      mesh_.compute_limits();
+      test_everything();
+    }
     coarsen();
     refine();
     while (crit_.priorities_change_nearby() && !crit_.satisfied(mesh_) && !result_.stopped_at_memory_limit) {
@@ -111,7 +126,7 @@ class Refiner {
       refine();
       if (result_.splits == before) break;
     }
-    if (!crit_.tests_new_elements()) canonical_diagonals(mesh_, names_);
+    if (static_marks && result_.splits > 0) canonical_diagonals(mesh_);
     return result_;
   }
 
@@ -125,8 +140,8 @@ class Refiner {
 
   // The edge of a queue entry, if it is still in the mesh as a green edge to split. Entries of
   // the first batch were queued before the coarsening and compute_limits, which free and reuse
-  // vertex slots and move edges to other slots: theirs must still join the vertices of the
-  // names they were queued with, found by their ends. Later entries name their edge's slot
+  // vertex slots and move edges to other slots: theirs must still join vertices at the control
+  // points they were queued with, found by their ends. Later entries name their edge's slot
   // unless the edge is gone (refinement frees no vertex slot).
   EdgeHandle current_edge(const EdgeEntry& entry) const {
     const VertexHandle a(entry.a), b(entry.b);
@@ -137,9 +152,9 @@ class Refiner {
     };
     if (entry.sequence <= first_batch_.size()) {
       if (!mesh_.alive(a) || !mesh_.alive(b)) return EdgeHandle();
-      const auto& queued = first_batch_[entry.sequence - 1];
-      const VertexName na = name(a), nb = name(b);
-      if (std::min(na, nb) != queued[0] || std::max(na, nb) != queued[1]) return EdgeHandle();
+      const Vec3 pa = mesh_.control_point(a), pb = mesh_.control_point(b);
+      const bool swap = point_less(pb, pa);
+      if (ends_hash(swap ? pb : pa, swap ? pa : pb) != first_batch_[entry.sequence - 1]) return EdgeHandle();
       if (!mesh_.alive(e) || !joins(e)) e = mesh_.find_edge(a, b);
     } else if (!mesh_.alive(e) || !joins(e)) {
       return EdgeHandle();
@@ -165,32 +180,32 @@ class Refiner {
   void test_vertex(VertexHandle v) {
     if (!mesh_.is_removable(v)) return;
     const double p = crit_.vertex_priority(mesh_, v);
-    if (p > 0) vertex_batch_.push_back({{p, 0, v.idx}, name(v), name(v)});
+    if (p > 0) vertex_batch_.push_back({{p, 0, v.idx}, mesh_.control_point(v), mesh_.control_point(v)});
   }
 
-  VertexName name(VertexHandle v) const { return names_[static_cast<std::size_t>(v.idx)]; }
 
   void push_edge(EdgeHandle e, double p) {
     const auto& ev = mesh_.edge_vertices(e);
-    const VertexName a = name(ev[0]), b = name(ev[1]);
-    edge_batch_.push_back({{p, 0, e.idx, ev[0].idx, ev[1].idx}, std::min(a, b), std::max(a, b)});
+    const Vec3 a = mesh_.control_point(ev[0]), b = mesh_.control_point(ev[1]);
+    const bool swap = point_less(b, a);
+    edge_batch_.push_back({{p, 0, e.idx, ev[0].idx, ev[1].idx}, swap ? b : a, swap ? a : b});
   }
 
-  // Numbers the elements tested since the last call in the order of their names (priority
+  // Numbers the elements tested since the last call in the order of their keys (priority
   // first) and queues them.
   void queue_batches() {
     const bool first = sequence_ == 0;
     std::sort(edge_batch_.begin(), edge_batch_.end());
-    for (auto& [entry, low, high] : edge_batch_) {
-      entry.sequence = ++sequence_;
-      qr_.push(entry);
-      if (first) first_batch_.push_back({low, high});
+    for (auto& keyed : edge_batch_) {
+      keyed.entry.sequence = ++sequence_;
+      qr_.push(keyed.entry);
+      if (first) first_batch_.push_back(ends_hash(keyed.low, keyed.high));
     }
     edge_batch_.clear();
     std::sort(vertex_batch_.begin(), vertex_batch_.end());
-    for (auto& named : vertex_batch_) {
-      named.entry.sequence = ++sequence_;
-      qc_.push(named.entry);
+    for (auto& keyed : vertex_batch_) {
+      keyed.entry.sequence = ++sequence_;
+      qc_.push(keyed.entry);
     }
     vertex_batch_.clear();
   }
@@ -222,8 +237,15 @@ class Refiner {
   }
 
   void coarsen() {
+    if (qc_.empty()) return;
     VertexStar s;
     std::vector<VertexHandle> neighbours;
+    // A removal leaves a trapezoid whose diagonal depends on the removal's swap sequence, and
+    // whether a neighbour is removable next depends on it: the diagonals are chosen by names
+    // (canonical.hpp) from the start and after every removal, so that the greedy removals are
+    // the same in every copy of the mesh. (Coarsening inserts nothing: the names stay.)
+    const std::vector<VertexName> names = vertex_names(mesh_);
+    canonical_diagonals(mesh_, names);
     while (!qc_.empty()) {
       const VertexEntry top = qc_.top();
       qc_.pop();
@@ -235,9 +257,7 @@ class Refiner {
       mesh_.star(v, s);
       neighbours = s.neighbors;
       mesh_.remove_vertex(v);
-      // Whether a neighbour is removable depends on the configuration of its star, diagonals
-      // included: they are chosen by names after every removal.
-      canonical_diagonals_near(mesh_, names_, neighbours);
+      canonical_diagonals_near(mesh_, names, neighbours);
       ++result_.removals;
       // Only neighbours can become removable by a removal (section V-A).
       for (VertexHandle n : neighbours) {
@@ -280,7 +300,6 @@ class Refiner {
       // are chosen by names after every split. Marks fixed on the mesh as given (FieldCriterion)
       // split the same edges whatever the diagonals in between (forced splits follow levels,
       // which both diagonals share), so they are chosen once, at the end.
-      if (crit_.tests_new_elements()) canonical_diagonals_near(mesh_, names_, inserted);
       result_.splits += inserted.size();
       if (crit_.tests_new_elements()) {
         for (VertexHandle m : inserted) {
@@ -309,15 +328,14 @@ class Refiner {
   const RefinementOptions& opt_;
   std::priority_queue<EdgeEntry> qr_;
   std::priority_queue<VertexEntry> qc_;
-  std::vector<Named<EdgeEntry>> edge_batch_;  // tested, not yet numbered and queued
-  std::vector<Named<VertexEntry>> vertex_batch_;
+  std::vector<Keyed<EdgeEntry>> edge_batch_;  // tested, not yet numbered and queued
+  std::vector<Keyed<VertexEntry>> vertex_batch_;
   std::uint64_t sequence_ = 0;
-  std::vector<std::array<VertexName, 2>> first_batch_;  // the names of the first batch's edges
+  std::vector<std::uint64_t> first_batch_;  // ends_hash of the first batch's edges
   std::vector<EdgeHandle> scratch_edges_;
   RefinementResult result_;
   std::uint64_t next_report_ = 1u << 16;
   std::uint64_t memory_checks_ = 0;
-  std::vector<VertexName> names_;  // by vertex slot
 };
 
 }  // namespace
