@@ -152,7 +152,7 @@ class Refiner {
     };
     if (entry.sequence <= first_batch_.size()) {
       if (!mesh_.alive(a) || !mesh_.alive(b)) return EdgeHandle();
-      const Vec3 pa = mesh_.control_point(a), pb = mesh_.control_point(b);
+      const Vec3 pa = mesh_.insertion_point(a), pb = mesh_.insertion_point(b);
       const bool swap = point_less(pb, pa);
       if (ends_hash(swap ? pb : pa, swap ? pa : pb) != first_batch_[entry.sequence - 1]) return EdgeHandle();
       if (!mesh_.alive(e) || !joins(e)) e = mesh_.find_edge(a, b);
@@ -180,13 +180,13 @@ class Refiner {
   void test_vertex(VertexHandle v) {
     if (!mesh_.is_removable(v)) return;
     const double p = crit_.vertex_priority(mesh_, v);
-    if (p > 0) vertex_batch_.push_back({{p, 0, v.idx}, mesh_.control_point(v), mesh_.control_point(v)});
+    if (p > 0) vertex_batch_.push_back({{p, 0, v.idx}, mesh_.insertion_point(v), mesh_.insertion_point(v)});
   }
 
 
   void push_edge(EdgeHandle e, double p) {
     const auto& ev = mesh_.edge_vertices(e);
-    const Vec3 a = mesh_.control_point(ev[0]), b = mesh_.control_point(ev[1]);
+    const Vec3 a = mesh_.insertion_point(ev[0]), b = mesh_.insertion_point(ev[1]);
     const bool swap = point_less(b, a);
     edge_batch_.push_back({{p, 0, e.idx, ev[0].idx, ev[1].idx}, swap ? b : a, swap ? a : b});
   }
