@@ -118,6 +118,96 @@ INSTANTIATE_TEST_SUITE_P(Bases, CanonicalOnBases,
                                            rgbmesh::testing::fan_disk(7)),
                          [](const ::testing::TestParamInfo<rgbmesh::testing::BaseMesh>& p) { return p.param.name; });
 
+// ---- stages in canonical order (issue 24) ---------------------------------------------------
+// A stage's result depends on the mesh (its named vertices and diagonals) and the stage's
+// input, never on slots: the same stage on a mesh and on a copy rebuilt in a shuffled order
+// gives the same mesh, down to the last bit of every limit position.
+
+// A deterministic value in [0, 1) from a name: external fields that follow the vertices.
+double unit_value(VertexName n) {
+  n ^= n >> 33;
+  n *= 0xff51afd7ed558ccdull;
+  n ^= n >> 33;
+  return static_cast<double>(n >> 11) * 0x1.0p-53;
+}
+
+// A field criterion whose values come from the corners' names, as an error indicator computed
+// on the mesh would (indexed by slot, as FieldCriterion wants).
+FieldCriterion named_field(const RgbMesh& m, double refine_above, double coarsen_below) {
+  const std::vector<VertexName> name = vertex_names(m);
+  std::vector<double> tv(static_cast<std::size_t>(m.triangle_slots()), 0.0), vv(static_cast<std::size_t>(m.vertex_slots()), 1.0);
+  for (const TriangleHandle t : m.triangles()) {
+    const auto c = m.triangle_vertices(t);
+    tv[t.idx] = unit_value(name[c[0].idx] ^ name[c[1].idx] ^ name[c[2].idx]);
+  }
+  for (const VertexHandle v : m.vertices()) vv[v.idx] = unit_value(name[v.idx] + 1);
+  return FieldCriterion(std::move(tv), refine_above, std::move(vv), coarsen_below);
+}
+
+// Every limit position by name (bit for bit).
+std::map<VertexName, std::array<double, 3>> named_limits(RgbMesh& m) {
+  m.compute_limits();
+  const std::vector<VertexName> name = vertex_names(m);
+  std::map<VertexName, std::array<double, 3>> out;
+  for (const VertexHandle v : m.vertices()) {
+    const Vec3 p = m.limit_position(v);
+    out[name[v.idx]] = {p.x, p.y, p.z};
+  }
+  return out;
+}
+
+class CanonicalStages : public ::testing::TestWithParam<rgbmesh::testing::BaseMesh> {};
+
+TEST_P(CanonicalStages, StagesOnAShuffledCopyGiveTheSameMesh) {
+  const rgbmesh::testing::BaseMesh& base = GetParam();
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    RgbMesh m = base.build();
+    RandomWalkOptions o;
+    o.max_level = 4;
+    o.split_probability = 0.7;
+    random_walk(m, 400, seed, o);
+    RgbMesh b = reinserted(base, m, seed + 100);
+    canonical_diagonals(m);
+    canonical_diagonals(b);
+    ASSERT_EQ(named_triangles(b), named_triangles(m)) << "seed " << seed;
+    // The mesh's extent, for balls and lengths that cut through it.
+    m.compute_limits();
+    Vec3 lo = m.limit_position(*m.vertices().begin()), hi = lo, center;
+    for (const VertexHandle v : m.vertices()) {
+      const Vec3 p = m.limit_position(v);
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+    center = 0.5 * (lo + hi);
+    const double size = distance(lo, hi);
+    const auto apply = [&](RgbMesh& x, int stage) {
+      switch (stage) {
+        case 0: return selective_refinement(x, BallLevel(center + Vec3{0.1 * size, 0, 0}, 0.3 * size, 5));
+        case 1: return selective_refinement(x, MaxEdgeLength(0.08 * size));
+        case 2: return selective_refinement(x, GeometricTolerance(2e-3 * size));
+        case 3: return selective_refinement(x, TriangleBudget(3 * x.num_triangles() + 7));
+        case 4: return selective_refinement(x, named_field(x, 0.7, 0.5));
+        default: return selective_refinement(x, named_field(x, 0.9, 0.95));
+      }
+    };
+    for (int stage = 0; stage < 6; ++stage) {
+      const RefinementResult rm = apply(m, stage), rb = apply(b, stage);
+      EXPECT_EQ(rm.splits, rb.splits) << "seed " << seed << " stage " << stage;
+      EXPECT_EQ(rm.removals, rb.removals) << "seed " << seed << " stage " << stage;
+      EXPECT_NO_THROW(m.validate());
+      EXPECT_NO_THROW(b.validate());
+      ASSERT_EQ(named_triangles(b), named_triangles(m)) << "seed " << seed << " stage " << stage;
+      ASSERT_EQ(named_limits(b), named_limits(m)) << "seed " << seed << " stage " << stage;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Bases, CanonicalStages,
+                         ::testing::Values(rgbmesh::testing::icosahedron(), rgbmesh::testing::grid_with_holes(6, 2),
+                                           rgbmesh::testing::torus(6, 5), rgbmesh::testing::double_torus(),
+                                           rgbmesh::testing::fan_disk(7)),
+                         [](const ::testing::TestParamInfo<rgbmesh::testing::BaseMesh>& p) { return p.param.name; });
+
 // Without the canonical choice the orders do give other meshes somewhere: the test above is
 // not vacuous.
 TEST(Canonical, InsertionOrderChangesDiagonalsWithoutIt) {

@@ -181,9 +181,14 @@ TEST(Reconstruction, TheNoisySphereScanGivesAClosedGenusZeroBase) {
 TEST(Reconstruction, AMeshTargetWhoseFacesAreNotAManifoldIsRefusedNotReconstructed) {
   // Reconstructing from the vertices would drop what the faces say (a genus-3 quad mesh came
   // back a genus-0 blob): the faces' problem is the error, and ignore_faces is the way to a cloud.
-  const PolygonSoup cow = read_polygon_soup(testing::public_data("cow.off"));
-  PolygonSoup broken = cow;
-  broken.faces.push_back({cow.faces[0][0], cow.faces[0][1], cow.faces[5][2]});  // a third triangle on an edge
+  // (A torus: its reconstruction keeps the genus whatever the memory layout; the cow's thin
+  // legs make Poisson's mesher, which orders ties by addresses, give genus 0 or 1.)
+  const testing::BaseMesh torus = testing::torus(64, 24);
+  PolygonSoup mesh;
+  mesh.points = torus.points;
+  for (const auto& t : torus.triangles) mesh.faces.push_back({t[0], t[1], t[2]});
+  PolygonSoup broken = mesh;
+  broken.faces.push_back({mesh.faces[0][0], mesh.faces[0][1], mesh.faces[5][2]});  // a third triangle on an edge
   try {
     make_base(broken, {}, BaseOptions{});
     FAIL() << "no error";
@@ -194,10 +199,10 @@ TEST(Reconstruction, AMeshTargetWhoseFacesAreNotAManifoldIsRefusedNotReconstruct
   points_only.ignore_faces = true;
   const Base base = make_base(broken, {}, points_only);
   EXPECT_EQ(base.source, BaseSource::reconstructed);
-  EXPECT_EQ(base.topology.genus, 0);
+  EXPECT_EQ(base.topology.genus, 1);
   EXPECT_EQ(base.topology.boundary_loops, 0);
   // The faces as they are: decimated.
-  const Base decimated = make_base(cow, {}, BaseOptions{});
+  const Base decimated = make_base(mesh, {}, BaseOptions{});
   EXPECT_EQ(decimated.source, BaseSource::decimated);
   EXPECT_EQ(decimated.reconstruction_seconds, 0);
 }

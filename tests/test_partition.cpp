@@ -109,8 +109,8 @@ TEST(Partition, BalancesTheTrianglesOfAMeshRefinedAroundOnePoint) {
 
 // Adaptive sphere-peak above a floor at level 2 (320 macro triangles of the icosahedron), its
 // peak inside a few of them: the final mesh partitioned at the floor's level for 2, 3 and 4
-// processes. (A moving peak's wake gathers more tightly: 1.36 for 3 parts of 96,548 triangles
-// at this level; units finer than the floor where the mesh is heavy are the next step.)
+// processes, within 20% unless one macro triangle alone holds more than a part's share (then
+// within 5% of what that triangle forces; units finer where the mesh is heavy lift that limit).
 // Adaptive runs on the unit sphere from the icosahedron above a floor at level 2.
 adapt::AdaptOptions above_level_2() {
   adapt::AdaptOptions o;
@@ -131,9 +131,13 @@ TEST(Partition, AnAdaptiveRunAboveAFloorBalancesWithinTwentyPercent) {
   adapt::run_cycles(peak, fem::sphere_peak(), o);
   const MacroTriangles macro = macro_triangles(peak, 2);
   ASSERT_EQ(macro.corners.size(), 320u);
+  // METIS cannot split a macro triangle: the heaviest one bounds the balance from below.
+  const std::size_t heaviest = *std::max_element(macro.triangles.begin(), macro.triangles.end());
   for (int parts : {2, 3, 4}) {
     const Partition p = partition(macro, parts);
-    EXPECT_LE(p.imbalance, 1.2) << parts << " parts of " << peak.num_triangles() << " triangles";
+    const double floor = static_cast<double>(heaviest) * parts / static_cast<double>(peak.num_triangles());
+    EXPECT_LE(p.imbalance, std::max(1.2, 1.05 * floor)) << parts << " parts of " << peak.num_triangles() << " triangles";
+    std::printf("%d parts: imbalance %.3f (the heaviest macro triangle alone: %.3f)\n", parts, p.imbalance, floor);
   }
 }
 

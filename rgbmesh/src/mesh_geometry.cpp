@@ -12,6 +12,7 @@
 // the complete ring when first needed gives the same value without per-insertion work.)
 
 #include <algorithm>
+#include <array>
 #include <exception>
 #include <limits>
 #include <vector>
@@ -137,7 +138,7 @@ bool RgbMesh::limit_from_ring(VertexHandle v, Vec3& limit, Known known) const {
   // level l or a piece of one (its far end then descends from v by repeated halving:
   // follow parents back to level l). A red edge coarser than v means a triangle coarser
   // than v, hence a missing neighbour.
-  Vec3 sum;
+  std::array<Vec3, 6> ring;
   int count = 0;
   bool complete = true;
   visit_edges(v, [&](EdgeHandle e) {
@@ -150,15 +151,22 @@ bool RgbMesh::limit_from_ring(VertexHandle v, Vec3& limit, Known known) const {
       const auto& p = v_parents_[w.idx];
       w = (p[0] == v) ? p[1] : p[0];
     }
-    if (level(w) < l && !known(w)) {
+    if ((level(w) < l && !known(w)) || count == 6) {
       complete = false;
       return false;
     }
-    sum += known_control_point(w, l);
-    ++count;
+    ring[count++] = known_control_point(w, l);
     return true;
   });
   if (!complete || count != 6) return false;
+  // Summed in an order of the points themselves, not of the edges around v (which start
+  // wherever v's first edge is): the limit is then the same to the last bit in every copy of
+  // the mesh, however its vertices were numbered or inserted (issue 24).
+  std::sort(ring.begin(), ring.end(), [](const Vec3& a, const Vec3& b) {
+    return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
+  });
+  Vec3 sum;
+  for (const Vec3& p : ring) sum += p;
   limit = 0.5 * v_control_[v.idx] + (1.0 / 12.0) * sum;
   return true;
 }

@@ -327,6 +327,8 @@ EdgeHandle RgbMesh::swap_rb(EdgeHandle e) {
 // split are incident at the new vertex.
 void RgbMesh::stabilize_around(VertexHandle m) {
   for (;;) {
+    // Of several unstable pairs, the one whose red edge comes first by its ends' positions:
+    // not the first met around m, which depends on where m's edge list starts (issue 24).
     EdgeHandle unstable;
     visit_edges(m, [&](EdgeHandle e) {
       for (TriangleHandle t : e_tri_[e.idx]) {
@@ -334,16 +336,33 @@ void RgbMesh::stabilize_around(VertexHandle m) {
         for (EdgeHandle f : t_edge_[t.idx]) {
           if (!is_red(f)) continue;
           const TriangleHandle u = other_triangle(f, t);
-          if (u.valid() && color(u) == Color::blue) unstable = f;
+          if (u.valid() && color(u) == Color::blue && (!unstable.valid() || edge_precedes(f, unstable))) unstable = f;
           break;
         }
-        if (unstable.valid()) return false;
       }
       return true;
     });
     if (!unstable.valid()) return;
     swap_bb(unstable);  // the star changed: look again
   }
+}
+
+bool RgbMesh::edge_precedes(EdgeHandle a, EdgeHandle b) const {
+  // By the control points of the ends (each at its vertex's own level: the same in every copy
+  // of the mesh, whatever the slots), smaller end first, lexicographically.
+  const auto less = [](const Vec3& p, const Vec3& q) {
+    return p.x != q.x ? p.x < q.x : (p.y != q.y ? p.y < q.y : p.z < q.z);
+  };
+  const auto ends = [&](EdgeHandle e) {
+    const Vec3& p = v_control_[e_vert_[e.idx][0].idx];
+    const Vec3& q = v_control_[e_vert_[e.idx][1].idx];
+    return less(q, p) ? std::pair<const Vec3*, const Vec3*>(&q, &p) : std::pair<const Vec3*, const Vec3*>(&p, &q);
+  };
+  const auto [a0, a1] = ends(a);
+  const auto [b0, b1] = ends(b);
+  if (less(*a0, *b0)) return true;
+  if (less(*b0, *a0)) return false;
+  return less(*a1, *b1);
 }
 
 // Each step (a forced split, the stabilising swaps after it) completes before its insertion is
@@ -356,9 +375,11 @@ VertexHandle RgbMesh::split_edge(EdgeHandle e) {
   // Make e refinable: each incident triangle of level l-1 is decomposed by splitting a
   // coarser green edge (section V-B). Splitting other edges never deletes e (green edges are
   // only removed by their own split or by a merge), so the handle stays valid.
+  // When both sides are coarser, the side whose edge comes first by position goes first
+  // (edge_precedes), not the first in e's triangle list, which depends on the mesh's history:
+  // the order of the forced splits decides which diagonal their trapezoids get (issue 24).
   for (;;) {
-    EdgeHandle coarser;
-    bool swapped = false;
+    EdgeHandle coarser, unstable;
     for (TriangleHandle t : e_tri_[e.idx]) {
       if (!t.valid() || level(t) == l) continue;
       TriangleHandle red = t;
@@ -371,17 +392,18 @@ VertexHandle RgbMesh::split_edge(EdgeHandle e) {
         }
         red = other_triangle(red_edge, t);
         if (color(red) == Color::blue) {
-          swap_bb(red_edge);
-          swapped = true;
-          break;
+          if (!unstable.valid() || edge_precedes(red_edge, unstable)) unstable = red_edge;
+          continue;
         }
       }
       for (EdgeHandle f : t_edge_[red.idx]) {
-        if (!is_red(f) && level(f) == l - 1) coarser = f;
+        if (!is_red(f) && level(f) == l - 1 && (!coarser.valid() || edge_precedes(f, coarser))) coarser = f;
       }
-      break;
     }
-    if (swapped) continue;
+    if (unstable.valid()) {
+      swap_bb(unstable);
+      continue;
+    }
     if (!coarser.valid()) break;
     split_edge(coarser);
   }

@@ -3,9 +3,12 @@
 #include "rgbmesh/refinement.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <queue>
+#include <cstring>
+#include <vector>
 
+#include "rgbmesh/canonical.hpp"
 #include "rgbmesh/geometry.hpp"
 
 namespace rgbmesh {
@@ -21,16 +24,159 @@ void edges_raising(const RgbMesh& mesh, TriangleHandle t, std::vector<EdgeHandle
 
 namespace {
 
+// Queue entries pop by priority, then the newest first. "Newest" follows an order of pushes
+// that is canonical: the elements tested together (the first fill, or the tests after one
+// operation) are pushed in the order of their vertices' insertion points (the same in every
+// copy of the mesh), never of the slots they happen to occupy. With split_edge's own choices
+// made the same way (RgbMesh::edge_precedes), a stage's result then depends on the mesh and
+// the criterion only (issue 24): the same vertices and, with the diagonals of the mesh as
+// given, the same triangles, whether the mesh was refined in this process or restored from a
+// file. Equal priorities pop near the last operation, as a stack would (an order by position
+// alone jumps across the mesh: 3.5 times slower for a ball).
 struct EdgeEntry {
-  double priority;
   std::int32_t edge, a, b;
-  bool operator<(const EdgeEntry& o) const { return priority < o.priority; }
+  std::int32_t first;  // index in the first batch, or -1
 };
 
 struct VertexEntry {
-  double priority;
   std::int32_t vertex;
-  bool operator<(const VertexEntry& o) const { return priority < o.priority; }
+};
+
+// A priority queue whose equal priorities pop newest first, as a heap of stacks: each stack
+// holds items of one priority (newest on top, linked through one pool of nodes), and the heap
+// orders the stacks by priority, then the newest stack first. A push joins the newest stack of
+// its priority, found through a small cache, in O(1), where a heap of (priority, sequence)
+// items would sift every new item to the top of its tied block: criteria with few distinct
+// priorities (a ball's level deficits) tie nearly always, and that sifting cost a fifth of a
+// ball refinement. A priority missing from the cache starts a new stack, which is newer than
+// every item of that priority: the order is the same.
+template <class Item>
+class NewestFirstQueue {
+ public:
+  bool empty() const { return size_ == 0; }
+  std::size_t size() const { return size_; }
+  std::size_t bytes() const {
+    return nodes_.capacity() * sizeof(Node) + heap_.capacity() * sizeof(Stack) +
+           stack_top_.capacity() * sizeof(std::int32_t) + stack_serial_.capacity() * sizeof(std::uint64_t);
+  }
+
+  void push(double priority, const Item& item) {
+    const std::int32_t node = new_node();
+    Recent& recent = recent_[slot(priority)];
+    const auto stack = static_cast<std::size_t>(recent.stack);
+    if (recent.serial != 0 && recent.priority == priority && stack_serial_[stack] == recent.serial) {
+      nodes_[static_cast<std::size_t>(node)] = {item, stack_top_[stack]};
+      stack_top_[stack] = node;
+    } else {
+      nodes_[static_cast<std::size_t>(node)] = {item, -1};
+      const std::int32_t fresh = new_stack();
+      stack_top_[static_cast<std::size_t>(fresh)] = node;
+      stack_serial_[static_cast<std::size_t>(fresh)] = ++serial_;
+      heap_.push_back({priority, serial_, fresh});
+      std::push_heap(heap_.begin(), heap_.end());
+      recent = {priority, serial_, fresh};
+    }
+    ++size_;
+  }
+
+  // The newest item of the highest priority, removed.
+  Item pop() {
+    const auto stack = static_cast<std::size_t>(heap_.front().stack);
+    const std::int32_t node = stack_top_[stack];
+    Node& n = nodes_[static_cast<std::size_t>(node)];
+    const Item item = n.item;
+    stack_top_[stack] = n.next;
+    n.next = free_nodes_;
+    free_nodes_ = node;
+    if (stack_top_[stack] < 0) {
+      stack_serial_[stack] = 0;
+      stack_top_[stack] = free_stacks_;  // the free list of stacks reuses the top field
+      free_stacks_ = static_cast<std::int32_t>(stack);
+      std::pop_heap(heap_.begin(), heap_.end());
+      heap_.pop_back();
+    }
+    --size_;
+    return item;
+  }
+
+ private:
+  struct Node {
+    Item item;
+    std::int32_t next;
+  };
+  struct Stack {
+    double priority;
+    std::uint64_t serial;
+    std::int32_t stack;
+    bool operator<(const Stack& o) const { return priority != o.priority ? priority < o.priority : serial < o.serial; }
+  };
+  struct Recent {
+    double priority = 0;
+    std::uint64_t serial = 0;
+    std::int32_t stack = 0;
+  };
+  static std::size_t slot(double priority) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &priority, sizeof bits);
+    return static_cast<std::size_t>((bits * 0x9E3779B97F4A7C15ull) >> 58);  // 64 slots
+  }
+  std::int32_t new_node() {
+    if (free_nodes_ < 0) {
+      nodes_.push_back({});
+      return static_cast<std::int32_t>(nodes_.size() - 1);
+    }
+    const std::int32_t node = free_nodes_;
+    free_nodes_ = nodes_[static_cast<std::size_t>(node)].next;
+    return node;
+  }
+  std::int32_t new_stack() {
+    if (free_stacks_ < 0) {
+      stack_top_.push_back(-1);
+      stack_serial_.push_back(0);
+      return static_cast<std::int32_t>(stack_top_.size() - 1);
+    }
+    const std::int32_t stack = free_stacks_;
+    free_stacks_ = stack_top_[static_cast<std::size_t>(stack)];
+    return stack;
+  }
+  std::vector<Node> nodes_;
+  std::int32_t free_nodes_ = -1;
+  std::vector<Stack> heap_;                  // a max-heap of the non-empty stacks
+  std::vector<std::int32_t> stack_top_;      // per stack: its newest node (or the next free stack)
+  std::vector<std::uint64_t> stack_serial_;  // per stack: its serial, 0 when free
+  std::int32_t free_stacks_ = -1;
+  std::array<Recent, 64> recent_{};          // per priority digest: the newest stack seen
+  std::uint64_t serial_ = 0;
+  std::size_t size_ = 0;
+};
+
+// The order of two points: lexicographic on x, y, z.
+bool point_less(const Vec3& p, const Vec3& q) { return p.x != q.x ? p.x < q.x : (p.y != q.y ? p.y < q.y : p.z < q.z); }
+
+// A 64-bit digest of an edge's ends (their control points, the smaller first), which tells a
+// vertex in a reused slot from the one that was there (collisions: 2^-64 per pair).
+std::uint64_t ends_hash(const Vec3& low, const Vec3& high) {
+  std::uint64_t h = 0x9E3779B97F4A7C15ull;
+  for (const double x : {low.x, low.y, low.z, high.x, high.y, high.z}) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    h ^= bits + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 31;
+  }
+  return h;
+}
+
+// An element tested but not yet numbered and queued, with its key for the numbering: the
+// digest of its ends' insertion points (an edge's, the smaller first; a vertex's, twice). Any
+// order that depends on the points alone is canonical; a digest sorts faster than the points,
+// and ties between different elements (2^-64 per pair) are left to chance.
+template <class Entry>
+struct Keyed {
+  double priority;
+  std::uint64_t key;
+  Entry entry;
+  bool operator<(const Keyed& o) const { return priority != o.priority ? priority < o.priority : key < o.key; }
 };
 
 // Unregisters an observer when the run ends, also on exceptions.
@@ -51,22 +197,70 @@ class Refiner {
   Refiner(RgbMesh& m, const LodCriterion& c, const RefinementOptions& o) : mesh_(m), crit_(c), opt_(o) {}
 
   RefinementResult run() {
-    for (EdgeHandle e : mesh_.edges()) test_edge(e);
-    for (TriangleHandle t : mesh_.triangles()) test_triangle(t);
-    for (VertexHandle v : mesh_.vertices()) test_vertex(v);
+    // Marks computed once on the mesh as given (FieldCriterion: values by the slots of its
+    // triangles and vertices) are read before anything moves; the queue finds their edges
+    // again by their ends.
+    const bool static_marks = !crit_.tests_new_elements();
+    if (static_marks) {
+      test_everything();
+      canonical_diagonals(mesh_);
+    }
+    // Criteria that measure the mesh read Loop points of the vertices' levels (level_point),
+    // exact once a vertex's limit is known and the shown control point before. Which limits a
+    // mesh has cached depends on its history (a saved and restored mesh has all of them), so
+    // every limit is made known first: the criteria then see the same points in every copy.
+    if (!static_marks) {
+      mesh_.compute_limits();
+      test_everything();
+    }
     coarsen();
     refine();
     while (crit_.priorities_change_nearby() && !crit_.satisfied(mesh_) && !result_.stopped_at_memory_limit) {
       const std::uint64_t before = result_.splits;
       for (EdgeHandle e : mesh_.edges()) test_edge(e);
       for (TriangleHandle t : mesh_.triangles()) test_triangle(t);
+      queue_batches();
       refine();
       if (result_.splits == before) break;
     }
+    if (static_marks && result_.splits > 0) canonical_diagonals(mesh_);
     return result_;
   }
 
  private:
+  void test_everything() {
+    for (EdgeHandle e : mesh_.edges()) test_edge(e);
+    for (TriangleHandle t : mesh_.triangles()) test_triangle(t);
+    for (VertexHandle v : mesh_.vertices()) test_vertex(v);
+    queue_batches();
+  }
+
+  // The edge of a queue entry, if it is still in the mesh as a green edge to split. Entries of
+  // the first batch were queued before the coarsening and compute_limits, which free and reuse
+  // vertex slots and move edges to other slots: theirs must still join vertices at the control
+  // points they were queued with, found by their ends. Later entries name their edge's slot
+  // unless the edge is gone (refinement frees no vertex slot).
+  EdgeHandle current_edge(const EdgeEntry& entry) const {
+    const VertexHandle a(entry.a), b(entry.b);
+    EdgeHandle e(entry.edge);
+    const auto joins = [&](EdgeHandle f) {
+      const auto& ends = mesh_.edge_vertices(f);
+      return (ends[0] == a && ends[1] == b) || (ends[0] == b && ends[1] == a);
+    };
+    if (entry.first >= 0) {
+      if (!mesh_.alive(a) || !mesh_.alive(b)) return EdgeHandle();
+      const Vec3 &pa = mesh_.insertion_point(a), &pb = mesh_.insertion_point(b);
+      const bool swap = point_less(pb, pa);
+      if (ends_hash(swap ? pb : pa, swap ? pa : pb) != first_batch_[static_cast<std::size_t>(entry.first)])
+        return EdgeHandle();
+      if (!mesh_.alive(e) || !joins(e)) e = mesh_.find_edge(a, b);
+    } else if (!mesh_.alive(e) || !joins(e)) {
+      return EdgeHandle();
+    }
+    if (!e.valid() || mesh_.is_red(e) || mesh_.level(e) >= opt_.max_level) return EdgeHandle();
+    return e;
+  }
+
   void test_edge(EdgeHandle e) {
     if (mesh_.is_red(e) || mesh_.level(e) >= opt_.max_level) return;
     const double p = crit_.edge_priority(mesh_, e);
@@ -84,12 +278,37 @@ class Refiner {
   void test_vertex(VertexHandle v) {
     if (!mesh_.is_removable(v)) return;
     const double p = crit_.vertex_priority(mesh_, v);
-    if (p > 0) qc_.push({p, v.idx});
+    if (p > 0) {
+      const Vec3& x = mesh_.insertion_point(v);
+      vertex_batch_.push_back({p, ends_hash(x, x), {v.idx}});
+    }
   }
+
 
   void push_edge(EdgeHandle e, double p) {
     const auto& ev = mesh_.edge_vertices(e);
-    qr_.push({p, e.idx, ev[0].idx, ev[1].idx});
+    const Vec3 &a = mesh_.insertion_point(ev[0]), &b = mesh_.insertion_point(ev[1]);
+    edge_batch_.push_back({p, point_less(b, a) ? ends_hash(b, a) : ends_hash(a, b), {e.idx, ev[0].idx, ev[1].idx, -1}});
+  }
+
+  // Queues the elements tested since the last call in the order of their keys (priority
+  // first): among equal priorities the last queued pops first. The first batch's edges keep
+  // their digests (first_batch_) to be recognised after the slots move.
+  void queue_batches() {
+    const bool first = !queued_before_;
+    queued_before_ = true;
+    std::sort(edge_batch_.begin(), edge_batch_.end());
+    for (auto& keyed : edge_batch_) {
+      if (first) {
+        keyed.entry.first = static_cast<std::int32_t>(first_batch_.size());
+        first_batch_.push_back(keyed.key);
+      }
+      qr_.push(keyed.priority, keyed.entry);
+    }
+    edge_batch_.clear();
+    std::sort(vertex_batch_.begin(), vertex_batch_.end());
+    for (const auto& keyed : vertex_batch_) qc_.push(keyed.priority, keyed.entry);
+    vertex_batch_.clear();
   }
 
   // Whether a popped edge still needs splitting: its own priority, or a triangle it raises.
@@ -119,11 +338,17 @@ class Refiner {
   }
 
   void coarsen() {
+    if (qc_.empty()) return;
     VertexStar s;
     std::vector<VertexHandle> neighbours;
+    // A removal leaves a trapezoid whose diagonal depends on the removal's swap sequence, and
+    // whether a neighbour is removable next depends on it: the diagonals are chosen by names
+    // (canonical.hpp) from the start and after every removal, so that the greedy removals are
+    // the same in every copy of the mesh. (Coarsening inserts nothing: the names stay.)
+    const std::vector<VertexName> names = vertex_names(mesh_);
+    canonical_diagonals(mesh_, names);
     while (!qc_.empty()) {
-      const VertexEntry top = qc_.top();
-      qc_.pop();
+      const VertexEntry top = qc_.pop();
       const VertexHandle v(top.vertex);
       if (!mesh_.alive(v) || !mesh_.is_removable(v) || !(crit_.vertex_priority(mesh_, v) > 0)) {
         ++result_.skipped;
@@ -132,11 +357,13 @@ class Refiner {
       mesh_.star(v, s);
       neighbours = s.neighbors;
       mesh_.remove_vertex(v);
+      canonical_diagonals_near(mesh_, names, neighbours);
       ++result_.removals;
       // Only neighbours can become removable by a removal (section V-A).
       for (VertexHandle n : neighbours) {
         if (mesh_.alive(n)) test_vertex(n);
       }
+      queue_batches();
       report();
     }
   }
@@ -147,7 +374,7 @@ class Refiner {
   bool at_memory_limit() {
     if (opt_.max_mesh_bytes == 0 || (++memory_checks_ & 1023) != 0) return false;
     const double bytes = 1.5 * static_cast<double>(mesh_.memory_bytes()) +
-                         static_cast<double>(qr_.size() * sizeof(EdgeEntry) + qc_.size() * sizeof(VertexEntry));
+                         static_cast<double>(qr_.bytes() + qc_.bytes());
     if (bytes <= static_cast<double>(opt_.max_mesh_bytes)) return false;
     result_.stopped_at_memory_limit = true;
     return true;
@@ -160,20 +387,18 @@ class Refiner {
     ObserverGuard guard(mesh_, id);
     VertexStar s;
     while (!qr_.empty() && !crit_.satisfied(mesh_) && !at_memory_limit()) {
-      const EdgeEntry top = qr_.top();
-      qr_.pop();
-      const EdgeHandle e(top.edge);
-      // Slots are reused: the entry is current only if the slot still joins the same pair.
-      const bool current =
-          mesh_.alive(e) && !mesh_.is_red(e) && mesh_.level(e) < opt_.max_level &&
-          ((mesh_.edge_vertices(e)[0].idx == top.a && mesh_.edge_vertices(e)[1].idx == top.b) ||
-           (mesh_.edge_vertices(e)[0].idx == top.b && mesh_.edge_vertices(e)[1].idx == top.a));
-      if (!current || !still_wanted(e)) {
+      const EdgeEntry top = qr_.pop();
+      const EdgeHandle e = current_edge(top);
+      if (!e.valid() || !still_wanted(e)) {
         ++result_.skipped;
         continue;
       }
       inserted.clear();
       mesh_.split_edge(e);
+      // Criteria that test new elements read their shapes (a triangle in a ball): the diagonals
+      // are chosen by names after every split. Marks fixed on the mesh as given (FieldCriterion)
+      // split the same edges whatever the diagonals in between (forced splits follow levels,
+      // which both diagonals share), so they are chosen once, at the end.
       result_.splits += inserted.size();
       if (crit_.tests_new_elements()) {
         for (VertexHandle m : inserted) {
@@ -191,6 +416,7 @@ class Refiner {
             }
           }
         }
+        queue_batches();
       }
       report();
     }
@@ -199,8 +425,12 @@ class Refiner {
   RgbMesh& mesh_;
   const LodCriterion& crit_;
   const RefinementOptions& opt_;
-  std::priority_queue<EdgeEntry> qr_;
-  std::priority_queue<VertexEntry> qc_;
+  NewestFirstQueue<EdgeEntry> qr_;
+  NewestFirstQueue<VertexEntry> qc_;
+  std::vector<Keyed<EdgeEntry>> edge_batch_;  // tested, not yet numbered and queued
+  std::vector<Keyed<VertexEntry>> vertex_batch_;
+  bool queued_before_ = false;
+  std::vector<std::uint64_t> first_batch_;  // ends_hash of the first batch's edges
   std::vector<EdgeHandle> scratch_edges_;
   RefinementResult result_;
   std::uint64_t next_report_ = 1u << 16;

@@ -33,5 +33,11 @@ std::vector<VertexName> vertex_names(const RgbMesh& mesh);
 /// one by names makes the mesh a function of its vertex set. Returns the swaps made.
 std::size_t canonical_diagonals(RgbMesh& mesh, const std::vector<VertexName>& names);
 inline std::size_t canonical_diagonals(RgbMesh& mesh) { return canonical_diagonals(mesh, vertex_names(mesh)); }
+/// canonical_diagonals for the trapezoids that have a triangle at one of `vertices` (those an
+/// operation inserted, or whose stars a removal changed): after each operation of a stage, so
+/// that the mesh between operations, which the stage's criteria read, is a function of its
+/// vertex set too. `names` by slot (vertex_names).
+std::size_t canonical_diagonals_near(RgbMesh& mesh, const std::vector<VertexName>& names,
+                                     const std::vector<VertexHandle>& vertices);
 
 }  // namespace rgbmesh

@@ -615,6 +615,9 @@ class RgbMesh {
 
   /// Visits every edge incident at v, in no particular order, without allocating; f returns
   /// false to stop early.
+  // Whether edge a comes before edge b in an order of their ends' control points, the same in
+  // every copy of the mesh (canonical choices among several candidates).
+  bool edge_precedes(EdgeHandle a, EdgeHandle b) const;
   template <class F>
   void visit_edges(VertexHandle v, F&& f) const {
     const EdgeHandle start = v_edge_[v.idx];
