@@ -9,6 +9,8 @@
 #include <set>
 
 #include "rgbmesh/canonical.hpp"
+#include "rgbmesh/fem/solver.hpp"
+#include "rgbmesh/fem/surface_mesh.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "test_meshes.hpp"
 
@@ -156,6 +158,74 @@ std::map<VertexName, std::array<double, 3>> named_limits(RgbMesh& m) {
   return out;
 }
 
+// canonical_vertex_order and canonical_triangle_order: permutations of the live elements,
+// parents before children, and the same sequence of names on both meshes.
+void expect_same_order(const RgbMesh& m, const RgbMesh& b) {
+  const std::vector<VertexName> nm = vertex_names(m), nb = vertex_names(b);
+  const auto named = [](const RgbMesh& x, const std::vector<VertexName>& name) {
+    const std::vector<VertexHandle> order = canonical_vertex_order(x);
+    EXPECT_EQ(order.size(), x.num_vertices());
+    std::vector<char> seen(static_cast<std::size_t>(x.vertex_slots()), 0);
+    std::vector<VertexName> names;
+    for (const VertexHandle v : order) {
+      EXPECT_TRUE(x.alive(v));
+      EXPECT_FALSE(seen[v.idx]) << "listed twice";
+      if (x.level(v) > 0) {
+        EXPECT_TRUE(seen[x.parents(v)[0].idx] && seen[x.parents(v)[1].idx]) << "a child before its parents";
+      }
+      seen[v.idx] = 1;
+      names.push_back(name[v.idx]);
+    }
+    std::vector<std::array<VertexName, 3>> triangles;
+    for (const TriangleHandle t : canonical_triangle_order(x, order)) {
+      const auto c = x.triangle_vertices(t);
+      triangles.push_back({name[c[0].idx], name[c[1].idx], name[c[2].idx]});
+    }
+    EXPECT_EQ(triangles.size(), x.num_triangles());
+    return std::pair(names, triangles);
+  };
+  const auto [vm, tm] = named(m, nm);
+  const auto [vb, tb] = named(b, nb);
+  EXPECT_EQ(vm, vb);
+  // A triangle's corners may come rotated (each mesh keeps its own first corner): compare
+  // the sets per position in the order.
+  ASSERT_EQ(tm.size(), tb.size());
+  for (std::size_t i = 0; i < tm.size(); ++i) {
+    std::array<VertexName, 3> x = tm[i], y = tb[i];
+    std::rotate(x.begin(), std::min_element(x.begin(), x.end()), x.end());
+    std::rotate(y.begin(), std::min_element(y.begin(), y.end()), y.end());
+    ASSERT_EQ(x, y) << "triangle " << i;
+  }
+}
+
+// The finite-element system numbers its unknowns in canonical order: the same mesh with other
+// handles gives the same points, triangles and solution, bit for bit (what lets a resumed
+// adaptive run repeat the original without rebuilding its mesh).
+void expect_same_fe_system(RgbMesh& m, RgbMesh& b) {
+  {  // Not vacuous: numbered in the order of the handles, the two systems differ.
+    const fem::SurfaceMesh fm = fem::build_surface_mesh(m, std::nullopt, 1, fem::DofOrder::mesh),
+                           fb = fem::build_surface_mesh(b, std::nullopt, 1, fem::DofOrder::mesh);
+    EXPECT_NE(fm.triangles, fb.triangles);
+  }
+  fem::Problem problem;
+  problem.c = 1;
+  problem.source = [](const Vec3& x) { return x.x + 2 * x.y - x.z * x.z; };
+  for (const int order : {1, 2}) {
+    const fem::SurfaceMesh fm = fem::build_surface_mesh(m, std::nullopt, order), fb = fem::build_surface_mesh(b, std::nullopt, order);
+    ASSERT_EQ(fm.points.size(), fb.points.size());
+    for (std::size_t i = 0; i < fm.points.size(); ++i) {
+      ASSERT_EQ(fm.points[i].x, fb.points[i].x) << "point " << i;
+      ASSERT_EQ(fm.points[i].y, fb.points[i].y) << "point " << i;
+      ASSERT_EQ(fm.points[i].z, fb.points[i].z) << "point " << i;
+    }
+    ASSERT_EQ(fm.triangles, fb.triangles);
+    ASSERT_EQ(fm.edge_nodes, fb.edge_nodes);
+    const fem::Solution um = fem::solve(fm, problem), ub = fem::solve(fb, problem);
+    ASSERT_EQ(um.u.size(), ub.u.size());
+    for (Eigen::Index i = 0; i < um.u.size(); ++i) ASSERT_EQ(um.u[i], ub.u[i]) << "order " << order << " unknown " << i;
+  }
+}
+
 class CanonicalStages : public ::testing::TestWithParam<rgbmesh::testing::BaseMesh> {};
 
 TEST_P(CanonicalStages, StagesOnAShuffledCopyGiveTheSameMesh) {
@@ -198,7 +268,9 @@ TEST_P(CanonicalStages, StagesOnAShuffledCopyGiveTheSameMesh) {
       EXPECT_NO_THROW(b.validate());
       ASSERT_EQ(named_triangles(b), named_triangles(m)) << "seed " << seed << " stage " << stage;
       ASSERT_EQ(named_limits(b), named_limits(m)) << "seed " << seed << " stage " << stage;
+      expect_same_order(m, b);
     }
+    expect_same_fe_system(m, b);
   }
 }
 

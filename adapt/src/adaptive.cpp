@@ -35,78 +35,6 @@ struct SolvedCycle {
   bool over_max_dofs = false;
 };
 
-// Rebuilds the mesh from its RGB state with the points in an order that depends on the mesh
-// alone: base vertices by base index, then level by level, each level by its parents' ranks.
-// restore_state inserts in that order, so the rebuilt mesh's handles (and the order of every
-// later split, removal and FE unknown) are those any process gets for this mesh. The trapezoid
-// diagonals are handed over as a sorted triangle list. Returns where each old vertex slot went.
-std::vector<VertexHandle> rebuild_canonically(RgbMesh& mesh) {
-  MeshSnapshot ids;
-  ids.vertex_handle.reserve(mesh.num_vertices());
-  for (const VertexHandle v : mesh.vertices()) ids.vertex_handle.push_back(v);
-  const RgbState state = save_state(mesh, ids);
-  const std::size_t n = state.parents.size();
-  // Ranks: base vertices first, then by (level, smaller parent rank, larger parent rank).
-  std::vector<std::int32_t> rank(n, -1), order;
-  order.reserve(n);
-  std::vector<std::vector<std::int32_t>> by_level;
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto level = static_cast<std::size_t>(mesh.level(ids.vertex_handle[i]));
-    if (by_level.size() <= level) by_level.resize(level + 1);
-    by_level[level].push_back(static_cast<std::int32_t>(i));
-  }
-  for (std::size_t l = 0; l < by_level.size(); ++l) {
-    auto& points = by_level[l];
-    if (l == 0) {
-      std::sort(points.begin(), points.end(),
-                [&](std::int32_t a, std::int32_t b) { return state.base_vertex[a] < state.base_vertex[b]; });
-    } else {
-      const auto key = [&](std::int32_t p) {
-        const std::int32_t r0 = rank[state.parents[p][0]], r1 = rank[state.parents[p][1]];
-        return std::pair(std::min(r0, r1), std::max(r0, r1));
-      };
-      std::sort(points.begin(), points.end(), [&](std::int32_t a, std::int32_t b) { return key(a) < key(b); });
-    }
-    for (const std::int32_t p : points) {
-      rank[p] = static_cast<std::int32_t>(order.size());
-      order.push_back(p);
-    }
-  }
-  RgbState sorted;
-  sorted.base_points = state.base_points;
-  sorted.base_triangles = state.base_triangles;
-  sorted.base_vertex.resize(n);
-  sorted.parents.resize(n);
-  for (std::size_t r = 0; r < n; ++r) {
-    const std::int32_t p = order[r];
-    sorted.base_vertex[r] = state.base_vertex[p];
-    const auto [a, b] = state.parents[p];
-    sorted.parents[r] = a < 0 ? std::array<std::int32_t, 2>{-1, -1} : std::array<std::int32_t, 2>{rank[a], rank[b]};
-  }
-  std::vector<std::int32_t> rank_of_slot(static_cast<std::size_t>(mesh.vertex_slots()), -1);
-  for (std::size_t i = 0; i < n; ++i) rank_of_slot[static_cast<std::size_t>(ids.vertex_handle[i].idx)] = rank[i];
-  RestoreExpectations expected;
-  expected.triangles.reserve(mesh.num_triangles());
-  for (const TriangleHandle t : mesh.triangles()) {
-    const auto c = mesh.triangle_vertices(t);
-    std::array<std::int32_t, 3> tri{rank_of_slot[c[0].idx], rank_of_slot[c[1].idx], rank_of_slot[c[2].idx]};
-    std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());  // orientation kept
-    expected.triangles.push_back(tri);
-  }
-  std::sort(expected.triangles.begin(), expected.triangles.end());
-  RestoredMesh rebuilt = [&] {
-    try {
-      return restore_state(sorted, expected);
-    } catch (const InputError& e) {  // the state of a valid mesh: a bug of ours
-      throw std::logic_error(std::string("rebuilding the mesh from its own state: ") + e.what());
-    }
-  }();
-  std::vector<VertexHandle> moved(static_cast<std::size_t>(mesh.vertex_slots()));
-  for (std::size_t i = 0; i < n; ++i) moved[static_cast<std::size_t>(ids.vertex_handle[i].idx)] = rebuilt.vertex[rank[i]];
-  mesh = std::move(rebuilt.mesh);
-  return moved;
-}
-
 // A distributed mesh's counts (SolvedCycle::vertices, edges; the report's triangles and
 // unknowns): each process counts the vertices, edges and triangles of its own triangles whose
 // lowest part is its own, and the counts are added up. (The neighbours of own triangles are
@@ -156,7 +84,6 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
     options.prepare_mesh(mesh);
     c.report.exchange_seconds = seconds_since(t_prepare);
   }
-  if (options.resumable) transfer.rebuilt(rebuild_canonically(mesh));
   const auto t_mesh = std::chrono::steady_clock::now();
   c.fe = fem::build_surface_mesh(mesh, options.projection, options.order);
   c.report.mesh_seconds = seconds_since(t_mesh);

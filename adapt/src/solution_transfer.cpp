@@ -162,34 +162,6 @@ Eigen::VectorXd SolutionTransfer::on(const fem::SurfaceMesh& fe) const {
   return u;
 }
 
-void SolutionTransfer::rebuilt(const std::vector<VertexHandle>& moved) {
-  const auto slots = static_cast<std::size_t>(mesh_.vertex_slots());
-  const auto where = [&](std::size_t old) { return old < moved.size() ? moved[old] : VertexHandle(); };
-  std::vector<double> values(slots, 0.0);
-  std::vector<Location> locations(slots);
-  std::vector<std::vector<std::int32_t>> stars(quadratic_ ? slots : 0);
-  for (std::size_t old = 0; old < values_.size(); ++old) {
-    const VertexHandle to = where(old);
-    if (!to.valid()) continue;
-    values[static_cast<std::size_t>(to.idx)] = values_[old];
-    if (old < locations_.size()) locations[static_cast<std::size_t>(to.idx)] = locations_[old];
-    if (old < old_star_.size()) stars[static_cast<std::size_t>(to.idx)] = std::move(old_star_[old]);
-  }
-  for (OldElement& e : old_)
-    for (VertexHandle& c : e.corners) c = where(static_cast<std::size_t>(c.idx));
-  std::unordered_map<std::uint64_t, double> edges;
-  edges.reserve(edges_.size());
-  for (const auto& [k, value] : edges_) {
-    const VertexHandle a = where(static_cast<std::size_t>(k >> 32)), b = where(static_cast<std::size_t>(k & 0xffffffffu));
-    if (a.valid() && b.valid()) edges.emplace(key(a, b), value);
-  }
-  values_ = std::move(values);
-  locations_ = std::move(locations);
-  old_star_ = std::move(stars);
-  edges_ = std::move(edges);
-  observe();
-}
-
 void SolutionTransfer::observe() {
   insertion_id_ = mesh_.add_insertion_observer(
       [this](VertexHandle v, VertexHandle a, VertexHandle b) { inserted(v, a, b); });

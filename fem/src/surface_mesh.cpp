@@ -6,6 +6,7 @@
 #include <unordered_map>
 #include <string>
 
+#include "rgbmesh/canonical.hpp"
 #include "rgbmesh/soup.hpp"
 
 namespace rgbmesh::fem {
@@ -114,6 +115,13 @@ const std::array<QuadraturePoint, 7>& triangle_quadrature() {
 
 namespace {
 
+// Which corner of its mesh triangle FE triangle t starts at (build_surface_mesh may rotate them).
+int corner_offset(const SurfaceMesh& s, const RgbMesh& mesh, std::size_t t) {
+  const auto c = mesh.triangle_vertices(s.triangle[t]);
+  const VertexHandle first = s.vertex[static_cast<std::size_t>(s.triangles[t][0])];
+  return c[0] == first ? 0 : c[1] == first ? 1 : 2;
+}
+
 // split_limits (like compute_limits) leaves the same triangles, but those its undo re-creates
 // may sit in other slots: each FE triangle's handle is found again by its corners (an oriented
 // edge names one triangle of a manifold mesh: the corner with the smallest slot and the next).
@@ -219,7 +227,7 @@ void add_edge_nodes(SurfaceMesh& s, RgbMesh& mesh) {
       const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
       const auto [it, inserted] = node_of_edge.try_emplace(key, static_cast<std::int32_t>(s.points.size() + edges.size()));
       if (inserted) {
-        edges.push_back(mesh.triangle_edges(s.triangle[t])[k]);
+        edges.push_back(mesh.triangle_edges(s.triangle[t])[(corner_offset(s, mesh, t) + k) % 3]);
         ends.push_back({a, b});
       }
       s.edge_nodes[t][k] = it->second;
@@ -295,23 +303,44 @@ ElementPoint element_point(const SurfaceMesh& mesh, std::size_t triangle, const 
   return p;
 }
 
-SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projection, int order) {
+SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projection, int order, DofOrder dof_order) {
   if (order != 1 && order != 2) throw InputError("finite elements of order " + std::to_string(order) + ": only 1 and 2");
   mesh.compute_limits();
   SurfaceMesh s;
   s.order = order;
   s.projection = std::move(projection);
   s.dof_of_vertex.assign(static_cast<std::size_t>(mesh.vertex_slots()), -1);
-  for (VertexHandle v : mesh.vertices()) {
+  // By default, unknowns and triangles are numbered in an order that depends on the mesh alone,
+  // not on its handles: the same mesh, however built or restored, gives the same system, bit
+  // for bit.
+  const bool canonical = dof_order == DofOrder::canonical;
+  std::vector<VertexHandle> vertex_order;
+  std::vector<TriangleHandle> triangle_order;
+  if (canonical) {
+    vertex_order = canonical_vertex_order(mesh);
+    triangle_order = canonical_triangle_order(mesh, vertex_order);
+  } else {
+    vertex_order.assign(mesh.vertices().begin(), mesh.vertices().end());
+    triangle_order.assign(mesh.triangles().begin(), mesh.triangles().end());
+  }
+  s.points.reserve(vertex_order.size());
+  s.vertex.reserve(vertex_order.size());
+  for (const VertexHandle v : vertex_order) {
     s.dof_of_vertex[v.idx] = static_cast<std::int32_t>(s.points.size());
     const Vec3 p = mesh.limit_position(v);
     s.points.push_back(s.projection ? (*s.projection)(p) : p);
     s.vertex.push_back(v);
   }
-  for (TriangleHandle t : mesh.triangles()) {
+  s.triangles.reserve(triangle_order.size());
+  s.triangle.reserve(triangle_order.size());
+  for (const TriangleHandle t : triangle_order) {
+    // Canonical: corners from the one numbered first (the orientation kept), so that the
+    // element's corners, like its place, do not depend on which corner the mesh stores first.
     const auto c = mesh.triangle_vertices(t);
+    const std::int32_t d0 = s.dof_of_vertex[c[0].idx], d1 = s.dof_of_vertex[c[1].idx], d2 = s.dof_of_vertex[c[2].idx];
+    const int r = !canonical ? 0 : d0 < d1 ? (d0 < d2 ? 0 : 2) : (d1 < d2 ? 1 : 2);
     const auto ti = static_cast<std::int32_t>(s.triangles.size());
-    s.triangles.push_back({s.dof_of_vertex[c[0].idx], s.dof_of_vertex[c[1].idx], s.dof_of_vertex[c[2].idx]});
+    s.triangles.push_back({s.dof_of_vertex[c[r].idx], s.dof_of_vertex[c[(r + 1) % 3].idx], s.dof_of_vertex[c[(r + 2) % 3].idx]});
     s.triangle.push_back(t);
     const auto& tri = s.triangles.back();
     const TriangleGeometry g = triangle_geometry(s.points[tri[0]], s.points[tri[1]], s.points[tri[2]]);
@@ -321,7 +350,7 @@ SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projecti
       throw InputError("triangle " + std::to_string(ti) + " (mesh triangle " + std::to_string(t.idx) +
                        ") is degenerate on the surface: area " + std::to_string(g.area));
     for (int k = 0; k < 3; ++k) {
-      const EdgeHandle e = mesh.triangle_edges(t)[k];
+      const EdgeHandle e = mesh.triangle_edges(t)[(r + k) % 3];
       if (mesh.is_boundary(e)) s.boundary_edges.push_back({tri[k], tri[(k + 1) % 3], ti});
     }
   }

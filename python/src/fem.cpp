@@ -193,7 +193,7 @@ std::shared_ptr<Solution> solve(RgbMesh& mesh, const PyProblem& p, int order, co
   s->problem = std::make_shared<const fem::Problem>(p.problem);
   {
     py::gil_scoped_release release;
-    s->fe = fem::build_surface_mesh(mesh, setup.projection, order);
+    s->fe = fem::build_surface_mesh(mesh, setup.projection, order, fem::DofOrder::mesh);  // rows as the mesh's arrays
     check_signals();
     fem::SolveOptions o;
     o.solver = setup.solver;

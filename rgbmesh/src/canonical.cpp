@@ -3,6 +3,8 @@
 #include "rgbmesh/canonical.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <utility>
 
 namespace rgbmesh {
 
@@ -115,6 +117,85 @@ std::size_t canonical_diagonals_near(RgbMesh& mesh, const std::vector<VertexName
     ++swaps;
   }
   return swaps;
+}
+
+std::vector<VertexHandle> canonical_vertex_order(const RgbMesh& mesh) {
+  // Every vertex's level, then a counting sort by level; within a level the key is the pair of
+  // the parents' ranks, which the coarser levels have fixed already. Two vertices of one level
+  // never share both parents (they would be the midpoint of one edge), so keys are unique.
+  const std::size_t slots = static_cast<std::size_t>(mesh.vertex_slots());
+  std::vector<std::size_t> count;
+  for (const VertexHandle v : mesh.vertices()) {
+    const auto l = static_cast<std::size_t>(mesh.level(v));
+    if (count.size() <= l + 1) count.resize(l + 2, 0);
+    ++count[l + 1];
+  }
+  for (std::size_t l = 1; l < count.size(); ++l) count[l] += count[l - 1];
+  std::vector<VertexHandle> order(mesh.num_vertices());
+  {
+    std::vector<std::size_t> next(count.begin(), count.end());
+    for (const VertexHandle v : mesh.vertices()) order[next[static_cast<std::size_t>(mesh.level(v))]++] = v;
+  }
+  // Level 0 is in slot order already: a base vertex's slot is its base index.
+  std::vector<std::uint32_t> rank(slots, 0);
+  std::vector<std::pair<std::uint64_t, VertexHandle>> keyed;
+  for (std::size_t l = 0; l + 1 < count.size(); ++l) {
+    const std::size_t begin = count[l], end = count[l + 1];
+    if (l > 0) {
+      keyed.clear();
+      for (std::size_t i = begin; i < end; ++i) {
+        const auto& p = mesh.parents(order[i]);
+        std::uint64_t a = rank[static_cast<std::size_t>(p[0].idx)], b = rank[static_cast<std::size_t>(p[1].idx)];
+        if (a > b) std::swap(a, b);
+        keyed.emplace_back(a << 32 | b, order[i]);
+      }
+      std::sort(keyed.begin(), keyed.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      for (std::size_t i = begin; i < end; ++i) order[i] = keyed[i - begin].second;
+    }
+    for (std::size_t i = begin; i < end; ++i) rank[static_cast<std::size_t>(order[i].idx)] = static_cast<std::uint32_t>(i);
+  }
+  return order;
+}
+
+std::vector<TriangleHandle> canonical_triangle_order(const RgbMesh& mesh, const std::vector<VertexHandle>& vertex_order) {
+  std::vector<std::uint32_t> rank(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  for (std::size_t i = 0; i < vertex_order.size(); ++i) rank[static_cast<std::size_t>(vertex_order[i].idx)] = static_cast<std::uint32_t>(i);
+  // A counting sort by the first corner's rank, then each bucket (the triangles at one vertex,
+  // a handful) by the other two.
+  struct Keyed {
+    std::uint64_t rest;
+    TriangleHandle t;
+  };
+  std::vector<std::uint32_t> first(static_cast<std::size_t>(mesh.triangle_slots()), 0);
+  std::vector<std::size_t> start(vertex_order.size() + 1, 0);
+  for (const TriangleHandle t : mesh.triangles()) {
+    const auto c = mesh.triangle_vertices(t);
+    const std::uint32_t r = std::min({rank[static_cast<std::size_t>(c[0].idx)], rank[static_cast<std::size_t>(c[1].idx)],
+                                      rank[static_cast<std::size_t>(c[2].idx)]});
+    first[static_cast<std::size_t>(t.idx)] = r;
+    ++start[r + 1];
+  }
+  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  std::vector<Keyed> keyed(mesh.num_triangles());
+  {
+    std::vector<std::size_t> next(start.begin(), start.end() - 1);
+    for (const TriangleHandle t : mesh.triangles()) {
+      const auto c = mesh.triangle_vertices(t);
+      const std::uint32_t r[3] = {rank[static_cast<std::size_t>(c[0].idx)], rank[static_cast<std::size_t>(c[1].idx)],
+                                  rank[static_cast<std::size_t>(c[2].idx)]};
+      const int k = r[0] == first[static_cast<std::size_t>(t.idx)] ? 0 : r[1] == first[static_cast<std::size_t>(t.idx)] ? 1 : 2;
+      const std::uint64_t rest = std::uint64_t{r[(k + 1) % 3]} << 32 | r[(k + 2) % 3];
+      keyed[next[first[static_cast<std::size_t>(t.idx)]]++] = {rest, t};
+    }
+  }
+  std::vector<TriangleHandle> order;
+  order.reserve(keyed.size());
+  for (std::size_t v = 0; v + 1 < start.size(); ++v) {
+    const auto b = keyed.begin() + static_cast<std::ptrdiff_t>(start[v]), e = keyed.begin() + static_cast<std::ptrdiff_t>(start[v + 1]);
+    std::sort(b, e, [](const Keyed& x, const Keyed& y) { return x.rest < y.rest; });
+    for (auto it = b; it != e; ++it) order.push_back(it->t);
+  }
+  return order;
 }
 
 }  // namespace rgbmesh

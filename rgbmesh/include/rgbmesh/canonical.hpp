@@ -40,4 +40,15 @@ inline std::size_t canonical_diagonals(RgbMesh& mesh) { return canonical_diagona
 std::size_t canonical_diagonals_near(RgbMesh& mesh, const std::vector<VertexName>& names,
                                      const std::vector<VertexHandle>& vertices);
 
+/// The live vertices in an order that depends on the mesh alone (as a set of named vertices),
+/// never on handles: level by level, the base vertices by base index, every finer level by its
+/// parents' positions in the order (the smaller first). Children of nearby parents stay nearby,
+/// so numbering unknowns this way keeps their locality. Parents come before their children,
+/// which is also the order restore_state needs.
+std::vector<VertexHandle> canonical_vertex_order(const RgbMesh& mesh);
+/// The live triangles in an order that depends on the mesh alone: by their corners' positions
+/// in `vertex_order` (canonical_vertex_order), each triangle's corners rotated to start at the
+/// first of them (the orientation kept), compared lexicographically.
+std::vector<TriangleHandle> canonical_triangle_order(const RgbMesh& mesh, const std::vector<VertexHandle>& vertex_order);
+
 }  // namespace rgbmesh

@@ -96,14 +96,12 @@ struct AdaptOptions {
   /// adaptation (SolutionTransfer) as the next solve's initial guess, and writes each cycle's
   /// solution at the vertices (quadratic_snapshot: every node).
   int order = 1;
-  /// Resumable runs: every solve happens on the mesh rebuilt from its RGB state with the
-  /// points in a canonical order (base vertices, then by level and parents), so that its
-  /// handles, and with them the order of every later operation, depend on the mesh alone and
-  /// not on how it was reached; and each cycle's CycleState carries that state
+  /// Resumable runs: each cycle's CycleState carries the mesh's RGB state
   /// (SolvedMesh::state), so that snapshot() gives a file that read_rgb_mesh restores. A run
-  /// continued from such a file (first_cycle, DynamicOptions::first_step) then repeats the
-  /// uninterrupted run exactly. Costs a restore_state per solve; the mesh object is replaced
-  /// each time (its handles change, observers the caller registered on it are dropped).
+  /// continued from such a file (first_cycle, DynamicOptions::first_step) repeats the
+  /// uninterrupted run exactly: every stage of the adaptation and the numbering of the unknowns
+  /// depend on the mesh alone (canonical.hpp), not on its handles, so the restored mesh, whose
+  /// handles differ, is solved and adapted as the original was.
   bool resumable = false;
   /// Resuming (run_cycles): the mesh is the one solved in cycle first_cycle - 1 of an earlier
   /// run (e.g. restored from that cycle's file). That cycle is solved again, without a report

@@ -48,9 +48,6 @@ class SolutionTransfer {
   /// The carried values in the DOF order of fe (its vertices; for P2 its edge nodes too, an
   /// edge no rule above reached taking the mean of its ends); empty before the first store().
   Eigen::VectorXd on(const fem::SurfaceMesh& fe) const;
-  /// The RgbMesh object now holds a rebuilt mesh (its observers gone): vertex slot `old` of
-  /// the previous one is moved[old] (invalid for a free slot). Observes the new mesh.
-  void rebuilt(const std::vector<VertexHandle>& moved);
 
  private:
   void observe();

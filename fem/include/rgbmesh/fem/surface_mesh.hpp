@@ -77,7 +77,16 @@ struct SurfaceMesh {
 /// vertex that splitting the edge would insert (RgbMesh::split_limits; the mesh is left as it
 /// was), so that all six nodes lie on the Loop limit surface; a red edge (no subdivision vertex
 /// splits it) gets the midpoint of its ends.
-SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projection = std::nullopt, int order = 1);
+///
+/// The numbering (DofOrder): `canonical` (the default) numbers the vertices and triangles in
+/// canonical_vertex_order and canonical_triangle_order, each triangle's corners from its
+/// lowest-numbered one, so that the system, and with it the solution, is the same bit for bit
+/// for the same mesh with other handles (a restored or resumed mesh); `mesh` keeps the order of
+/// RgbMesh::vertices() and triangles() and their stored corners, which arrays taken from the
+/// mesh share (the Python module's Solution).
+enum class DofOrder { canonical, mesh };
+SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projection = std::nullopt, int order = 1,
+                               DofOrder dof_order = DofOrder::canonical);
 
 /// The smallest Jacobian, relative to that of its flat triangle, that build_surface_mesh
 /// accepts for a curved P2 element (curved_jacobian_ratio). Below it the quadratic map through
