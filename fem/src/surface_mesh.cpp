@@ -221,13 +221,14 @@ void add_edge_nodes(SurfaceMesh& s, RgbMesh& mesh) {
   std::vector<EdgeHandle> edges;
   std::vector<std::array<std::int32_t, 2>> ends;
   for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+    const int offset = corner_offset(s, mesh, t);
     for (int k = 0; k < 3; ++k) {
       std::int32_t a = s.triangles[t][k], b = s.triangles[t][(k + 1) % 3];
       if (a > b) std::swap(a, b);
       const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
       const auto [it, inserted] = node_of_edge.try_emplace(key, static_cast<std::int32_t>(s.points.size() + edges.size()));
       if (inserted) {
-        edges.push_back(mesh.triangle_edges(s.triangle[t])[(corner_offset(s, mesh, t) + k) % 3]);
+        edges.push_back(mesh.triangle_edges(s.triangle[t])[(offset + k) % 3]);
         ends.push_back({a, b});
       }
       s.edge_nodes[t][k] = it->second;

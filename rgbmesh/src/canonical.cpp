@@ -160,38 +160,35 @@ std::vector<VertexHandle> canonical_vertex_order(const RgbMesh& mesh) {
 std::vector<TriangleHandle> canonical_triangle_order(const RgbMesh& mesh, const std::vector<VertexHandle>& vertex_order) {
   std::vector<std::uint32_t> rank(static_cast<std::size_t>(mesh.vertex_slots()), 0);
   for (std::size_t i = 0; i < vertex_order.size(); ++i) rank[static_cast<std::size_t>(vertex_order[i].idx)] = static_cast<std::uint32_t>(i);
-  // A counting sort by the first corner's rank, then each bucket (the triangles at one vertex,
-  // a handful) by the other two.
+  // Each triangle's key: its first corner's rank and the other two's, in the triangle's order.
   struct Keyed {
+    std::uint32_t first;
     std::uint64_t rest;
     TriangleHandle t;
   };
-  std::vector<std::uint32_t> first(static_cast<std::size_t>(mesh.triangle_slots()), 0);
+  std::vector<Keyed> keyed;
+  keyed.reserve(mesh.num_triangles());
   std::vector<std::size_t> start(vertex_order.size() + 1, 0);
   for (const TriangleHandle t : mesh.triangles()) {
     const auto c = mesh.triangle_vertices(t);
-    const std::uint32_t r = std::min({rank[static_cast<std::size_t>(c[0].idx)], rank[static_cast<std::size_t>(c[1].idx)],
-                                      rank[static_cast<std::size_t>(c[2].idx)]});
-    first[static_cast<std::size_t>(t.idx)] = r;
-    ++start[r + 1];
+    const std::uint32_t r[3] = {rank[static_cast<std::size_t>(c[0].idx)], rank[static_cast<std::size_t>(c[1].idx)],
+                                rank[static_cast<std::size_t>(c[2].idx)]};
+    const int k = r[0] < r[1] ? (r[0] < r[2] ? 0 : 2) : (r[1] < r[2] ? 1 : 2);
+    keyed.push_back({r[k], std::uint64_t{r[(k + 1) % 3]} << 32 | r[(k + 2) % 3], t});
+    ++start[r[k] + 1];
   }
+  // A counting sort by the first corner, then each bucket (the triangles at one vertex, a
+  // handful) by the other two.
   for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
-  std::vector<Keyed> keyed(mesh.num_triangles());
+  std::vector<Keyed> sorted(keyed.size());
   {
     std::vector<std::size_t> next(start.begin(), start.end() - 1);
-    for (const TriangleHandle t : mesh.triangles()) {
-      const auto c = mesh.triangle_vertices(t);
-      const std::uint32_t r[3] = {rank[static_cast<std::size_t>(c[0].idx)], rank[static_cast<std::size_t>(c[1].idx)],
-                                  rank[static_cast<std::size_t>(c[2].idx)]};
-      const int k = r[0] == first[static_cast<std::size_t>(t.idx)] ? 0 : r[1] == first[static_cast<std::size_t>(t.idx)] ? 1 : 2;
-      const std::uint64_t rest = std::uint64_t{r[(k + 1) % 3]} << 32 | r[(k + 2) % 3];
-      keyed[next[first[static_cast<std::size_t>(t.idx)]]++] = {rest, t};
-    }
+    for (const Keyed& x : keyed) sorted[next[x.first]++] = x;
   }
   std::vector<TriangleHandle> order;
-  order.reserve(keyed.size());
+  order.reserve(sorted.size());
   for (std::size_t v = 0; v + 1 < start.size(); ++v) {
-    const auto b = keyed.begin() + static_cast<std::ptrdiff_t>(start[v]), e = keyed.begin() + static_cast<std::ptrdiff_t>(start[v + 1]);
+    const auto b = sorted.begin() + static_cast<std::ptrdiff_t>(start[v]), e = sorted.begin() + static_cast<std::ptrdiff_t>(start[v + 1]);
     std::sort(b, e, [](const Keyed& x, const Keyed& y) { return x.rest < y.rest; });
     for (auto it = b; it != e; ++it) order.push_back(it->t);
   }
