@@ -591,10 +591,10 @@ int run_adapt(const AdaptArgs& args) {
     if (a.mesh.empty()) selective_refinement(mesh, UniformLevel(1));  // 42 vertices to start from
   }
   s.options.resumable = true;  // every cycle's file can be resumed from, exactly
-  // Several processes: they share the units above the floor; a new run of a stationary problem
-  // without coarsening holds the mesh itself distributed (each process its part: its cycles
-  // are written as pieces only), any other run the whole mesh on every process.
-  if (a.distribute) a.distribute(s.options, !prior && !s.moving);
+  // Several processes: they share the units above the floor; a new run holds the mesh itself
+  // distributed (each process its part: its cycles are written as pieces only), a resumed one
+  // the whole mesh on every process.
+  if (a.distribute) a.distribute(s.options, !prior);
   if (prior) {
     const int next = prior->done.cycles.back().cycle + 1;
     if (s.moving) {

@@ -50,11 +50,18 @@ class Mpi : public Cli {
                     RGBMESH_CLI, args);
   }
   // The run on one process and on 2, 3 and 4: the same cycles and the same final mesh.
-  void expect_same_runs(const std::string& args, const std::string& last, bool whole_mesh = false) {
+  // removals: the serial run must remove vertices (a run that coarsens).
+  void expect_same_runs(const std::string& args, const std::string& last, bool whole_mesh = false,
+                        bool removals = false) {
     const std::string serial = path("serial");
     const RunResult one = run(args + " --out " + serial);
     ASSERT_EQ(one.code, 0) << one.err;
     const JsonValue a = report_of(serial);
+    if (removals) {
+      double removed = 0;
+      for (const Cycle& c : cycles_of(a)) removed += c.removals;
+      EXPECT_GT(removed, 100.0) << "the serial run hardly coarsens";
+    }
     for (int p : {2, 3, 4}) {
       const std::string dir = path("p" + std::to_string(p));
       const RunResult many = run_on(p, args + " --out " + dir);
@@ -66,6 +73,7 @@ class Mpi : public Cli {
       for (std::size_t i = 0; i < ca.size(); ++i) {
         EXPECT_EQ(ca[i].dofs, cb[i].dofs) << p << " processes, cycle " << i;
         EXPECT_EQ(ca[i].triangles, cb[i].triangles) << p << " processes, cycle " << i;
+        EXPECT_EQ(ca[i].removals, cb[i].removals) << p << " processes, cycle " << i;
         EXPECT_NEAR(ca[i].estimate, cb[i].estimate, 1e-7 * ca[i].estimate) << p << " processes, cycle " << i;
         if (std::isfinite(ca[i].error_h1)) {
           EXPECT_NEAR(ca[i].error_h1, cb[i].error_h1, 1e-7 * ca[i].error_h1) << p << " processes, cycle " << i;
@@ -140,7 +148,23 @@ TEST_F(Mpi, AGaussianOnATorusWithAHoleIsTheSerialRun) {
 }
 
 TEST_F(Mpi, AMovingPeakWithCoarseningIsTheSerialRun) {
-  expect_same_runs("adapt --problem moving-peak --steps 6 --min-level 1", "step_006", true);
+  // Removals decided by the owners, the ghost layers made exact again after each round: the
+  // serial steps, and pieces only.
+  expect_same_runs("adapt --problem moving-peak --steps 6 --min-level 3", "step_006", false, true);
+}
+
+TEST_F(Mpi, CoarseningOnATorusWithAHoleIsTheSerialRun) {
+  // Refinement and coarsening in every cycle (a fraction marked, every vertex whose indicators
+  // are below 0.8 times the smallest marked one removed), across a boundary and genus.
+  const BaseMesh torus = rgbmesh::testing::torus(12, 8);
+  std::ofstream obj(path("holed_torus.obj"));
+  for (const auto& p : torus.points) obj << "v " << p.x << " " << p.y << " " << p.z << "\n";
+  for (std::size_t t = 2; t < torus.triangles.size(); ++t)
+    obj << "f " << torus.triangles[t][0] + 1 << " " << torus.triangles[t][1] + 1 << " " << torus.triangles[t][2] + 1 << "\n";
+  obj.close();
+  expect_same_runs("adapt --mesh " + path("holed_torus.obj") +
+                       " --min-level 1 --coarsen 0.8 --marking fraction --theta 0.25 --cycles 9",
+                   "cycle_008", false, true);
 }
 
 TEST_F(Mpi, MoreProcessesThanUnitsIsTheSerialRunToo) {

@@ -232,17 +232,24 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
     double threshold = 0;
     if (options.coarsen_below > 0) {
       // Each vertex's largest indicator over its star, against the refinement threshold.
+      // (A distributed mesh: over the own triangles, and coarsen_mesh asks the processes
+      // around each interface vertex.)
       std::vector<double> star(c.fe.vertex.size(), 0.0);
       for (std::size_t i = 0; i < c.fe.triangles.size(); ++i) {
+        if (options.distributed_mesh && !own[i]) continue;
         for (std::int32_t v : c.fe.triangles[i]) star[v] = std::max(star[v], c.estimate.eta[i]);
       }
+      if (options.distributed_mesh) ro.coarsen = options.coarsen_mesh;
       vertex_values.assign(static_cast<std::size_t>(mesh.vertex_slots()), 1e300);
       for (std::size_t v = 0; v < star.size(); ++v) {
         // Vertices at or below the floor stay (their removal would coarsen below it).
         if (mesh.level(c.fe.vertex[v]) > options.min_level) vertex_values[c.fe.vertex[v].idx] = star[v];
       }
       threshold = options.coarsen_below *
-                  refinement_threshold(c.estimate.eta, marked, options.marking, options.target_estimate);
+                  (options.distributed_mesh ? shared_refinement_threshold(c.estimate.eta, marked, own, options.marking,
+                                                                          options.target_estimate, options.sum_over_parts)
+                                            : refinement_threshold(c.estimate.eta, marked, options.marking,
+                                                                   options.target_estimate));
     }
     r = selective_refinement(mesh, FieldCriterion(std::move(triangle_values), 0.5, std::move(vertex_values), threshold),
                              ro);
@@ -406,6 +413,44 @@ double refinement_threshold(const std::vector<double>& eta, const std::vector<ch
   return smallest;
 }
 
+double shared_refinement_threshold(const std::vector<double>& eta, const std::vector<char>& marked,
+                                   const std::vector<char>& own, Marking marking, double target,
+                                   const std::function<void(double*, std::size_t)>& sum) {
+  if (marking == Marking::equidistribution) {
+    // mark_shared's limit: over the whole mesh's triangles.
+    double n = 0;
+    for (const char o : own) n += o ? 1 : 0;
+    sum(&n, 1);
+    return n > 0 ? target / std::sqrt(n) : 0.0;
+  }
+  double count = 0;
+  for (std::size_t i = 0; i < marked.size(); ++i) count += marked[i] && own[i] ? 1 : 0;
+  // The smallest marked indicator of all processes: the smallest x that at least one marked
+  // indicator does not pass, by bisection on x's bits (non-negative doubles order as their
+  // bit patterns), each step one sum.
+  sum(&count, 1);
+  if (count == 0) return 0;
+  const auto as_double = [](std::uint64_t bits) {
+    double x = 0;
+    std::memcpy(&x, &bits, sizeof x);
+    return x;
+  };
+  const auto some_at_most = [&](double x) {
+    double s = 0;
+    for (std::size_t i = 0; i < eta.size(); ++i)
+      if (marked[i] && own[i] && eta[i] <= x) s += 1;
+    sum(&s, 1);
+    return s > 0;
+  };
+  std::uint64_t lo = 0, hi = 0x7FF0000000000000ull;  // the answer is in (lo, hi]
+  if (some_at_most(0.0)) return 0.0;
+  while (hi - lo > 1) {
+    const std::uint64_t mid = lo + (hi - lo) / 2;
+    (some_at_most(as_double(mid)) ? hi : lo) = mid;
+  }
+  return as_double(hi);
+}
+
 AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
                     const CycleCallback& on_cycle) {
   refine_to_floor(mesh, options);
@@ -466,8 +511,9 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
 
 AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& problem_at,
                      const AdaptOptions& options, const DynamicOptions& dynamic, const CycleCallback& on_step) {
-  if (options.distributed_mesh)
-    throw std::invalid_argument("run_dynamic: not on a distributed mesh yet (coarsening is decided on the whole mesh)");
+  // A distributed mesh knows its size when a cycle is solved (its parts decided): a step
+  // whose mesh would pass max_dofs stops the run at its solve instead of after its adaptation.
+  const bool distributed = options.distributed_mesh;
   refine_to_floor(mesh, options);
   AdaptRun run;
   const bool resuming = dynamic.first_step > 0;
@@ -482,7 +528,8 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     if (start.marking == Marking::equidistribution && !(start.target_estimate > 0)) start.marking = Marking::dorfler;
     AdaptRun started = run_cycles(mesh, problem_at(0.0), start);
     run.start = std::move(started.cycles);
-    if ((started.stopped == StopReason::max_dofs && unknowns(mesh, options.order) > options.max_dofs) ||
+    const bool over = distributed ? options.strategy != Strategy::uniform : unknowns(mesh, options.order) > options.max_dofs;
+    if ((started.stopped == StopReason::max_dofs && over) ||
         started.stopped == StopReason::memory) {
       run.stopped = started.stopped;  // even the start needs more than max_dofs, or the memory
       return run;
@@ -495,18 +542,25 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
       run.stopped = StopReason::memory;
       return true;
     }
-    if (unknowns(mesh, options.order) > options.max_dofs) {
+    if (!distributed && unknowns(mesh, options.order) > options.max_dofs) {
       run.stopped = StopReason::max_dofs;
       return true;
     }
     return false;
   };
+  // A solve; false (the run stopped) where a distributed mesh turns out to pass max_dofs.
   AdaptOptions o = options;
   if (o.marking == Marking::equidistribution && !(o.target_estimate > 0)) o.target_estimate = run.start.back().estimate;
   run.target_estimate = o.target_estimate;
   if (dynamic.on_started && !resuming) dynamic.on_started(run.start, run.target_estimate);
 
   SolutionTransfer transfer(mesh);
+  const auto solve = [&](const fem::Problem& problem, const AdaptOptions& with, SolvedCycle& c) {
+    c = solve_and_estimate(mesh, problem, with, transfer, distributed);
+    if (!c.over_max_dofs) return true;
+    run.stopped = StopReason::max_dofs;
+    return false;
+  };
   if (resuming) {
     // The earlier run's last step solved again: its values seed the next solve, as they did.
     const int last = dynamic.first_step - 1;
@@ -518,17 +572,26 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     // Settle the start under the steps' own marking and coarsening (equidistribution towards a
     // target reached by Dörfler marking is a different balance), so that the size is steady
     // from the first step on: until an adaptation changes the size by less than 2%.
+    // (A distributed mesh counts its vertices when solved: the change is seen at the next
+    // solve, which then ends the settling unadapted.)
     const fem::Problem problem = problem_at(0.0);
+    std::size_t solved_vertices = 0;
     for (int k = 0; k < 10; ++k) {
-      SolvedCycle c = solve_and_estimate(mesh, problem, o, transfer);
+      SolvedCycle c;
+      if (!solve(problem, o, c)) return run;
+      if (distributed && k > 0 &&
+          std::abs(static_cast<double>(c.vertices) - static_cast<double>(solved_vertices)) <
+              0.02 * static_cast<double>(solved_vertices))
+        break;
       transfer.store(c.fe, c.solution.u);
-      const std::size_t before = mesh.num_vertices();
+      const std::size_t before = distributed ? c.vertices : mesh.num_vertices();
+      solved_vertices = c.vertices;
       solved_dofs = c.fe.num_dofs();
       CycleReport settled;
       adapt_mesh(mesh, c, o, settled);
       if (out_of_bounds(settled)) return run;
       const double change = std::abs(static_cast<double>(mesh.num_vertices()) - static_cast<double>(before));
-      if (change < 0.02 * static_cast<double>(before)) break;
+      if (!distributed && change < 0.02 * static_cast<double>(before)) break;
     }
   }
   run.stopped = StopReason::steps;
@@ -540,13 +603,15 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     // Adapt to the feature where it is now: refine there, coarsen where it was (a uniform
     // mesh stays as the start made it).
     for (int k = 0; o.strategy == Strategy::adaptive && k < dynamic.cycles_per_step; ++k) {
-      SolvedCycle c = solve_and_estimate(mesh, problem, o, transfer);
+      SolvedCycle c;
+      if (!solve(problem, o, c)) return run;
       solved_dofs = c.fe.num_dofs();
       transfer.store(c.fe, c.solution.u);
       adapt_mesh(mesh, c, o, adapted);
       if (out_of_bounds(adapted)) return run;
     }
-    SolvedCycle c = solve_and_estimate(mesh, problem, o, transfer);
+    SolvedCycle c;
+    if (!solve(problem, o, c)) return run;
     solved_dofs = c.fe.num_dofs();
     transfer.store(c.fe, c.solution.u);
     c.report.cycle = step;
@@ -557,9 +622,14 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     c.report.seconds = seconds_since(t0);
     count_bytes_sent(c.report, o);
     run.cycles.push_back(c.report);
-    const std::vector<char> marked = o.strategy == Strategy::adaptive
-                                         ? mark(c.estimate.eta, o.marking, o.theta, o.target_estimate)
-                                         : std::vector<char>(c.fe.triangles.size(), 0);
+    std::vector<char> marked(c.fe.triangles.size(), 0);
+    if (o.strategy == Strategy::adaptive && distributed) {
+      std::vector<char> own(c.fe.triangles.size());
+      for (std::size_t i = 0; i < own.size(); ++i) own[i] = c.triangle_part[i] == o.part ? 1 : 0;
+      marked = mark_shared(c.estimate.eta, own, o.marking, o.theta, o.target_estimate, o.sum_over_parts);
+    } else if (o.strategy == Strategy::adaptive) {
+      marked = mark(c.estimate.eta, o.marking, o.theta, o.target_estimate);
+    }
     const SolvedMesh solved = describe(mesh, c, o.resumable);
     if (on_step) on_step({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved});
   }

@@ -4,6 +4,7 @@
 #include "rgbmesh/parallel/distributed_mesh.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -126,7 +127,9 @@ void add_unique(std::vector<std::int32_t>& set, std::int32_t x) {
 
 class DistributedMesh {
  public:
-  DistributedMesh(int floor, int parts, int me) : floor_(floor), parts_(parts), me_(me) {}
+  // share: shared_units' limit on a unit's triangles before it is divided; infinite (the
+  // floor's cells as units) for runs that coarsen, whose triangles must stay inside one unit.
+  DistributedMesh(int floor, int parts, int me, double share) : floor_(floor), parts_(parts), me_(me), share_(share) {}
 
   // ---- the start of a cycle: parts, migration, the view coarsened away from its part ----
   void prepare(RgbMesh& view) {
@@ -139,17 +142,109 @@ class DistributedMesh {
       const std::vector<std::int32_t> part = parts_of(view);
       for (const TriangleHandle t : view.triangles()) counted[static_cast<std::size_t>(t.idx)] = part[static_cast<std::size_t>(t.idx)] == me_;
     }
-    units_ = shared_units(view, floor_, parts_, counted, {detail::sum, detail::all_gather}, cache_.get());
+    units_ = shared_units(view, floor_, parts_, counted, {detail::sum, detail::all_gather}, cache_.get(), share_);
     unit_part_ = partition(units_, std::min<int>(parts_, static_cast<int>(units_.level.size()))).part_of;
-    if (!whole_) migrate(view, counted);
+    if (!whole_) {
+      // The new parts, where shared_units just placed the view's triangles.
+      std::vector<std::int32_t> part(units_.of_triangle.size());
+      for (std::size_t t = 0; t < part.size(); ++t)
+        part[t] = units_.of_triangle[t] >= 0 ? unit_part_[static_cast<std::size_t>(units_.of_triangle[t])] : -1;
+      migrate(view, counted, part);
+    }
     whole_ = false;
     canonical_diagonals(view);
+    coarsen_away(view, own_triangles(view), floor_, kGhostLayers);
+    survey(view);
+  }
+
+  // ---- a stage's removals (RefinementOptions::coarsen): each process removes the candidates
+  // among its own triangles' corners, whose stars and neighbours it holds exactly; then the
+  // ghost layers are made exact again (the others' removals), and again, until no process has a
+  // candidate. Removals never make another candidate unremovable, so this ends with the mesh
+  // one process reaches in any order: no candidate left anywhere. ----
+  std::uint64_t coarsen(RgbMesh& view, const LodCriterion& criterion) {
+    // Candidates by this process's triangles' indicators (the criterion's vertex values are
+    // the largest over the own triangles around each vertex); a vertex on an interface is one
+    // only if every process around it says so.
+    std::unordered_map<VertexName, char> candidate;
     {
       const std::vector<std::int32_t> part = parts_of(view);
-      std::vector<char> keep(part.size(), 0);
-      for (std::size_t t = 0; t < part.size(); ++t) keep[t] = part[t] == me_;
-      coarsen_away(view, keep, floor_, kGhostLayers);
+      const std::vector<VertexName> name = vertex_names(view);
+      std::unordered_map<std::int32_t, std::vector<std::int32_t>> around;  // own corners on interfaces
+      std::vector<char> own_corner(static_cast<std::size_t>(view.vertex_slots()), 0);
+      for (const TriangleHandle t : view.triangles())
+        if (part[static_cast<std::size_t>(t.idx)] == me_)
+          for (const VertexHandle v : view.triangle_vertices(t)) own_corner[static_cast<std::size_t>(v.idx)] = 1;
+      for (const TriangleHandle t : view.triangles()) {
+        const std::int32_t q = part[static_cast<std::size_t>(t.idx)];
+        if (q < 0 || q == me_) continue;
+        for (const VertexHandle v : view.triangle_vertices(t))
+          if (own_corner[static_cast<std::size_t>(v.idx)]) add_unique(around[v.idx], q);
+      }
+      std::vector<std::vector<std::uint64_t>> blocked(static_cast<std::size_t>(parts_));
+      for (const VertexHandle v : view.vertices()) {
+        if (!own_corner[static_cast<std::size_t>(v.idx)]) continue;
+        const VertexName n = name[static_cast<std::size_t>(v.idx)];
+        const bool here = view.level(v) > floor_ && criterion.vertex_priority(view, v) > 0;
+        candidate[n] = here ? 1 : 0;
+        if (!here)
+          if (const auto it = around.find(v.idx); it != around.end())
+            for (const std::int32_t q : it->second) blocked[static_cast<std::size_t>(q)].push_back(n);
+      }
+      for (const auto& from : detail::all_to_all(blocked))
+        for (const std::uint64_t n : from)
+          if (const auto it = candidate.find(n); it != candidate.end()) it->second = 0;
     }
+    std::uint64_t counted = 0;
+    for (;;) {
+      // This round's removals: the candidates removable now (each stays removable while the
+      // others go: their stars share no triangle, or the new neighbours are no finer).
+      const std::vector<std::int32_t> part = parts_of(view);
+      const std::vector<VertexName> name = vertex_names(view);
+      std::vector<VertexHandle> go;
+      std::vector<std::int32_t> lowest(static_cast<std::size_t>(view.vertex_slots()), parts_);
+      for (const TriangleHandle t : view.triangles()) {
+        const std::int32_t q = part[static_cast<std::size_t>(t.idx)];
+        if (q < 0) continue;
+        for (const VertexHandle v : view.triangle_vertices(t)) {
+          std::int32_t& l = lowest[static_cast<std::size_t>(v.idx)];
+          l = std::min(l, q);
+        }
+      }
+      for (const VertexHandle v : view.vertices()) {
+        const auto it = candidate.find(name[static_cast<std::size_t>(v.idx)]);
+        if (it != candidate.end() && it->second && view.is_removable(v)) go.push_back(v);
+      }
+      std::uint64_t removed = 0;
+      for (const VertexHandle v : go) {
+        if (!view.alive(v) || !view.is_removable(v)) continue;
+        // (Counted once, by the lowest part around it, as one process counts.)
+        if (lowest[static_cast<std::size_t>(v.idx)] == me_) ++counted;
+        view.remove_vertex(v);
+        ++removed;
+      }
+      detail::sum(&removed, 1);
+      if (removed == 0) break;
+      // The ghost layers exact again: away to the own triangles (the others' removals
+      // there are not all known here), then their vertices from their owners, as at the start
+      // of a cycle with the same parts.
+      coarsen_away(view, own_triangles(view), floor_, 0);
+      {
+        const std::vector<std::int32_t> now = parts_of(view);
+        std::vector<char> own(now.size(), 0);
+        for (std::size_t t = 0; t < now.size(); ++t) own[t] = now[t] == me_;
+        migrate(view, own, now);
+      }
+      canonical_diagonals(view);
+      coarsen_away(view, own_triangles(view), floor_, kGhostLayers);
+    }
+    canonical_diagonals(view);
+    survey(view);
+    return counted;
+  }
+
+  // known_, region_ and neighbours_ for the view as it is now.
+  void survey(const RgbMesh& view) {
     // (By names: the slots may change before the cycle's mesh is numbered, when limit
     // positions are computed with helper vertices that are taken out again.)
     const std::vector<VertexName> name = vertex_names(view);
@@ -417,13 +512,17 @@ class DistributedMesh {
     return unit;
   }
 
+  // Flags the triangles of this process's part, per slot.
+  std::vector<char> own_triangles(const RgbMesh& view) const {
+    const std::vector<std::int32_t> part = parts_of(view);
+    std::vector<char> own(part.size(), 0);
+    for (std::size_t t = 0; t < part.size(); ++t) own[t] = part[t] == me_;
+    return own;
+  }
+
   // Sends each process the vertices of this process's own triangles (`counted`) that its new
-  // part or ghost layers hold, with their ancestors above the floor; inserts what it receives.
-  void migrate(RgbMesh& view, const std::vector<char>& counted) {
-    // The new parts, where shared_units just placed the view's triangles.
-    std::vector<std::int32_t> part(units_.of_triangle.size());
-    for (std::size_t t = 0; t < part.size(); ++t)
-      part[t] = units_.of_triangle[t] >= 0 ? unit_part_[static_cast<std::size_t>(units_.of_triangle[t])] : -1;
+  // part (`part`, per triangle slot) or ghost layers hold, with their ancestors above the floor; inserts what it receives.
+  void migrate(RgbMesh& view, const std::vector<char>& counted, const std::vector<std::int32_t>& part) {
     // The parts around each vertex (its star), then around its neighbours too: a triangle is
     // in q's ghost layers if q's part is within two rings of its corners. Most vertices have
     // only this process's part within two rings: flags first, the lists only near others.
@@ -532,6 +631,7 @@ class DistributedMesh {
   }
 
   int floor_, parts_, me_;
+  double share_;
   std::shared_ptr<FloorCache> cache_ = make_floor_cache();
   bool whole_ = true;  // every process holds the whole mesh (before the first cycle)
   Units units_;
@@ -550,19 +650,22 @@ class DistributedMesh {
 
 }  // namespace
 
-bool mesh_can_be_distributed(const adapt::AdaptOptions& options) {
-  return !(options.coarsen_below > 0) && !options.resumable;
-}
+bool mesh_can_be_distributed(const adapt::AdaptOptions& options) { return !options.resumable; }
 
 void distribute_mesh(adapt::AdaptOptions& options) {
   const int parts = processes();
   if (parts <= 1) return;
   if (!mesh_can_be_distributed(options))
-    throw std::invalid_argument("distribute_mesh: a run with coarsening or resumable files keeps the whole mesh (distribute)");
-  auto state = std::make_shared<DistributedMesh>(options.min_level, parts, rank());
+    throw std::invalid_argument("distribute_mesh: a run with resumable files keeps the whole mesh (distribute)");
+  // A run that coarsens takes the floor's cells as its units: a coarsened triangle stays in
+  // one of them, where a divided cell's units could each hold part of it.
+  const bool coarsens = options.coarsen_below > 0;
+  auto state = std::make_shared<DistributedMesh>(options.min_level, parts, rank(),
+                                                 coarsens ? std::numeric_limits<double>::infinity() : 0.1);
   options.distributed_mesh = true;
   options.prepare_mesh = [state](RgbMesh& view) { state->prepare(view); };
   options.after_adaptation = [state](RgbMesh& view) { state->reconcile(view); };
+  options.coarsen_mesh = [state](RgbMesh& view, const LodCriterion& c) { return state->coarsen(view, c); };
   options.partition = [state](const RgbMesh& view, const fem::SurfaceMesh& fe) { return state->number(view, fe); };
   options.part = rank();
   options.sum_over_parts = sum;

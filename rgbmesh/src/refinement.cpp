@@ -213,7 +213,11 @@ class Refiner {
       mesh_.compute_limits();
       test_everything();
     }
-    coarsen();
+    if (opt_.coarsen) {
+      result_.removals += opt_.coarsen(mesh_, crit_);
+    } else {
+      coarsen();
+    }
     refine();
     while (crit_.priorities_change_nearby() && !crit_.satisfied(mesh_) && !result_.stopped_at_memory_limit) {
       const std::uint64_t before = result_.splits;

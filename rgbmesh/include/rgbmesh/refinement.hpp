@@ -49,6 +49,15 @@ struct RefinementOptions {
   std::size_t max_mesh_bytes = 0;
   /// Called now and then with (operations done, queue size) for progress reports.
   std::function<void(std::uint64_t, std::size_t)> progress;
+  /// Carries out the stage's removals instead of the queue (a distributed mesh: each process
+  /// removes the candidates of its own part, then the processes exchange and go on, to the
+  /// same end). Called with the mesh and the criterion after every element is tested and
+  /// before any split; returns the removals. Whatever the order of the removals, a stage ends
+  /// with the same mesh when the criterion's vertex priorities stay fixed as vertices go
+  /// (FieldCriterion): a removal never makes another candidate unremovable (section IV-D:
+  /// the new neighbours are no finer than the removed vertex), so every order reaches the
+  /// one mesh in which no candidate is left.
+  std::function<std::uint64_t(RgbMesh&, const LodCriterion&)> coarsen;
 };
 
 struct RefinementResult {

@@ -13,6 +13,7 @@
 #include "rgbmesh/fem/estimators.hpp"
 #include "rgbmesh/fem/solver.hpp"
 #include "rgbmesh/mesh.hpp"
+#include "rgbmesh/refinement.hpp"
 #include "rgbmesh/snapshot.hpp"
 
 namespace rgbmesh::adapt {
@@ -74,9 +75,12 @@ struct AdaptOptions {
   /// called at the start of every cycle, before the finite-element mesh is built (the parts
   /// are decided anew and the view brought to its new part), after_adaptation after every
   /// adaptation (the splits of the other processes that reach this one's part). Adaptive and
-  /// uniform refinement of run_cycles; no coarsening yet.
+  /// uniform refinement of run_cycles, and coarsening: coarsen_mesh carries out the removals
+  /// (RefinementOptions::coarsen), each vertex's value being the largest indicator over the
+  /// own triangles around it.
   bool distributed_mesh = false;
   std::function<void(RgbMesh&)> prepare_mesh, after_adaptation;
+  std::function<std::uint64_t(RgbMesh&, const LodCriterion&)> coarsen_mesh;
   /// Memory: when set, returns the bytes still free under the caller's ceiling. A cycle whose
   /// mesh would need more (kSolveBytesPerDof per new unknown, the refinement's arrays) is not
   /// run: the run stops with StopReason::memory, its results so far intact.
@@ -263,5 +267,10 @@ std::vector<char> mark_shared(const std::vector<double>& eta, const std::vector<
 /// limit target / sqrt(N) for that marking; 0 if nothing is marked).
 double refinement_threshold(const std::vector<double>& eta, const std::vector<char>& marked, Marking marking,
                             double target = 0);
+/// refinement_threshold on a distributed mesh: `own` flags this process's triangles; the
+/// threshold is the whole mesh's, found with the other processes (`sum` over them).
+double shared_refinement_threshold(const std::vector<double>& eta, const std::vector<char>& marked,
+                                   const std::vector<char>& own, Marking marking, double target,
+                                   const std::function<void(double*, std::size_t)>& sum);
 
 }  // namespace rgbmesh::adapt

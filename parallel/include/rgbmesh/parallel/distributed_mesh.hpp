@@ -19,15 +19,23 @@
 ///  4. Marking against thresholds found together (adapt::mark_shared), refinement of its own
 ///     triangles, and the splits that reach other processes' parts handed over until none
 ///     does (a fixpoint, as reconcile_splits).
+///  5. Coarsening (AdaptOptions::coarsen_below, the moving peak), before the refinement, in
+///     rounds: each process removes the removable candidates among its own triangles'
+///     corners (a vertex on an interface is one only if every process around it says so),
+///     then the ghost layers are made exact again as in step 2, until no process removes
+///     anything. A removal never makes another candidate unremovable, so the rounds end with
+///     the mesh one process reaches in any order. Runs that coarsen take the floor's cells
+///     as units, undivided (a coarsened triangle must stay inside one unit): their balance
+///     is as fine as the floor (--min-level).
 /// The meshes, unknowns and estimates are those of one process (tests/test_cli_mpi.cpp).
 
 #include "rgbmesh/adapt/adaptive.hpp"
 
 namespace rgbmesh::parallel {
 
-/// Whether a run with these options can hold its mesh distributed: run_cycles, adaptive or
-/// uniform, without coarsening and not resumable (the views' states are pieces). Otherwise
-/// distribute() runs it with the mesh whole on every process.
+/// Whether a run with these options can hold its mesh distributed: run_cycles or run_dynamic,
+/// adaptive or uniform, with or without coarsening, not resumable (the views' states are
+/// pieces). Otherwise distribute() runs it with the mesh whole on every process.
 bool mesh_can_be_distributed(const adapt::AdaptOptions& options);
 
 /// Sets the options for adapt::run_cycles on all processes of the MPI run (call initialize
