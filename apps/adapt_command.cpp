@@ -24,6 +24,7 @@
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/repair/repair.hpp"
+#include "rgbmesh/rgb_state.hpp"
 #include "rgbmesh/shapes.hpp"
 #include "rgbmesh/vtk_io.hpp"
 #include "run_lock.hpp"
@@ -372,16 +373,17 @@ PriorRun read_prior_run(const std::string& folder) {
   for (std::size_t i = 0; i < p.done.cycles.size(); ++i) {
     if (p.done.cycles[i].cycle != static_cast<int>(i))
       damaged(file, "its cycle " + std::to_string(i) + " is numbered " + std::to_string(p.done.cycles[i].cycle));
+    // (A run with the mesh distributed over processes wrote its cycles as pieces only.)
     const fs::path f = p.dir / cycle_file(p.moving, p.done.cycles[i].cycle);
-    if (!fs::is_regular_file(f, ec) && fs::is_regular_file(p.dir / series_file(p.moving, p.done.cycles[i].cycle, 1, true), ec))
-      throw InputError(folder + ": was run with the mesh distributed over processes: its cycles are pieces (" +
-                       series_file(p.moving, p.done.cycles[i].cycle, 1, true) +
-                       "), from which --resume cannot restore the mesh yet (run it again)");
-    if (!fs::is_regular_file(f, ec)) throw InputError(f.string() + ": missing (the run's report lists it): cannot resume");
+    const fs::path summary = p.dir / series_file(p.moving, p.done.cycles[i].cycle, 1, true);
+    if (!fs::is_regular_file(f, ec) && !fs::is_regular_file(summary, ec))
+      throw InputError(f.string() + ": missing (the run's report lists it): cannot resume");
   }
   const adapt::CycleReport& last = p.done.cycles.back();
-  const fs::path last_file = p.dir / cycle_file(p.moving, last.cycle);
-  RgbMeshFile saved = read_rgb_mesh(last_file);
+  fs::path last_file = p.dir / cycle_file(p.moving, last.cycle);
+  const bool pieces = !fs::is_regular_file(last_file, ec);
+  if (pieces) last_file = p.dir / series_file(p.moving, last.cycle, 1, true);
+  RgbMeshFile saved = pieces ? read_rgb_pieces(last_file) : read_rgb_mesh(last_file);
   if (!saved.restored)
     throw InputError(last_file.string() + ": carries no RGB state (written before adapt saved it?): cannot resume from it");
   // The report counts unknowns: the vertices, and the edges too for P2.
@@ -413,6 +415,11 @@ AdaptArgs resumed_args(const AdaptArgs& given, const PriorRun& p) {
   r.compression = given.compression;
   r.memory_limit = given.memory_limit;
   r.command_line = given.command_line;
+  // The processes this run has (mpirun), which need not be the resumed run's.
+  r.writes = given.writes;
+  r.processes = given.processes;
+  r.rank = given.rank;
+  r.distribute = given.distribute;
   const auto has = [&](const char* option) { return given.given.count(option) > 0; };
   const std::string last_file = (p.dir / cycle_file(p.moving, p.done.cycles.back().cycle)).string();
   for (const char* option : {"--mesh", "--triangulate"})
@@ -591,10 +598,10 @@ int run_adapt(const AdaptArgs& args) {
     if (a.mesh.empty()) selective_refinement(mesh, UniformLevel(1));  // 42 vertices to start from
   }
   s.options.resumable = true;  // every cycle's file can be resumed from, exactly
-  // Several processes: they share the units above the floor; a new run holds the mesh itself
-  // distributed (each process its part: its cycles are written as pieces only), a resumed one
-  // the whole mesh on every process.
-  if (a.distribute) a.distribute(s.options, !prior);
+  // Several processes: they share the units above the floor and hold the mesh itself
+  // distributed (each process its part: its cycles are written as pieces only, each with its
+  // piece's state, which --resume joins).
+  if (a.distribute) a.distribute(s.options, true);
   if (prior) {
     const int next = prior->done.cycles.back().cycle + 1;
     if (s.moving) {
@@ -695,9 +702,11 @@ int run_adapt(const AdaptArgs& args) {
     // (A distributed mesh: no process has the whole, only pieces are written.)
     if (a.writes && !s.options.distributed_mesh)
       write_mesh(dir / file, snapshot, output_options((dir / file).string(), a.compression));
-    if (pieces && a.order == 1) {
+    // (P2 too: its pieces' states are what --resume reads.)
+    if (pieces && (a.order == 1 || s.options.distributed_mesh)) {
       const std::string mine = piece_file(s.moving, r.cycle, a.rank);
-      const MeshSnapshot piece = snapshot_piece(snapshot, c.solved->triangle_part, a.rank);
+      MeshSnapshot piece = snapshot_piece(snapshot, c.solved->triangle_part, a.rank);
+      piece.piece_state = c.solved->piece_state;
       write_mesh(dir / mine, piece, output_options((dir / mine).string(), a.compression));
       if (a.writes) {
         std::vector<std::string> all;

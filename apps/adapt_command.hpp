@@ -46,8 +46,8 @@ struct AdaptArgs {
   std::string resume;           // --resume DIR: continue the run in DIR; empty: a new run
   // Several processes (mpirun): whether this one writes the files and the report (rank 0),
   // how many there are, and what makes the adaptive loop run on all of them (given the
-  // options complete, and whether the mesh may be distributed: a new run of a stationary
-  // problem; rgbmesh::parallel::distribute_mesh or distribute). Empty on one process.
+  // options complete, and whether the mesh may be distributed; rgbmesh::parallel::
+  // distribute_mesh or distribute). Empty on one process.
   bool writes = true;
   int processes = 1, rank = 0;
   std::function<void(adapt::AdaptOptions&, bool may_distribute_mesh)> distribute;

@@ -116,4 +116,23 @@ inline std::array<std::size_t, 2> triangles_differing(const vtkSmartPointer<vtkP
   return differ;
 }
 
+// The run folder `dir` as an interruption after `k` cycles (steps) would have left it: the
+// report lists k, says "running", and the later files are gone.
+inline void interrupt_after(const std::string& dir, int k, const char* prefix) {
+  std::string json = read_text(dir + "/report.json");
+  const auto list = json.find("\"cycles\": [");
+  ASSERT_NE(list, std::string::npos);
+  const auto cut = json.find(", {\"cycle\": " + std::to_string(k) + ",", list);
+  ASSERT_NE(cut, std::string::npos);
+  json = json.substr(0, cut) + "]}\n";
+  const auto status = json.find("\"status\": \"finished\"");
+  ASSERT_NE(status, std::string::npos);
+  json.replace(status, 20, "\"status\": \"running\"");
+  std::ofstream(dir + "/report.json") << json;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) == 0 && std::stoi(name.substr(std::string(prefix).size())) >= k) fs::remove(e.path());
+  }
+}
+
 }  // namespace rgbmesh::testing

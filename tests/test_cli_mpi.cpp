@@ -20,6 +20,9 @@
 #include <vtkXMLPPolyDataReader.h>
 #include <vtkXMLPUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
+#include <vtkXMLPolyDataWriter.h>
 
 #include "cli_fixture.hpp"
 #include "cli_reports.hpp"
@@ -165,6 +168,86 @@ TEST_F(Mpi, CoarseningOnATorusWithAHoleIsTheSerialRun) {
   expect_same_runs("adapt --mesh " + path("holed_torus.obj") +
                        " --min-level 1 --coarsen 0.8 --marking fraction --theta 0.25 --cycles 9",
                    "cycle_008", false, true);
+}
+
+TEST_F(Mpi, ADistributedRunResumesFromItsPiecesOnAnyNumberOfProcesses) {
+  // The moving peak on 3 processes, interrupted after 3 of 8 steps: each piece carries its
+  // part's vertices with their ancestors, which --resume joins into the whole mesh; resumed
+  // on 2 processes and on 1, every step is the uninterrupted run's.
+  const std::string args = "adapt --problem moving-peak --steps 8 --min-level 3";
+  const std::string full = path("full"), part = path("part"), one = path("one"), edited = path("edited");
+  ASSERT_EQ(run_on(3, args + " --out " + full).code, 0);
+  fs::copy(full, part);
+  interrupt_after(part, 3, "step_");
+  fs::copy(part, one);
+  fs::copy(part, edited);
+  ASSERT_FALSE(fs::exists(part + "/step_002.vtp")) << "pieces only";
+  const RunResult two = run_on(2, "adapt --resume " + part);
+  ASSERT_EQ(two.code, 0) << two.err;
+  const RunResult alone = run("adapt --resume " + one);
+  ASSERT_EQ(alone.code, 0) << alone.err;
+  const std::vector<Cycle> a = cycles_of(report_of(full));
+  ASSERT_EQ(a.size(), 9u);
+  for (const std::string& dir : {part, one}) {
+    const std::vector<Cycle> b = cycles_of(report_of(dir));
+    ASSERT_EQ(b.size(), a.size()) << dir;
+    long removed = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].dofs, b[i].dofs) << dir << ", step " << i;
+      EXPECT_EQ(a[i].triangles, b[i].triangles) << dir << ", step " << i;
+      EXPECT_NEAR(a[i].estimate, b[i].estimate, 1e-7 * a[i].estimate) << dir << ", step " << i;
+      EXPECT_EQ(a[i].time, b[i].time) << dir << ", step " << i;
+      if (i >= 3) removed += b[i].removals;
+    }
+    EXPECT_GT(removed, 1000) << dir << ": the resumed steps coarsen behind the peak";
+  }
+  // The last mesh: the whole mesh the run resumed alone wrote, the uninterrupted run's pieces
+  // and those of the run resumed on 2 processes are one mesh. (The whole mesh first: the
+  // comparison finds points by position, and joined pieces repeat their interfaces' points.)
+  const vtkSmartPointer<vtkPolyData> last = read_vtp(one + "/step_008.vtp");
+  for (const std::string& dir : {full, part}) {
+    const vtkSmartPointer<vtkPolyData> pieces = read_pvtp(dir + "/step_008.pvtp");
+    const std::array<std::size_t, 2> differing = triangles_differing(last, pieces);
+    EXPECT_EQ(differing[0] + differing[1], 0u) << dir;
+    EXPECT_EQ(pieces->GetNumberOfCells(), last->GetNumberOfCells()) << dir;
+  }
+  // A piece whose Points were edited is refused, naming it, before anything is written.
+  const std::string piece = edited + "/step_002_r1.vtp";
+  const vtkSmartPointer<vtkPolyData> data = read_vtp(piece);
+  ASSERT_GT(data->GetNumberOfPoints(), 0);
+  double p[3];
+  data->GetPoint(0, p);
+  data->GetPoints()->SetPoint(0, p[0] + 0.1, p[1], p[2]);
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->SetInputData(data);
+  writer->SetFileName(piece.c_str());
+  ASSERT_EQ(writer->Write(), 1);
+  const RunResult refused = run_on(2, "adapt --resume " + edited);
+  EXPECT_EQ(refused.code, 2) << refused.err;
+  EXPECT_NE(refused.err.find(piece + ": inconsistent RGB state: point 0"), std::string::npos) << refused.err;
+  EXPECT_FALSE(fs::exists(edited + "/step_003.pvtp"));
+}
+
+TEST_F(Mpi, QuadraticElementsWithCoarseningResumeOnMoreProcesses) {
+  // P2 with --coarsen: 4 cycles on 3 processes, resumed to 8 on 4; the serial run's cycles.
+  const std::string args = "adapt --order 2 --min-level 1 --coarsen 0.8 --marking fraction --theta 0.25";
+  const std::string serial = path("serial"), dir = path("p3");
+  ASSERT_EQ(run(args + " --cycles 8 --out " + serial).code, 0);
+  ASSERT_EQ(run_on(3, args + " --cycles 4 --out " + dir).code, 0);
+  const RunResult r = run_on(4, "adapt --resume " + dir + " --cycles 8");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::vector<Cycle> a = cycles_of(report_of(serial)), b = cycles_of(report_of(dir));
+  ASSERT_EQ(a.size(), 8u);
+  ASSERT_EQ(b.size(), a.size());
+  long removed = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].dofs, b[i].dofs) << "cycle " << i;
+    EXPECT_EQ(a[i].triangles, b[i].triangles) << "cycle " << i;
+    EXPECT_NEAR(a[i].estimate, b[i].estimate, 1e-7 * a[i].estimate) << "cycle " << i;
+    removed += a[i].removals;
+  }
+  EXPECT_GT(removed, 100) << "the serial run hardly coarsens";
+  EXPECT_TRUE(fs::exists(dir + "/cycle_007_p2_r3.vtu"));
 }
 
 TEST_F(Mpi, MoreProcessesThanUnitsIsTheSerialRunToo) {

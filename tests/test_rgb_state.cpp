@@ -10,6 +10,7 @@
 #include <random>
 #include <set>
 
+#include "rgbmesh/canonical.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/rgb_state.hpp"
@@ -372,6 +373,121 @@ TEST_F(EditedState, MissingBaseVertexAndWrongVersion) {
 
 // How long restoring takes against refining to the same mesh is measured by a benchmark
 // (bench/bench_rgb_state.cpp), not here: a timed test fails on a loaded machine.
+
+}  // namespace
+}  // namespace rgbmesh
+
+namespace rgbmesh {
+namespace {
+
+// Pieces (a distributed run's output): each piece's state lists its triangles' corners and
+// their ancestors; the pieces joined and restored are the whole mesh, on several bases. The
+// pieces are cut by position (x), so each is a patch whose ancestors reach outside it.
+class PieceStates : public ::testing::TestWithParam<testing::BaseMesh> {};
+
+TEST_P(PieceStates, JoinedPiecesRestoreTheWholeMesh) {
+  RgbMesh m = GetParam().build();
+  random_walk(m, 2500, 31);
+  const MeshSnapshot snap = m.snapshot();
+  // Three pieces by the triangles' centroids' x.
+  std::vector<std::int32_t> part(snap.triangles.size());
+  double lo = 1e300, hi = -1e300;
+  for (const Vec3& p : snap.points) {
+    lo = std::min(lo, p.x);
+    hi = std::max(hi, p.x);
+  }
+  for (std::size_t t = 0; t < snap.triangles.size(); ++t) {
+    double x = 0;
+    for (const std::int32_t v : snap.triangles[t]) x += snap.points[static_cast<std::size_t>(v)].x / 3;
+    part[t] = std::min(2, static_cast<std::int32_t>(3 * (x - lo) / std::max(hi - lo, 1e-300)));
+  }
+  std::vector<RgbState> pieces;
+  std::vector<CellPiece<3>> cells;
+  std::size_t ancestors_outside = 0;
+  for (std::int32_t k = 0; k < 3; ++k) {
+    cells.push_back(cell_piece(snap.triangles, snap.points.size(), part, k));
+    std::vector<VertexHandle> points;
+    for (const std::size_t row : cells.back().point_rows) points.push_back(snap.vertex_handle[row]);
+    pieces.push_back(save_piece_state(m, points));
+    ASSERT_GE(pieces.back().parents.size(), points.size());
+    ancestors_outside += pieces.back().parents.size() - points.size();
+    // Each piece's entries are closed under parents.
+    for (std::size_t i = 0; i < pieces.back().parents.size(); ++i)
+      for (const std::int32_t p : pieces.back().parents[i]) ASSERT_LT(p, static_cast<std::int32_t>(pieces.back().parents.size()));
+  }
+  EXPECT_GT(ancestors_outside, 0u) << "the pieces should need ancestors beyond their points";
+  std::vector<std::vector<std::int32_t>> entry_of;
+  const RgbState whole = join_piece_states(pieces, entry_of);
+  EXPECT_EQ(whole.parents.size(), m.num_vertices());
+  RestoreExpectations x;
+  for (std::size_t k = 0; k < 3; ++k)
+    for (const auto& t : cells[k].cells)
+      x.triangles.push_back({entry_of[k][static_cast<std::size_t>(t[0])], entry_of[k][static_cast<std::size_t>(t[1])],
+                             entry_of[k][static_cast<std::size_t>(t[2])]});
+  const RestoredMesh r = restore_state(whole, x);
+  EXPECT_EQ(r.mesh.validate(true), "");
+  // The same triangles, by their corners' names (handles differ).
+  const auto named = [](const RgbMesh& mesh) {
+    const std::vector<VertexName> name = vertex_names(mesh);
+    std::set<std::array<VertexName, 3>> out;
+    for (const TriangleHandle t : mesh.triangles()) {
+      std::array<VertexName, 3> c{};
+      for (int k = 0; k < 3; ++k) c[static_cast<std::size_t>(k)] = name[static_cast<std::size_t>(mesh.triangle_vertices(t)[k].idx)];
+      std::sort(c.begin(), c.end());
+      out.insert(c);
+    }
+    return out;
+  };
+  EXPECT_EQ(named(r.mesh), named(m));
+  EXPECT_EQ(r.mesh.num_triangles(), m.num_triangles());
+  // Every piece point became the vertex it was.
+  for (std::size_t k = 0; k < 3; ++k)
+    for (std::size_t i = 0; i < cells[k].point_rows.size(); ++i)
+      EXPECT_EQ(r.mesh.insertion_point(r.vertex[static_cast<std::size_t>(entry_of[k][i])]),
+                m.insertion_point(snap.vertex_handle[cells[k].point_rows[i]]));
+}
+
+INSTANTIATE_TEST_SUITE_P(Meshes, PieceStates,
+                         ::testing::Values(testing::icosahedron(), testing::grid_with_holes(8, 3), testing::double_torus()),
+                         [](const ::testing::TestParamInfo<testing::BaseMesh>& p) { return p.param.name; });
+
+// Damaged pieces: refused with the piece and what is wrong, never looping or crashing.
+TEST(PieceStates, DamagedPiecesAreRefused) {
+  RgbMesh m = testing::icosahedron().build();
+  random_walk(m, 600, 7);
+  std::vector<VertexHandle> points;
+  for (const VertexHandle v : m.vertices())
+    if (m.level(v) >= 2) points.push_back(v);
+  ASSERT_GT(points.size(), 3u);
+  const RgbState good = save_piece_state(m, points);
+  const auto refusal = [&](const RgbState& second) {
+    std::vector<std::vector<std::int32_t>> entry_of;
+    try {
+      join_piece_states({good, second}, entry_of);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(refusal(good), "");
+  RgbState cycle = good;  // entry 0 its own ancestor through entry 1
+  cycle.parents[1] = {0, cycle.parents[1][1] == 0 ? cycle.parents[1][0] : cycle.parents[1][1]};
+  cycle.parents[0] = {1, cycle.parents[0][0] == 1 ? cycle.parents[0][1] : cycle.parents[0][0]};
+  EXPECT_NE(refusal(cycle).find("piece 1: entry"), std::string::npos) << refusal(cycle);
+  RgbState out_of_range = good;
+  out_of_range.parents[0][1] = static_cast<std::int32_t>(good.parents.size());
+  EXPECT_NE(refusal(out_of_range).find("piece 1: entry 0 has base index -1 and parents"), std::string::npos);
+  RgbState other_base = good;
+  other_base.base_points[0].x += 1e-9;
+  EXPECT_NE(refusal(other_base).find("piece 1: its base mesh differs"), std::string::npos);
+  RgbState sizes = good;
+  sizes.base_vertex.pop_back();
+  EXPECT_NE(refusal(sizes).find("base indices for"), std::string::npos);
+  RgbState base = good;
+  base.base_vertex[0] = 999;
+  base.parents[0] = {-1, -1};
+  EXPECT_NE(refusal(base).find("is base vertex 999"), std::string::npos);
+}
 
 }  // namespace
 }  // namespace rgbmesh

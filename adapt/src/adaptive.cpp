@@ -154,7 +154,8 @@ void count_bytes_sent(CycleReport& report, const AdaptOptions& options) {
 
 // The levels and colours of the mesh a solution lives on, and its RGB state if asked: taken
 // before the mesh is adapted.
-SolvedMesh describe(const RgbMesh& mesh, const SolvedCycle& c, bool with_state) {
+// piece >= 0 (a distributed mesh): also the state of that part's piece (SolvedMesh::piece_state).
+SolvedMesh describe(const RgbMesh& mesh, const SolvedCycle& c, bool with_state, std::int32_t piece = -1) {
   const fem::SurfaceMesh& fe = c.fe;
   SolvedMesh m;
   m.vertex_level.reserve(fe.vertex.size());
@@ -171,6 +172,14 @@ SolvedMesh describe(const RgbMesh& mesh, const SolvedCycle& c, bool with_state) 
     m.state = save_state(mesh, points);
   }
   m.triangle_part = c.triangle_part;
+  if (piece >= 0 && !c.triangle_part.empty()) {
+    // The piece's points as snapshot_piece orders them: by their first use among its triangles.
+    const CellPiece<3> cells = cell_piece(fe.triangles, fe.vertex.size(), c.triangle_part, piece);
+    std::vector<VertexHandle> points;
+    points.reserve(cells.point_rows.size());
+    for (const std::size_t row : cells.point_rows) points.push_back(fe.vertex[row]);
+    m.piece_state = save_piece_state(mesh, points);
+  }
   return m;
 }
 
@@ -472,7 +481,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
     }
     solved_dofs = c.fe.num_dofs();
     c.report.cycle = cycle;
-    const SolvedMesh solved = replay ? SolvedMesh{} : describe(mesh, c, options.resumable);
+    const SolvedMesh solved = replay ? SolvedMesh{} : describe(mesh, c, options.resumable, options.distributed_mesh ? options.part : -1);
     bool last = true;
     if (cycle + 1 == options.max_cycles)
       run.stopped = StopReason::cycles;
@@ -630,7 +639,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     } else if (o.strategy == Strategy::adaptive) {
       marked = mark(c.estimate.eta, o.marking, o.theta, o.target_estimate);
     }
-    const SolvedMesh solved = describe(mesh, c, o.resumable);
+    const SolvedMesh solved = describe(mesh, c, o.resumable, o.distributed_mesh ? o.part : -1);
     if (on_step) on_step({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved});
   }
   return run;

@@ -8,7 +8,9 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 
+#include "rgbmesh/canonical.hpp"
 #include "rgbmesh/errors.hpp"
 
 namespace rgbmesh {
@@ -506,6 +508,130 @@ RestoredMesh restore_state(const RgbState& state, const RestoreExpectations& exp
     check_positions(r, expected.limits, "limit position", [&](VertexHandle v) { return r.mesh.limit_position(v); });
   }
   return r;
+}
+
+RgbState save_piece_state(const RgbMesh& mesh, const std::vector<VertexHandle>& points) {
+  if (mesh.base_triangles().empty())
+    throw std::invalid_argument("save_piece_state: the mesh was not made by RgbMesh::from_triangles");
+  std::vector<std::int32_t> entry_of_slot(static_cast<std::size_t>(mesh.vertex_slots()), -1);
+  std::vector<VertexHandle> entries;
+  entries.reserve(points.size());
+  const auto add = [&](VertexHandle v) {
+    entry_of_slot[static_cast<std::size_t>(v.idx)] = static_cast<std::int32_t>(entries.size());
+    entries.push_back(v);
+  };
+  for (const VertexHandle v : points) {
+    if (!mesh.alive(v) || entry_of_slot[static_cast<std::size_t>(v.idx)] >= 0)
+      throw std::invalid_argument("save_piece_state: a point is not a vertex of the mesh, or a vertex listed twice");
+    add(v);
+  }
+  // The ancestors not among the points: parents of entries, until closed.
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    if (mesh.level(entries[i]) == 0) continue;
+    for (const VertexHandle p : mesh.parents(entries[i]))
+      if (entry_of_slot[static_cast<std::size_t>(p.idx)] < 0) add(p);
+  }
+  RgbState s;
+  s.base_points.reserve(mesh.num_base_vertices());
+  for (std::size_t b = 0; b < mesh.num_base_vertices(); ++b)
+    s.base_points.push_back(mesh.insertion_point(VertexHandle(static_cast<std::int32_t>(b))));
+  s.base_triangles = mesh.base_triangles();
+  s.base_vertex.resize(entries.size());
+  s.parents.resize(entries.size());
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const VertexHandle v = entries[i];
+    if (mesh.level(v) == 0) {
+      s.base_vertex[i] = v.idx;
+      s.parents[i] = {-1, -1};
+    } else {
+      const auto& p = mesh.parents(v);
+      s.base_vertex[i] = -1;
+      s.parents[i] = {entry_of_slot[static_cast<std::size_t>(p[0].idx)], entry_of_slot[static_cast<std::size_t>(p[1].idx)]};
+    }
+  }
+  return s;
+}
+
+RgbState join_piece_states(const std::vector<RgbState>& pieces, std::vector<std::vector<std::int32_t>>& entry_of) {
+  RgbState whole;
+  entry_of.assign(pieces.size(), {});
+  if (pieces.empty()) inconsistent("no pieces");
+  whole.base_points = pieces[0].base_points;
+  whole.base_triangles = pieces[0].base_triangles;
+  std::unordered_map<VertexName, std::int32_t> at;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const RgbState& s = pieces[k];
+    const std::string piece = "piece " + str(static_cast<std::int64_t>(k)) + ": ";
+    if (s.version != RgbState::kVersion)
+      inconsistent(piece + "version " + str(s.version) + " is not supported (this build reads version " +
+                   str(RgbState::kVersion) + ")");
+    if (s.base_triangles != whole.base_triangles || s.base_points.size() != whole.base_points.size() ||
+        !std::equal(s.base_points.begin(), s.base_points.end(), whole.base_points.begin(),
+                    [](const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }))
+      inconsistent(piece + "its base mesh differs from piece 0's (pieces of different runs?)");
+    const std::size_t n = s.parents.size();
+    if (s.base_vertex.size() != n)
+      inconsistent(piece + str(static_cast<std::int64_t>(s.base_vertex.size())) + " base indices for " +
+                   str(static_cast<std::int64_t>(n)) + " entries");
+    if (n > static_cast<std::size_t>(INT32_MAX)) inconsistent(piece + "too many entries");
+    // Names by ancestry, parents first: an explicit stack (a hostile file's chains may be
+    // long), a cycle refused. 0: not named yet, 1: on the stack, 2: named.
+    std::vector<VertexName> name(n, 0);
+    std::vector<char> state(n, 0);
+    std::vector<std::size_t> stack;
+    for (std::size_t start = 0; start < n; ++start) {
+      if (state[start] == 2) continue;
+      stack.push_back(start);
+      while (!stack.empty()) {
+        const std::size_t i = stack.back();
+        if (state[i] == 2) {  // (pushed twice: a common ancestor)
+          stack.pop_back();
+          continue;
+        }
+        const auto entry = str(static_cast<std::int64_t>(i));
+        const std::int32_t b = s.base_vertex[i];
+        if (b >= 0) {
+          if (static_cast<std::size_t>(b) >= whole.base_points.size() || s.parents[i][0] != -1 || s.parents[i][1] != -1)
+            inconsistent(piece + "entry " + entry + " is base vertex " + str(b) + " of " +
+                         str(static_cast<std::int64_t>(whole.base_points.size())) + ", or has parents too");
+          name[i] = static_cast<VertexName>(b);
+          state[i] = 2;
+          stack.pop_back();
+          continue;
+        }
+        const auto [p0, p1] = s.parents[i];
+        if (b != -1 || p0 < 0 || p1 < 0 || static_cast<std::size_t>(p0) >= n || static_cast<std::size_t>(p1) >= n || p0 == p1)
+          inconsistent(piece + "entry " + entry + " has base index " + str(b) + " and parents " + str(p0) + ", " + str(p1));
+        state[i] = 1;
+        bool ready = true;
+        for (const std::int32_t p : {p0, p1}) {
+          if (state[static_cast<std::size_t>(p)] == 2) continue;
+          if (state[static_cast<std::size_t>(p)] == 1) inconsistent(piece + "entry " + entry + " is its own ancestor");
+          stack.push_back(static_cast<std::size_t>(p));
+          ready = false;
+        }
+        if (!ready) continue;
+        name[i] = child_name(name[static_cast<std::size_t>(p0)], name[static_cast<std::size_t>(p1)]);
+        state[i] = 2;
+        stack.pop_back();
+      }
+    }
+    // Joined by names; parents as the joined entries (every parent is an entry of the piece).
+    std::vector<std::int32_t>& mine = entry_of[k];
+    mine.assign(n, -1);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto [it, fresh] = at.try_emplace(name[i], static_cast<std::int32_t>(whole.parents.size()));
+      mine[i] = it->second;
+      if (!fresh) continue;
+      whole.base_vertex.push_back(s.base_vertex[i]);
+      whole.parents.push_back({-1, -1});
+    }
+    for (std::size_t i = 0; i < n; ++i)
+      if (s.base_vertex[i] < 0)
+        whole.parents[static_cast<std::size_t>(mine[i])] = {mine[static_cast<std::size_t>(s.parents[i][0])],
+                                                            mine[static_cast<std::size_t>(s.parents[i][1])]};
+  }
+  return whole;
 }
 
 }  // namespace rgbmesh

@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <string>
 
+#include "input_file.hpp"
 #include "io_common.hpp"
 #include "parsers.hpp"
 #include "rgbmesh/errors.hpp"
@@ -97,6 +98,31 @@ void read_rgb_state(vtkDataSet& data, const fs::path& path, SavedState& out) {
   vtkDataArray* base_triangles = array_of(field, kBaseTrianglesArray, 3, -1, path, "field data");
   vtkDataArray* base_vertex = array_of(point_data, kBaseVertexArray, 1, n, path, "point data");
   vtkDataArray* parents = array_of(point_data, kParentsArray, 2, n, path, "point data");
+  vtkDataArray* piece_base_vertex = array_of(field, kPieceBaseVertexArray, 1, -1, path, "field data");
+  vtkDataArray* piece_parents = array_of(field, kPieceParentsArray, 2, -1, path, "field data");
+  if (piece_base_vertex != nullptr || piece_parents != nullptr) {
+    // A piece: its entries (its points first, then their ancestors) in field data.
+    for (const auto& [array, name] : {std::pair{version, kStateVersionArray}, {base_points, kBasePointsArray},
+                                      {base_triangles, kBaseTrianglesArray}, {piece_base_vertex, kPieceBaseVertexArray},
+                                      {piece_parents, kPieceParentsArray}})
+      if (array == nullptr) bad(path, std::string("the array '") + name + "' is missing");
+    if (piece_base_vertex->GetNumberOfTuples() != piece_parents->GetNumberOfTuples() ||
+        piece_base_vertex->GetNumberOfTuples() < n)
+      bad(path, "the piece's arrays have " + std::to_string(piece_base_vertex->GetNumberOfTuples()) + " and " +
+                    std::to_string(piece_parents->GetNumberOfTuples()) + " entries for " + std::to_string(n) + " points");
+    RgbState s;
+    s.version = integers(version, INT32_MIN, INT32_MAX, path)[0];
+    s.base_points = vectors(base_points);
+    const std::vector<std::int32_t> corners = integers(base_triangles, 0, INT32_MAX, path);
+    for (std::size_t i = 0; i + 2 < corners.size(); i += 3) s.base_triangles.push_back({corners[i], corners[i + 1], corners[i + 2]});
+    s.base_vertex = integers(piece_base_vertex, -1, INT32_MAX, path);
+    const std::vector<std::int32_t> ends = integers(piece_parents, -1, INT32_MAX, path);
+    for (std::size_t i = 0; i + 1 < ends.size(); i += 2) s.parents.push_back({ends[i], ends[i + 1]});
+    out.piece_state = std::move(s);
+    if (auto* points = vtkPointSet::SafeDownCast(&data); points != nullptr && points->GetPoints() != nullptr)
+      out.single_precision_points = points->GetPoints()->GetDataType() == VTK_FLOAT;
+    return;
+  }
   const int present = (version != nullptr) + (base_points != nullptr) + (base_triangles != nullptr) +
                       (base_vertex != nullptr) + (parents != nullptr);
   if (present == 0) return;  // no state: a base mesh
@@ -226,6 +252,101 @@ RgbMeshFile read_rgb_mesh(const std::filesystem::path& path, const SoupOptions& 
   // The state is the mesh exactly as rgbmesh wrote it, checked point by point: nothing to repair,
   // and repairing would break the state.
   if (options.repair) file.notes.push_back("the file has an RGB state: restored exactly, not repaired");
+  return file;
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The pieces a summary (.pvtp) names, relative to its folder: file names only (a summary
+// rgbmesh writes names the pieces beside it; anything else is refused, not followed).
+std::vector<std::string> piece_sources(const fs::path& summary) {
+  const detail::InputFile file(summary);
+  const std::string_view xml = file.bytes();
+  if (xml.find("<VTKFile") == std::string_view::npos || xml.find("PPolyData") == std::string_view::npos)
+    throw InputError(summary.string() + ": not a VTK summary of polygon pieces (.pvtp)");
+  std::vector<std::string> out;
+  const std::string_view tag = "<Piece Source=\"";
+  for (std::size_t at = xml.find(tag); at != std::string_view::npos; at = xml.find(tag, at + 1)) {
+    const std::size_t from = at + tag.size(), to = xml.find('"', from);
+    if (to == std::string_view::npos) throw InputError(summary.string() + ": a Piece's Source is not closed");
+    const std::string name(xml.substr(from, to - from));
+    if (name.empty() || name.find_first_of("/\\&<>") != std::string::npos || name == "." || name == "..")
+      throw InputError(summary.string() + ": piece " + std::to_string(out.size()) +
+                       " is not a file name beside the summary (rgbmesh writes its pieces there)");
+    out.push_back(name);
+  }
+  if (out.empty()) throw InputError(summary.string() + ": names no pieces");
+  return out;
+}
+
+}  // namespace
+
+RgbMeshFile read_rgb_pieces(const std::filesystem::path& summary) {
+  const std::vector<std::string> sources = piece_sources(summary);
+  struct Piece {
+    fs::path path;
+    PolygonSoup soup;
+    detail::SavedState saved;
+  };
+  std::vector<Piece> pieces(sources.size());
+  std::vector<RgbState> states;
+  for (std::size_t k = 0; k < sources.size(); ++k) {
+    Piece& piece = pieces[k];
+    piece.path = summary.parent_path() / sources[k];
+    detail::ReadOptions read_options;
+    read_options.saved_state = &piece.saved;
+    piece.soup = detail::read_mesh_soup(piece.path, read_options);
+    if (!piece.saved.piece_state)
+      throw InputError(piece.path.string() + ": carries no piece state (written before pieces could be resumed?)");
+    states.push_back(std::move(*piece.saved.piece_state));
+    piece.saved.piece_state.reset();
+  }
+  std::vector<std::vector<std::int32_t>> entry_of;
+  RgbState whole;
+  RestoreExpectations expected;
+  try {
+    whole = join_piece_states(states, entry_of);
+  } catch (const InputError& e) {
+    throw InputError(summary.string() + ": " + e.what());
+  }
+  // The pieces' cells are the whole mesh's triangles, each once.
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const PolygonSoup& soup = pieces[k].soup;
+    for (std::size_t j = 0; j < soup.faces.size(); ++j) {
+      const auto& f = soup.faces[j];
+      if (f.size() != 3)
+        detail::bad(pieces[k].path, "cell " + std::to_string(j) + " has " + std::to_string(f.size()) +
+                                        " vertices (a file with a state has triangles only)");
+      std::array<std::int32_t, 3> t{};
+      for (int c = 0; c < 3; ++c) {
+        const std::int64_t v = f[static_cast<std::size_t>(c)];
+        if (v < 0 || v >= static_cast<std::int64_t>(soup.points.size()))
+          detail::bad(pieces[k].path, "cell " + std::to_string(j) + " names point " + std::to_string(v) + " of " +
+                                          std::to_string(soup.points.size()));
+        t[static_cast<std::size_t>(c)] = entry_of[k][static_cast<std::size_t>(v)];
+      }
+      expected.triangles.push_back(t);
+    }
+  }
+  RestoredMesh restored;
+  try {
+    restored = restore_state(whole, expected);
+  } catch (const InputError& e) {
+    throw InputError(summary.string() + ": " + e.what());
+  }
+  // Each piece's Points where the restored mesh puts them.
+  std::vector<VertexHandle> all = std::move(restored.vertex);
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    restored.vertex.clear();
+    for (std::size_t i = 0; i < pieces[k].soup.points.size(); ++i)
+      restored.vertex.push_back(all[static_cast<std::size_t>(entry_of[k][i])]);
+    detail::check_points(pieces[k].path, pieces[k].soup.points, restored, pieces[k].saved.single_precision_points);
+  }
+  RgbMeshFile file;
+  file.mesh = std::move(restored.mesh);
+  file.restored = true;
   return file;
 }
 

@@ -9,6 +9,13 @@
 //               rgb_base_points     Float64, 3 components: the base mesh's control points
 //               rgb_base_triangles  Int32, 3 components: the base mesh's triangles
 //
+// A piece of a distributed run's output carries its piece's state (save_piece_state) in field
+// data instead, over its points followed by their ancestors (which need not be points of the
+// piece): rgb_state_version, rgb_base_points and rgb_base_triangles as above, and
+//   field data  rgb_piece_base_vertex  Int32, 1 component: per entry, as rgb_base_vertex
+//               rgb_piece_parents      Int32, 2 components: per entry, entries' indices
+// read_rgb_pieces joins the pieces of a summary (.pvtp) into the whole mesh.
+//
 // The file's own cells give the triangles (and with them the trapezoid diagonals), and its
 // arrays "level" (point and cell), "color", "control_point" and "limit", when present, are
 // compared with what the state gives; so are its Points (what ParaView shows), which must be
@@ -30,10 +37,13 @@ inline constexpr const char* kParentsArray = "rgb_parents";
 inline constexpr const char* kStateVersionArray = "rgb_state_version";
 inline constexpr const char* kBasePointsArray = "rgb_base_points";
 inline constexpr const char* kBaseTrianglesArray = "rgb_base_triangles";
+inline constexpr const char* kPieceBaseVertexArray = "rgb_piece_base_vertex";
+inline constexpr const char* kPieceParentsArray = "rgb_piece_parents";
 
 // What read_rgb_mesh needs from a VTK XML file besides its points and cells.
 struct SavedState {
   std::optional<RgbState> state;
+  std::optional<RgbState> piece_state;  // a piece's (then `state` is empty)
   RestoreExpectations expected;  // all but the triangles (read_rgb_mesh adds them)
   bool single_precision_points = false;  // Points stored as Float32 (rounded to 24 bits)
 };

@@ -63,6 +63,18 @@ XmlDataSet snapshot_data_set(const MeshSnapshot& mesh, bool unstructured) {
     d.field_data.push_back(borrowed_array(kBasePointsArray, XmlType::float64, 3, s.base_points.size(), s.base_points.data()));
     d.field_data.push_back(base_triangles_array(s.base_triangles));
   }
+  if (mesh.piece_state) {
+    const RgbState& s = *mesh.piece_state;
+    if (s.base_vertex.size() != s.parents.size() || s.parents.size() < d.points)
+      throw std::invalid_argument("a piece's RGB state does not have an entry per point and per ancestor");
+    d.field_data.push_back(state_version_array(s.version));
+    d.field_data.push_back(borrowed_array(kBasePointsArray, XmlType::float64, 3, s.base_points.size(), s.base_points.data()));
+    d.field_data.push_back(base_triangles_array(s.base_triangles));
+    d.field_data.push_back(
+        borrowed_array(kPieceBaseVertexArray, XmlType::int32, 1, s.base_vertex.size(), s.base_vertex.data()));
+    d.field_data.push_back(borrowed_array(kPieceParentsArray, XmlType::int32, 2, s.parents.size(),
+                                          s.parents.empty() ? nullptr : s.parents.front().data()));
+  }
   if (!mesh.triangle_level.empty())
     d.cell_data.push_back(borrowed_array("level", XmlType::uint8, 1, d.cells, mesh.triangle_level.data()));
   if (!mesh.triangle_color.empty())

@@ -39,6 +39,18 @@ namespace rgbmesh {
 // list every live vertex once). std::invalid_argument if the snapshot does not.
 RgbState save_state(const RgbMesh& mesh, const MeshSnapshot& snapshot);
 
+// A piece's state (a distributed run's output: each process writes its own triangles): the
+// entries of `points` first, in that order, then the ancestors of those that are not among
+// them (each entry's parents are earlier or later entries of the same state). The base mesh
+// is the whole one. std::invalid_argument if a point is not a live vertex or is listed twice.
+RgbState save_piece_state(const RgbMesh& mesh, const std::vector<VertexHandle>& points);
+
+// The pieces' states joined into the whole mesh's (each vertex once, identified by its
+// ancestry: canonical.hpp's names), for restore_state; entry_of[k][i] is where piece k's entry
+// i went. InputError (one line, naming the piece) where a piece is inconsistent: sizes,
+// indices, parents that form a cycle, or a base mesh that differs from the first piece's.
+RgbState join_piece_states(const std::vector<RgbState>& pieces, std::vector<std::vector<std::int32_t>>& entry_of);
+
 // What restore_state checks the rebuilt mesh against (all optional: empty means unchecked).
 // Indices are the state's point indices.
 struct RestoreExpectations {

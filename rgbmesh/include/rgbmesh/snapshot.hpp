@@ -101,6 +101,9 @@ struct MeshSnapshot {
   std::vector<NamedArray> cell_data;            // extra per-cell arrays
   // The RGB state, for formats that carry it (VTK XML); indices are point indices.
   std::optional<RgbState> state;
+  // A piece's state (save_piece_state: the points' entries first, then their ancestors), for
+  // the pieces of a distributed run, which read_rgb_pieces joins. VTK XML: field data.
+  std::optional<RgbState> piece_state;
 };
 
 }  // namespace rgbmesh

@@ -69,6 +69,11 @@ struct RgbMeshFile {
   std::vector<std::string> notes;  ///< repairs of a file without state, one line each
 };
 RgbMeshFile read_rgb_mesh(const std::filesystem::path& path, const SoupOptions& options = {});
+/// The whole mesh of a distributed run's cycle from its summary (.pvtp) and the pieces it
+/// names beside it, each carrying its piece's state (MeshSnapshot::piece_state): joined by the
+/// vertices' ancestry, rebuilt, and checked against every piece's triangles and Points.
+/// InputError naming the summary or the piece where they are inconsistent.
+RgbMeshFile read_rgb_pieces(const std::filesystem::path& summary);
 
 /// Points to fit a surface to: a point cloud, or the vertices (and faces) of a mesh file.
 struct PointCloud {

@@ -168,6 +168,9 @@ struct SolvedMesh {
   std::vector<Color> triangle_color;
   std::optional<RgbState> state;  ///< with AdaptOptions::resumable; point i is FE point i
   std::vector<std::int32_t> triangle_part;  ///< with AdaptOptions::partition, per FE triangle
+  /// A distributed mesh: the state of this process's piece (save_piece_state; its points in
+  /// the order snapshot_piece gives them), which a resumed run joins with the others'.
+  std::optional<RgbState> piece_state;
 };
 
 /// Everything about one cycle, for output. `mesh` is the mesh after the cycle's adaptation
