@@ -26,7 +26,7 @@ cd "$(dirname "$0")/.."
 root=$PWD
 build=$root/build-fuzz
 
-all_targets=(fuzz_off fuzz_obj fuzz_ply fuzz_stl fuzz_vtk fuzz_xyz fuzz_xml fuzz_vtp fuzz_vtu
+all_targets=(fuzz_off fuzz_obj fuzz_ply fuzz_stl fuzz_vtk fuzz_xyz fuzz_xml fuzz_vtp fuzz_vtu fuzz_pieces
              fuzz_mesh_off fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_stl fuzz_mesh_vtk fuzz_mesh_vtp fuzz_mesh_vtu)
 
 # The input extensions of a target's seeds, and its dictionary.
@@ -34,12 +34,13 @@ extensions_of() {
   case $1 in
     fuzz_xyz) echo "xyz pwn" ;;
     fuzz_xml) echo "vtp vtu" ;;
+    fuzz_pieces) echo "pieces" ;;
     *) echo "${1##*_}" ;;
   esac
 }
 dictionary_of() {
   case $1 in
-    fuzz_xml | *vtp | *vtu) echo xml ;;
+    fuzz_xml | fuzz_pieces | *vtp | *vtu) echo xml ;;
     *) echo "${1##*_}" ;;
   esac
 }
@@ -132,6 +133,13 @@ for ext in vtp vtu; do
   "$cli" refine "$seeds/valid/octahedron.obj" "$seeds/valid/octahedron-uniform2.$ext" --uniform 2 > /dev/null
   "$cli" refine "$seeds/valid/octahedron.obj" "$seeds/valid/octahedron-ball.$ext" --ball 1,0,0,0.5,4 > /dev/null
 done
+# Pieces of a distributed run with their states (read_rgb_pieces), where mpirun is there.
+mkdir -p "$seeds/pieces"
+if command -v mpirun > /dev/null; then
+  OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np 2 "$cli" adapt --cycles 3 \
+    --coarsen 0.5 --out "$seeds/run" > /dev/null 2>&1 && cp "$seeds/run"/cycle_00[0-2]_r[01].vtp "$seeds/pieces/"
+  rm -rf "$seeds/run"
+fi
 for ext in obj off ply stl vtk vtp vtu xyz pwn; do
   mkdir -p "$seeds/$ext"
   for f in "$seeds/valid"/*."$ext" "$root/build/public-data"/*."$ext" "$root/build/public-data"/*/*."$ext" \
