@@ -413,9 +413,8 @@ int main(int argc, char** argv) {
       "Error-driven adaptive finite elements: solve, estimate, mark, refine and coarsen, repeat.\n"
       "Writes one .vtp per cycle (or time step) and a .pvd series for ParaView into --out.\n"
       "Under mpirun -np P the processes share each cycle's work (the same results; each writes its\n"
-      "piece, joined by a .pvtp or .pvtu summary); a new stationary run without coarsening also\n"
-      "distributes the mesh (each process holds its part); --min-level K sets the floor whose units\n"
-      "they share.");
+      "piece, joined by a .pvtp or .pvtu summary) and the mesh itself (each process holds its part;\n"
+      "--resume joins the pieces); --min-level K sets the floor whose units they share.");
   AdaptArgs adapt_args;
   // (Empty is refused: an unset shell variable would silently give the icosahedron.)
   adapt_cmd->add_option("--mesh", adapt_args.mesh, "Base mesh (default: an embedded icosahedron)")->check(kNonEmptyPath);

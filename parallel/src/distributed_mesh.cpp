@@ -216,31 +216,54 @@ class DistributedMesh {
         if (it != candidate.end() && it->second && view.is_removable(v)) go.push_back(v);
       }
       std::uint64_t removed = 0;
+      std::vector<std::uint64_t> gone;
       for (const VertexHandle v : go) {
         if (!view.alive(v) || !view.is_removable(v)) continue;
         // (Counted once, by the lowest part around it, as one process counts.)
         if (lowest[static_cast<std::size_t>(v.idx)] == me_) ++counted;
+        gone.push_back(name[static_cast<std::size_t>(v.idx)]);
         view.remove_vertex(v);
         ++removed;
       }
       detail::sum(&removed, 1);
       if (removed == 0) break;
-      // The ghost layers exact again: away to the own triangles (the others' removals
-      // there are not all known here), then their vertices from their owners, as at the start
-      // of a cycle with the same parts.
-      coarsen_away(view, own_triangles(view), floor_, 0);
-      {
-        const std::vector<std::int32_t> now = parts_of(view);
-        std::vector<char> own(now.size(), 0);
-        for (std::size_t t = 0; t < now.size(); ++t) own[t] = now[t] == me_;
-        migrate(view, own, now);
-      }
+      // The ghost layers exact again: every process's removals made here too, then the
+      // vertices that the grown triangles' layers need from their owners, as at the start of
+      // a cycle with the same parts, and the view trimmed to two layers.
+      remove_named(view, gone);
+      const std::vector<std::int32_t> now = parts_of(view);
+      migrate(view, own_of(now), now);
       canonical_diagonals(view);
       coarsen_away(view, own_triangles(view), floor_, kGhostLayers);
     }
     canonical_diagonals(view);
     survey(view);
     return counted;
+  }
+
+  // Every process's removals of a round, `gone` this one's, made in this view too where it
+  // has the vertices. The view is the whole mesh less vertices that removals took away
+  // (coarsen_away's), so each of them is removable here too: a removal never makes another
+  // vertex unremovable. The view is then the whole mesh's less such vertices again.
+  void remove_named(RgbMesh& view, const std::vector<std::uint64_t>& gone) {
+    std::vector<std::vector<std::uint64_t>> to(static_cast<std::size_t>(parts_));
+    for (int q = 0; q < parts_; ++q)
+      if (q != me_) to[static_cast<std::size_t>(q)] = gone;
+    Names names(view);
+    std::vector<VertexHandle> here;
+    for (const auto& from : detail::all_to_all(to))
+      for (const std::uint64_t n : from)
+        if (const VertexHandle v = names.find(n); v.valid()) here.push_back(v);
+    // Finest first: a vertex's finer neighbours among them go before it.
+    std::sort(here.begin(), here.end(), [&view](VertexHandle a, VertexHandle b) { return view.level(a) > view.level(b); });
+    for (bool progress = true; progress;) {
+      progress = false;
+      for (const VertexHandle v : here)
+        if (view.alive(v) && view.is_removable(v)) {
+          view.remove_vertex(v);
+          progress = true;
+        }
+    }
   }
 
   // known_, region_ and neighbours_ for the view as it is now.
@@ -512,13 +535,14 @@ class DistributedMesh {
     return unit;
   }
 
-  // Flags the triangles of this process's part, per slot.
-  std::vector<char> own_triangles(const RgbMesh& view) const {
-    const std::vector<std::int32_t> part = parts_of(view);
+  // Flags the triangles of this process's part, per slot (of the parts per slot, or of the
+  // view).
+  std::vector<char> own_of(const std::vector<std::int32_t>& part) const {
     std::vector<char> own(part.size(), 0);
     for (std::size_t t = 0; t < part.size(); ++t) own[t] = part[t] == me_;
     return own;
   }
+  std::vector<char> own_triangles(const RgbMesh& view) const { return own_of(parts_of(view)); }
 
   // Sends each process the vertices of this process's own triangles (`counted`) that its new
   // part (`part`, per triangle slot) or ghost layers hold, with their ancestors above the floor; inserts what it receives.
