@@ -167,6 +167,10 @@ class DistributedMesh {
     // the largest over the own triangles around each vertex); a vertex on an interface is one
     // only if every process around it says so.
     std::unordered_map<VertexName, char> candidate;
+    // The lowest part around each own corner, which counts its removal (once, as one process
+    // counts). Constant while the rounds go on: a vertex's triangles stay inside the floor's
+    // cells that hold it, and those are the units of a run that coarsens.
+    std::unordered_map<VertexName, std::int32_t> lowest;
     {
       const std::vector<std::int32_t> part = parts_of(view);
       const std::vector<VertexName> name = vertex_names(view);
@@ -187,6 +191,10 @@ class DistributedMesh {
         const VertexName n = name[static_cast<std::size_t>(v.idx)];
         const bool here = view.level(v) > floor_ && criterion.vertex_priority(view, v) > 0;
         candidate[n] = here ? 1 : 0;
+        std::int32_t low = me_;
+        if (const auto it = around.find(v.idx); it != around.end())
+          for (const std::int32_t q : it->second) low = std::min(low, q);
+        lowest[n] = low;
         if (!here)
           if (const auto it = around.find(v.idx); it != around.end())
             for (const std::int32_t q : it->second) blocked[static_cast<std::size_t>(q)].push_back(n);
@@ -196,21 +204,12 @@ class DistributedMesh {
           if (const auto it = candidate.find(n); it != candidate.end()) it->second = 0;
     }
     std::uint64_t counted = 0;
+    int rounds = 0;
     for (;;) {
       // This round's removals: the candidates removable now (each stays removable while the
       // others go: their stars share no triangle, or the new neighbours are no finer).
-      const std::vector<std::int32_t> part = parts_of(view);
       const std::vector<VertexName> name = vertex_names(view);
       std::vector<VertexHandle> go;
-      std::vector<std::int32_t> lowest(static_cast<std::size_t>(view.vertex_slots()), parts_);
-      for (const TriangleHandle t : view.triangles()) {
-        const std::int32_t q = part[static_cast<std::size_t>(t.idx)];
-        if (q < 0) continue;
-        for (const VertexHandle v : view.triangle_vertices(t)) {
-          std::int32_t& l = lowest[static_cast<std::size_t>(v.idx)];
-          l = std::min(l, q);
-        }
-      }
       for (const VertexHandle v : view.vertices()) {
         const auto it = candidate.find(name[static_cast<std::size_t>(v.idx)]);
         if (it != candidate.end() && it->second && view.is_removable(v)) go.push_back(v);
@@ -219,9 +218,9 @@ class DistributedMesh {
       std::vector<std::uint64_t> gone;
       for (const VertexHandle v : go) {
         if (!view.alive(v) || !view.is_removable(v)) continue;
-        // (Counted once, by the lowest part around it, as one process counts.)
-        if (lowest[static_cast<std::size_t>(v.idx)] == me_) ++counted;
-        gone.push_back(name[static_cast<std::size_t>(v.idx)]);
+        const VertexName n = name[static_cast<std::size_t>(v.idx)];
+        if (lowest.at(n) == me_) ++counted;
+        gone.push_back(n);
         view.remove_vertex(v);
         ++removed;
       }
@@ -229,13 +228,14 @@ class DistributedMesh {
       if (removed == 0) break;
       // The ghost layers exact again: every process's removals made here too, then the
       // vertices that the grown triangles' layers need from their owners, as at the start of
-      // a cycle with the same parts, and the view trimmed to two layers.
+      // a cycle with the same parts. (The view keeps what lies beyond two layers, all of it
+      // the whole mesh's vertices, until the rounds end.)
       remove_named(view, gone);
       const std::vector<std::int32_t> now = parts_of(view);
       migrate(view, own_of(now), now);
-      canonical_diagonals(view);
-      coarsen_away(view, own_triangles(view), floor_, kGhostLayers);
+      ++rounds;
     }
+    if (rounds > 0) coarsen_away(view, own_triangles(view), floor_, kGhostLayers);
     canonical_diagonals(view);
     survey(view);
     return counted;
