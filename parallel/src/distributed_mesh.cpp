@@ -204,7 +204,6 @@ class DistributedMesh {
           if (const auto it = candidate.find(n); it != candidate.end()) it->second = 0;
     }
     std::uint64_t counted = 0;
-    int rounds = 0;
     for (;;) {
       // This round's removals: the candidates removable now (each stays removable while the
       // others go: their stars share no triangle, or the new neighbours are no finer).
@@ -228,14 +227,12 @@ class DistributedMesh {
       if (removed == 0) break;
       // The ghost layers exact again: every process's removals made here too, then the
       // vertices that the grown triangles' layers need from their owners, as at the start of
-      // a cycle with the same parts. (The view keeps what lies beyond two layers, all of it
-      // the whole mesh's vertices, until the rounds end.)
+      // a cycle with the same parts, and the view trimmed to two layers.
       remove_named(view, gone);
       const std::vector<std::int32_t> now = parts_of(view);
       migrate(view, own_of(now), now);
-      ++rounds;
+      coarsen_away(view, own_triangles(view), floor_, kGhostLayers);
     }
-    if (rounds > 0) coarsen_away(view, own_triangles(view), floor_, kGhostLayers);
     canonical_diagonals(view);
     survey(view);
     return counted;

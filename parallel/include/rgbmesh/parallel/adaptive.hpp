@@ -14,8 +14,9 @@ namespace rgbmesh::parallel {
 /// BoomerAMG on all processes (shared_amg), every process receives the others' indicators and
 /// adapts the same mesh; the reports count the bytes sent (CycleReport::bytes_sent). The
 /// results are those of one process: the same meshes, estimates and errors within the solver's
-/// tolerance. On one process (or without MPI) the options are left as they are. For runs that
-/// need not coarsen, distribute_mesh (distributed_mesh.hpp) divides the mesh itself too.
+/// tolerance. On one process (or without MPI) the options are left as they are. Every process
+/// holds the whole mesh, so each cycle's state can be saved whole (AdaptOptions::resumable);
+/// distribute_mesh (distributed_mesh.hpp) divides the mesh itself too, coarsening included.
 void distribute(adapt::AdaptOptions& options);
 
 }  // namespace rgbmesh::parallel
