@@ -1,9 +1,9 @@
 #include "adapt_command.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -19,8 +19,8 @@
 #include "one_line.hpp"
 #include "output_dir.hpp"
 #include "resources.hpp"
-#include "rgbmesh/errors.hpp"
 #include "rgbmesh/adapt/adaptive.hpp"
+#include "rgbmesh/errors.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/repair/repair.hpp"

@@ -18,8 +18,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   {
     std::ofstream out(summary);
     const std::string name = input.path().filename().string();
-    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"1.0\">\n  <PPolyData GhostLevel=\"0\">\n"
-        << "    <Piece Source=\"" << name << "\"/>\n    <Piece Source=\"" << name << "\"/>\n  </PPolyData>\n</VTKFile>\n";
+    out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"1.0\">\n  <PPolyData "
+           "GhostLevel=\"0\">\n"
+        << "    <Piece Source=\"" << name << "\"/>\n    <Piece Source=\"" << name
+        << "\"/>\n  </PPolyData>\n</VTKFile>\n";
   }
   RgbMeshFile file;
   if (fuzz::accepted([&] { file = read_rgb_pieces(summary); })) {

@@ -131,7 +131,8 @@ inline void interrupt_after(const std::string& dir, int k, const char* prefix) {
   std::ofstream(dir + "/report.json") << json;
   for (const auto& e : fs::directory_iterator(dir)) {
     const std::string name = e.path().filename().string();
-    if (name.rfind(prefix, 0) == 0 && std::stoi(name.substr(std::string(prefix).size())) >= k) fs::remove(e.path());
+    if (name.rfind(prefix, 0) == 0 && std::stoi(name.substr(std::string(prefix).size())) >= k)
+      fs::remove(e.path());
   }
 }
 

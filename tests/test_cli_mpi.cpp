@@ -7,22 +7,21 @@
 // others' arrive by messages), so equal estimates also check that exchange; the report counts
 // the bytes sent. Skipped, with a message, where the build has no MPI.
 
+#include <vtkCellType.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLPPolyDataReader.h>
+#include <vtkXMLPUnstructuredGridReader.h>
+#include <vtkXMLPolyDataWriter.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
-
 #include <set>
-
-#include <vtkCellType.h>
-#include <vtkPointData.h>
-#include <vtkUnstructuredGrid.h>
-#include <vtkXMLPPolyDataReader.h>
-#include <vtkXMLPUnstructuredGridReader.h>
-#include <vtkXMLUnstructuredGridReader.h>
-#include <vtkNew.h>
-#include <vtkPoints.h>
-#include <vtkXMLPolyDataWriter.h>
 
 #include "cli_fixture.hpp"
 #include "cli_reports.hpp"
@@ -163,7 +162,8 @@ TEST_F(Mpi, CoarseningOnATorusWithAHoleIsTheSerialRun) {
   std::ofstream obj(path("holed_torus.obj"));
   for (const auto& p : torus.points) obj << "v " << p.x << " " << p.y << " " << p.z << "\n";
   for (std::size_t t = 2; t < torus.triangles.size(); ++t)
-    obj << "f " << torus.triangles[t][0] + 1 << " " << torus.triangles[t][1] + 1 << " " << torus.triangles[t][2] + 1 << "\n";
+    obj << "f " << torus.triangles[t][0] + 1 << " " << torus.triangles[t][1] + 1 << " "
+        << torus.triangles[t][2] + 1 << "\n";
   obj.close();
   expect_same_runs("adapt --mesh " + path("holed_torus.obj") +
                        " --min-level 1 --coarsen 0.8 --marking fraction --theta 0.25 --cycles 9",

@@ -413,7 +413,8 @@ TEST_P(PieceStates, JoinedPiecesRestoreTheWholeMesh) {
     ancestors_outside += pieces.back().parents.size() - points.size();
     // Each piece's entries are closed under parents.
     for (std::size_t i = 0; i < pieces.back().parents.size(); ++i)
-      for (const std::int32_t p : pieces.back().parents[i]) ASSERT_LT(p, static_cast<std::int32_t>(pieces.back().parents.size()));
+      for (const std::int32_t p : pieces.back().parents[i])
+        ASSERT_LT(p, static_cast<std::int32_t>(pieces.back().parents.size()));
   }
   EXPECT_GT(ancestors_outside, 0u) << "the pieces should need ancestors beyond their points";
   std::vector<std::vector<std::int32_t>> entry_of;
@@ -422,7 +423,8 @@ TEST_P(PieceStates, JoinedPiecesRestoreTheWholeMesh) {
   RestoreExpectations x;
   for (std::size_t k = 0; k < 3; ++k)
     for (const auto& t : cells[k].cells)
-      x.triangles.push_back({entry_of[k][static_cast<std::size_t>(t[0])], entry_of[k][static_cast<std::size_t>(t[1])],
+      x.triangles.push_back({entry_of[k][static_cast<std::size_t>(t[0])],
+                             entry_of[k][static_cast<std::size_t>(t[1])],
                              entry_of[k][static_cast<std::size_t>(t[2])]});
   const RestoredMesh r = restore_state(whole, x);
   EXPECT_EQ(r.mesh.validate(true), "");
@@ -432,7 +434,8 @@ TEST_P(PieceStates, JoinedPiecesRestoreTheWholeMesh) {
     std::set<std::array<VertexName, 3>> out;
     for (const TriangleHandle t : mesh.triangles()) {
       std::array<VertexName, 3> c{};
-      for (int k = 0; k < 3; ++k) c[static_cast<std::size_t>(k)] = name[static_cast<std::size_t>(mesh.triangle_vertices(t)[k].idx)];
+      for (int k = 0; k < 3; ++k)
+        c[static_cast<std::size_t>(k)] = name[static_cast<std::size_t>(mesh.triangle_vertices(t)[k].idx)];
       std::sort(c.begin(), c.end());
       out.insert(c);
     }
@@ -448,7 +451,8 @@ TEST_P(PieceStates, JoinedPiecesRestoreTheWholeMesh) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Meshes, PieceStates,
-                         ::testing::Values(testing::icosahedron(), testing::grid_with_holes(8, 3), testing::double_torus()),
+                         ::testing::Values(testing::icosahedron(), testing::grid_with_holes(8, 3),
+                                           testing::double_torus()),
                          [](const ::testing::TestParamInfo<testing::BaseMesh>& p) { return p.param.name; });
 
 // Damaged pieces: refused with the piece and what is wrong, never looping or crashing.

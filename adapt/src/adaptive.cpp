@@ -254,11 +254,12 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
         // Vertices at or below the floor stay (their removal would coarsen below it).
         if (mesh.level(c.fe.vertex[v]) > options.min_level) vertex_values[c.fe.vertex[v].idx] = star[v];
       }
-      threshold = options.coarsen_below *
-                  (options.distributed_mesh ? shared_refinement_threshold(c.estimate.eta, marked, own, options.marking,
-                                                                          options.target_estimate, options.sum_over_parts)
-                                            : refinement_threshold(c.estimate.eta, marked, options.marking,
-                                                                   options.target_estimate));
+      threshold =
+          options.coarsen_below *
+          (options.distributed_mesh
+               ? shared_refinement_threshold(c.estimate.eta, marked, own, options.marking,
+                                             options.target_estimate, options.sum_over_parts)
+               : refinement_threshold(c.estimate.eta, marked, options.marking, options.target_estimate));
     }
     r = selective_refinement(mesh, FieldCriterion(std::move(triangle_values), 0.5, std::move(vertex_values), threshold),
                              ro);
@@ -481,7 +482,9 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
     }
     solved_dofs = c.fe.num_dofs();
     c.report.cycle = cycle;
-    const SolvedMesh solved = replay ? SolvedMesh{} : describe(mesh, c, options.resumable, options.distributed_mesh ? options.part : -1);
+    const SolvedMesh solved =
+        replay ? SolvedMesh{}
+               : describe(mesh, c, options.resumable, options.distributed_mesh ? options.part : -1);
     bool last = true;
     if (cycle + 1 == options.max_cycles)
       run.stopped = StopReason::cycles;
@@ -537,9 +540,9 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     if (start.marking == Marking::equidistribution && !(start.target_estimate > 0)) start.marking = Marking::dorfler;
     AdaptRun started = run_cycles(mesh, problem_at(0.0), start);
     run.start = std::move(started.cycles);
-    const bool over = distributed ? options.strategy != Strategy::uniform : unknowns(mesh, options.order) > options.max_dofs;
-    if ((started.stopped == StopReason::max_dofs && over) ||
-        started.stopped == StopReason::memory) {
+    const bool over = distributed ? options.strategy != Strategy::uniform
+                                  : unknowns(mesh, options.order) > options.max_dofs;
+    if ((started.stopped == StopReason::max_dofs && over) || started.stopped == StopReason::memory) {
       run.stopped = started.stopped;  // even the start needs more than max_dofs, or the memory
       return run;
     }
@@ -557,13 +560,13 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     }
     return false;
   };
-  // A solve; false (the run stopped) where a distributed mesh turns out to pass max_dofs.
   AdaptOptions o = options;
   if (o.marking == Marking::equidistribution && !(o.target_estimate > 0)) o.target_estimate = run.start.back().estimate;
   run.target_estimate = o.target_estimate;
   if (dynamic.on_started && !resuming) dynamic.on_started(run.start, run.target_estimate);
 
   SolutionTransfer transfer(mesh);
+  // A solve; false (the run stopped) where a distributed mesh turns out to pass max_dofs.
   const auto solve = [&](const fem::Problem& problem, const AdaptOptions& with, SolvedCycle& c) {
     c = solve_and_estimate(mesh, problem, with, transfer, distributed);
     if (!c.over_max_dofs) return true;

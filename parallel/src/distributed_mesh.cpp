@@ -129,7 +129,8 @@ class DistributedMesh {
  public:
   // share: shared_units' limit on a unit's triangles before it is divided; infinite (the
   // floor's cells as units) for runs that coarsen, whose triangles must stay inside one unit.
-  DistributedMesh(int floor, int parts, int me, double share) : floor_(floor), parts_(parts), me_(me), share_(share) {}
+  DistributedMesh(int floor, int parts, int me, double share)
+      : floor_(floor), parts_(parts), me_(me), share_(share) {}
 
   // ---- the start of a cycle: parts, migration, the view coarsened away from its part ----
   void prepare(RgbMesh& view) {
@@ -142,13 +143,15 @@ class DistributedMesh {
       const std::vector<std::int32_t> part = parts_of(view);
       for (const TriangleHandle t : view.triangles()) counted[static_cast<std::size_t>(t.idx)] = part[static_cast<std::size_t>(t.idx)] == me_;
     }
-    units_ = shared_units(view, floor_, parts_, counted, {detail::sum, detail::all_gather}, cache_.get(), share_);
+    units_ =
+        shared_units(view, floor_, parts_, counted, {detail::sum, detail::all_gather}, cache_.get(), share_);
     unit_part_ = partition(units_, std::min<int>(parts_, static_cast<int>(units_.level.size()))).part_of;
     if (!whole_) {
       // The new parts, where shared_units just placed the view's triangles.
       std::vector<std::int32_t> part(units_.of_triangle.size());
       for (std::size_t t = 0; t < part.size(); ++t)
-        part[t] = units_.of_triangle[t] >= 0 ? unit_part_[static_cast<std::size_t>(units_.of_triangle[t])] : -1;
+        part[t] =
+            units_.of_triangle[t] >= 0 ? unit_part_[static_cast<std::size_t>(units_.of_triangle[t])] : -1;
       migrate(view, counted, part);
     }
     whole_ = false;
@@ -178,7 +181,8 @@ class DistributedMesh {
       std::vector<char> own_corner(static_cast<std::size_t>(view.vertex_slots()), 0);
       for (const TriangleHandle t : view.triangles())
         if (part[static_cast<std::size_t>(t.idx)] == me_)
-          for (const VertexHandle v : view.triangle_vertices(t)) own_corner[static_cast<std::size_t>(v.idx)] = 1;
+          for (const VertexHandle v : view.triangle_vertices(t))
+            own_corner[static_cast<std::size_t>(v.idx)] = 1;
       for (const TriangleHandle t : view.triangles()) {
         const std::int32_t q = part[static_cast<std::size_t>(t.idx)];
         if (q < 0 || q == me_) continue;
@@ -252,7 +256,8 @@ class DistributedMesh {
       for (const std::uint64_t n : from)
         if (const VertexHandle v = names.find(n); v.valid()) here.push_back(v);
     // Finest first: a vertex's finer neighbours among them go before it.
-    std::sort(here.begin(), here.end(), [&view](VertexHandle a, VertexHandle b) { return view.level(a) > view.level(b); });
+    std::sort(here.begin(), here.end(),
+              [&view](VertexHandle a, VertexHandle b) { return view.level(a) > view.level(b); });
     for (bool progress = true; progress;) {
       progress = false;
       for (const VertexHandle v : here)
@@ -542,7 +547,8 @@ class DistributedMesh {
   std::vector<char> own_triangles(const RgbMesh& view) const { return own_of(parts_of(view)); }
 
   // Sends each process the vertices of this process's own triangles (`counted`) that its new
-  // part (`part`, per triangle slot) or ghost layers hold, with their ancestors above the floor; inserts what it receives.
+  // part (`part`, per triangle slot) or ghost layers hold, with their ancestors above the
+  // floor; inserts what it receives.
   void migrate(RgbMesh& view, const std::vector<char>& counted, const std::vector<std::int32_t>& part) {
     // The parts around each vertex (its star), then around its neighbours too: a triangle is
     // in q's ghost layers if q's part is within two rings of its corners. Most vertices have
@@ -677,7 +683,8 @@ void distribute_mesh(adapt::AdaptOptions& options) {
   const int parts = processes();
   if (parts <= 1) return;
   if (!mesh_can_be_distributed(options))
-    throw std::invalid_argument("distribute_mesh: a run with resumable files keeps the whole mesh (distribute)");
+    throw std::invalid_argument(
+        "distribute_mesh: a run with resumable files keeps the whole mesh (distribute)");
   // A run that coarsens takes the floor's cells as its units: a coarsened triangle stays in
   // one of them, where a divided cell's units could each hold part of it.
   const bool coarsens = options.coarsen_below > 0;

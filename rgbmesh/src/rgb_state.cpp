@@ -522,7 +522,8 @@ RgbState save_piece_state(const RgbMesh& mesh, const std::vector<VertexHandle>& 
   };
   for (const VertexHandle v : points) {
     if (!mesh.alive(v) || entry_of_slot[static_cast<std::size_t>(v.idx)] >= 0)
-      throw std::invalid_argument("save_piece_state: a point is not a vertex of the mesh, or a vertex listed twice");
+      throw std::invalid_argument(
+          "save_piece_state: a point is not a vertex of the mesh, or a vertex listed twice");
     add(v);
   }
   // The ancestors not among the points: parents of entries, until closed.
@@ -546,13 +547,15 @@ RgbState save_piece_state(const RgbMesh& mesh, const std::vector<VertexHandle>& 
     } else {
       const auto& p = mesh.parents(v);
       s.base_vertex[i] = -1;
-      s.parents[i] = {entry_of_slot[static_cast<std::size_t>(p[0].idx)], entry_of_slot[static_cast<std::size_t>(p[1].idx)]};
+      s.parents[i] = {entry_of_slot[static_cast<std::size_t>(p[0].idx)],
+                      entry_of_slot[static_cast<std::size_t>(p[1].idx)]};
     }
   }
   return s;
 }
 
-RgbState join_piece_states(const std::vector<RgbState>& pieces, std::vector<std::vector<std::int32_t>>& entry_of) {
+RgbState join_piece_states(const std::vector<RgbState>& pieces,
+                           std::vector<std::vector<std::int32_t>>& entry_of) {
   RgbState whole;
   entry_of.assign(pieces.size(), {});
   if (pieces.empty()) inconsistent("no pieces");
@@ -591,7 +594,8 @@ RgbState join_piece_states(const std::vector<RgbState>& pieces, std::vector<std:
         const auto entry = str(static_cast<std::int64_t>(i));
         const std::int32_t b = s.base_vertex[i];
         if (b >= 0) {
-          if (static_cast<std::size_t>(b) >= whole.base_points.size() || s.parents[i][0] != -1 || s.parents[i][1] != -1)
+          if (static_cast<std::size_t>(b) >= whole.base_points.size() || s.parents[i][0] != -1 ||
+              s.parents[i][1] != -1)
             inconsistent(piece + "entry " + entry + " is base vertex " + str(b) + " of " +
                          str(static_cast<std::int64_t>(whole.base_points.size())) + ", or has parents too");
           name[i] = static_cast<VertexName>(b);
@@ -600,13 +604,16 @@ RgbState join_piece_states(const std::vector<RgbState>& pieces, std::vector<std:
           continue;
         }
         const auto [p0, p1] = s.parents[i];
-        if (b != -1 || p0 < 0 || p1 < 0 || static_cast<std::size_t>(p0) >= n || static_cast<std::size_t>(p1) >= n || p0 == p1)
-          inconsistent(piece + "entry " + entry + " has base index " + str(b) + " and parents " + str(p0) + ", " + str(p1));
+        if (b != -1 || p0 < 0 || p1 < 0 || static_cast<std::size_t>(p0) >= n ||
+            static_cast<std::size_t>(p1) >= n || p0 == p1)
+          inconsistent(piece + "entry " + entry + " has base index " + str(b) + " and parents " + str(p0) +
+                       ", " + str(p1));
         state[i] = 1;
         bool ready = true;
         for (const std::int32_t p : {p0, p1}) {
           if (state[static_cast<std::size_t>(p)] == 2) continue;
-          if (state[static_cast<std::size_t>(p)] == 1) inconsistent(piece + "entry " + entry + " is its own ancestor");
+          if (state[static_cast<std::size_t>(p)] == 1)
+            inconsistent(piece + "entry " + entry + " is its own ancestor");
           stack.push_back(static_cast<std::size_t>(p));
           ready = false;
         }

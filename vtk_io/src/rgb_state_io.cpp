@@ -102,19 +102,23 @@ void read_rgb_state(vtkDataSet& data, const fs::path& path, SavedState& out) {
   vtkDataArray* piece_parents = array_of(field, kPieceParentsArray, 2, -1, path, "field data");
   if (piece_base_vertex != nullptr || piece_parents != nullptr) {
     // A piece: its entries (its points first, then their ancestors) in field data.
-    for (const auto& [array, name] : {std::pair{version, kStateVersionArray}, {base_points, kBasePointsArray},
-                                      {base_triangles, kBaseTrianglesArray}, {piece_base_vertex, kPieceBaseVertexArray},
+    for (const auto& [array, name] : {std::pair{version, kStateVersionArray},
+                                      {base_points, kBasePointsArray},
+                                      {base_triangles, kBaseTrianglesArray},
+                                      {piece_base_vertex, kPieceBaseVertexArray},
                                       {piece_parents, kPieceParentsArray}})
       if (array == nullptr) bad(path, std::string("the array '") + name + "' is missing");
     if (piece_base_vertex->GetNumberOfTuples() != piece_parents->GetNumberOfTuples() ||
         piece_base_vertex->GetNumberOfTuples() < n)
-      bad(path, "the piece's arrays have " + std::to_string(piece_base_vertex->GetNumberOfTuples()) + " and " +
-                    std::to_string(piece_parents->GetNumberOfTuples()) + " entries for " + std::to_string(n) + " points");
+      bad(path, "the piece's arrays have " + std::to_string(piece_base_vertex->GetNumberOfTuples()) +
+                    " and " + std::to_string(piece_parents->GetNumberOfTuples()) + " entries for " +
+                    std::to_string(n) + " points");
     RgbState s;
     s.version = integers(version, INT32_MIN, INT32_MAX, path)[0];
     s.base_points = vectors(base_points);
     const std::vector<std::int32_t> corners = integers(base_triangles, 0, INT32_MAX, path);
-    for (std::size_t i = 0; i + 2 < corners.size(); i += 3) s.base_triangles.push_back({corners[i], corners[i + 1], corners[i + 2]});
+    for (std::size_t i = 0; i + 2 < corners.size(); i += 3)
+      s.base_triangles.push_back({corners[i], corners[i + 1], corners[i + 2]});
     s.base_vertex = integers(piece_base_vertex, -1, INT32_MAX, path);
     const std::vector<std::int32_t> ends = integers(piece_parents, -1, INT32_MAX, path);
     for (std::size_t i = 0; i + 1 < ends.size(); i += 2) s.parents.push_back({ends[i], ends[i + 1]});
@@ -299,7 +303,8 @@ RgbMeshFile read_rgb_pieces(const std::filesystem::path& summary) {
     read_options.saved_state = &piece.saved;
     piece.soup = detail::read_mesh_soup(piece.path, read_options);
     if (!piece.saved.piece_state)
-      throw InputError(piece.path.string() + ": carries no piece state (written before pieces could be resumed?)");
+      throw InputError(piece.path.string() +
+                       ": carries no piece state (written before pieces could be resumed?)");
     states.push_back(std::move(*piece.saved.piece_state));
     piece.saved.piece_state.reset();
   }
@@ -323,8 +328,8 @@ RgbMeshFile read_rgb_pieces(const std::filesystem::path& summary) {
       for (int c = 0; c < 3; ++c) {
         const std::int64_t v = f[static_cast<std::size_t>(c)];
         if (v < 0 || v >= static_cast<std::int64_t>(soup.points.size()))
-          detail::bad(pieces[k].path, "cell " + std::to_string(j) + " names point " + std::to_string(v) + " of " +
-                                          std::to_string(soup.points.size()));
+          detail::bad(pieces[k].path, "cell " + std::to_string(j) + " names point " + std::to_string(v) +
+                                          " of " + std::to_string(soup.points.size()));
         t[static_cast<std::size_t>(c)] = entry_of[k][static_cast<std::size_t>(v)];
       }
       expected.triangles.push_back(t);
@@ -342,7 +347,8 @@ RgbMeshFile read_rgb_pieces(const std::filesystem::path& summary) {
     restored.vertex.clear();
     for (std::size_t i = 0; i < pieces[k].soup.points.size(); ++i)
       restored.vertex.push_back(all[static_cast<std::size_t>(entry_of[k][i])]);
-    detail::check_points(pieces[k].path, pieces[k].soup.points, restored, pieces[k].saved.single_precision_points);
+    detail::check_points(pieces[k].path, pieces[k].soup.points, restored,
+                         pieces[k].saved.single_precision_points);
   }
   RgbMeshFile file;
   file.mesh = std::move(restored.mesh);

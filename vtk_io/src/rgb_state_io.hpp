@@ -19,8 +19,8 @@
 // The file's own cells give the triangles (and with them the trapezoid diagonals), and its
 // arrays "level" (point and cell), "color", "control_point" and "limit", when present, are
 // compared with what the state gives; so are its Points (what ParaView shows), which must be
-// one of the positions rgbmesh writes as points for every point. A file with none of these arrays has no state; a file
-// with some but not all of them is refused.
+// one of the positions rgbmesh writes as points for every point. A file with none of these arrays has no
+// state; a file with some but not all of them is refused.
 
 #include <filesystem>
 #include <optional>

@@ -68,7 +68,8 @@ XmlDataSet snapshot_data_set(const MeshSnapshot& mesh, bool unstructured) {
     if (s.base_vertex.size() != s.parents.size() || s.parents.size() < d.points)
       throw std::invalid_argument("a piece's RGB state does not have an entry per point and per ancestor");
     d.field_data.push_back(state_version_array(s.version));
-    d.field_data.push_back(borrowed_array(kBasePointsArray, XmlType::float64, 3, s.base_points.size(), s.base_points.data()));
+    d.field_data.push_back(
+        borrowed_array(kBasePointsArray, XmlType::float64, 3, s.base_points.size(), s.base_points.data()));
     d.field_data.push_back(base_triangles_array(s.base_triangles));
     d.field_data.push_back(
         borrowed_array(kPieceBaseVertexArray, XmlType::int32, 1, s.base_vertex.size(), s.base_vertex.data()));

@@ -49,7 +49,8 @@ RgbState save_piece_state(const RgbMesh& mesh, const std::vector<VertexHandle>& 
 // ancestry: canonical.hpp's names), for restore_state; entry_of[k][i] is where piece k's entry
 // i went. InputError (one line, naming the piece) where a piece is inconsistent: sizes,
 // indices, parents that form a cycle, or a base mesh that differs from the first piece's.
-RgbState join_piece_states(const std::vector<RgbState>& pieces, std::vector<std::vector<std::int32_t>>& entry_of);
+RgbState join_piece_states(const std::vector<RgbState>& pieces,
+                           std::vector<std::vector<std::int32_t>>& entry_of);
 
 // What restore_state checks the rebuilt mesh against (all optional: empty means unchecked).
 // Indices are the state's point indices.
