@@ -121,6 +121,21 @@ std::vector<char> corners_and_layers(const RgbMesh& view, const std::vector<std:
   return in;
 }
 
+// Removes these vertices of the view, finest first (a vertex's finer neighbours among them go
+// before it), as far as they can go.
+void remove_finest_first(RgbMesh& view, std::vector<VertexHandle> vertices) {
+  std::sort(vertices.begin(), vertices.end(),
+            [&view](VertexHandle a, VertexHandle b) { return view.level(a) > view.level(b); });
+  for (bool removed = true; removed;) {
+    removed = false;
+    for (const VertexHandle v : vertices)
+      if (view.alive(v) && view.is_removable(v)) {
+        view.remove_vertex(v);
+        removed = true;
+      }
+  }
+}
+
 void add_unique(std::vector<std::int32_t>& set, std::int32_t x) {
   if (std::find(set.begin(), set.end(), x) == set.end()) set.push_back(x);
 }
@@ -232,7 +247,7 @@ class DistributedMesh {
       // The ghost layers exact again: every process's removals made here too, then the
       // vertices that the grown triangles' layers need from their owners, as at the start of
       // a cycle with the same parts, and the view trimmed to two layers.
-      remove_named(view, gone);
+      remove_named(view, name, gone);
       const std::vector<std::int32_t> now = parts_of(view);
       migrate(view, own_of(now), now);
       coarsen_away(view, own_triangles(view), floor_, kGhostLayers);
@@ -246,26 +261,19 @@ class DistributedMesh {
   // has the vertices. The view is the whole mesh less vertices that removals took away
   // (coarsen_away's), so each of them is removable here too: a removal never makes another
   // vertex unremovable. The view is then the whole mesh's less such vertices again.
-  void remove_named(RgbMesh& view, const std::vector<std::uint64_t>& gone) {
+  // (`name`: the view's names by slot from before this round's removals, which inserted
+  // nothing.)
+  void remove_named(RgbMesh& view, const std::vector<VertexName>& name, const std::vector<std::uint64_t>& gone) {
     std::vector<std::vector<std::uint64_t>> to(static_cast<std::size_t>(parts_));
     for (int q = 0; q < parts_; ++q)
       if (q != me_) to[static_cast<std::size_t>(q)] = gone;
-    Names names(view);
+    std::unordered_set<VertexName> others;
+    for (const auto& from : detail::all_to_all(to)) others.insert(from.begin(), from.end());
     std::vector<VertexHandle> here;
-    for (const auto& from : detail::all_to_all(to))
-      for (const std::uint64_t n : from)
-        if (const VertexHandle v = names.find(n); v.valid()) here.push_back(v);
-    // Finest first: a vertex's finer neighbours among them go before it.
-    std::sort(here.begin(), here.end(),
-              [&view](VertexHandle a, VertexHandle b) { return view.level(a) > view.level(b); });
-    for (bool progress = true; progress;) {
-      progress = false;
-      for (const VertexHandle v : here)
-        if (view.alive(v) && view.is_removable(v)) {
-          view.remove_vertex(v);
-          progress = true;
-        }
-    }
+    if (!others.empty())
+      for (const VertexHandle v : view.vertices())
+        if (others.count(name[static_cast<std::size_t>(v.idx)])) here.push_back(v);
+    remove_finest_first(view, std::move(here));
   }
 
   // known_, region_ and neighbours_ for the view as it is now.
@@ -646,15 +654,7 @@ class DistributedMesh {
     std::vector<VertexHandle> forced;
     for (const VertexHandle v : names.inserted)
       if (view.alive(v) && !handed.count(names.of(v))) forced.push_back(v);
-    std::sort(forced.begin(), forced.end(), [&view](VertexHandle a, VertexHandle b) { return view.level(a) > view.level(b); });
-    for (bool removed = true; removed;) {
-      removed = false;
-      for (const VertexHandle v : forced)
-        if (view.alive(v) && view.is_removable(v)) {
-          view.remove_vertex(v);
-          removed = true;
-        }
-    }
+    remove_finest_first(view, std::move(forced));
   }
 
   int floor_, parts_, me_;

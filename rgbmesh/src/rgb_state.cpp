@@ -430,6 +430,37 @@ void check_positions(const RestoredMesh& r, const std::vector<Vec3>& expected, c
 
 }  // namespace
 
+namespace {
+
+// The state of `entries` (each a live vertex, once; `entry_of_slot` their indices by slot,
+// which must hold every parent of an inserted entry): the base mesh, and per entry its base
+// index or its parents' entries.
+RgbState state_of(const RgbMesh& mesh, const std::vector<VertexHandle>& entries,
+                  const std::vector<std::int32_t>& entry_of_slot) {
+  RgbState s;
+  s.base_points.reserve(mesh.num_base_vertices());
+  for (std::size_t b = 0; b < mesh.num_base_vertices(); ++b)
+    s.base_points.push_back(mesh.insertion_point(VertexHandle(static_cast<std::int32_t>(b))));
+  s.base_triangles = mesh.base_triangles();
+  s.base_vertex.resize(entries.size());
+  s.parents.resize(entries.size());
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const VertexHandle v = entries[i];
+    if (mesh.level(v) == 0) {  // base vertices keep the handles from_triangles gave them
+      s.base_vertex[i] = v.idx;
+      s.parents[i] = {-1, -1};
+    } else {
+      const auto& p = mesh.parents(v);
+      s.base_vertex[i] = -1;
+      s.parents[i] = {entry_of_slot[static_cast<std::size_t>(p[0].idx)],
+                      entry_of_slot[static_cast<std::size_t>(p[1].idx)]};
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
 RgbState save_state(const RgbMesh& mesh, const MeshSnapshot& snapshot) {
   const std::size_t n = snapshot.vertex_handle.size();
   if (n != mesh.num_vertices())
@@ -445,25 +476,7 @@ RgbState save_state(const RgbMesh& mesh, const MeshSnapshot& snapshot) {
                                   " is not a vertex of the mesh, or a vertex listed twice");
     point_of_slot[static_cast<std::size_t>(v.idx)] = static_cast<std::int32_t>(i);
   }
-  RgbState s;
-  s.base_points.reserve(mesh.num_base_vertices());
-  for (std::size_t b = 0; b < mesh.num_base_vertices(); ++b)
-    s.base_points.push_back(mesh.insertion_point(VertexHandle(static_cast<std::int32_t>(b))));
-  s.base_triangles = mesh.base_triangles();
-  s.base_vertex.resize(n);
-  s.parents.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const VertexHandle v = snapshot.vertex_handle[i];
-    if (mesh.level(v) == 0) {  // base vertices keep the handles from_triangles gave them
-      s.base_vertex[i] = v.idx;
-      s.parents[i] = {-1, -1};
-    } else {
-      const auto& p = mesh.parents(v);
-      s.base_vertex[i] = -1;
-      s.parents[i] = {point_of_slot[static_cast<std::size_t>(p[0].idx)], point_of_slot[static_cast<std::size_t>(p[1].idx)]};
-    }
-  }
-  return s;
+  return state_of(mesh, snapshot.vertex_handle, point_of_slot);
 }
 
 RestoredMesh restore_state(const RgbState& state, const RestoreExpectations& expected) {
@@ -532,26 +545,7 @@ RgbState save_piece_state(const RgbMesh& mesh, const std::vector<VertexHandle>& 
     for (const VertexHandle p : mesh.parents(entries[i]))
       if (entry_of_slot[static_cast<std::size_t>(p.idx)] < 0) add(p);
   }
-  RgbState s;
-  s.base_points.reserve(mesh.num_base_vertices());
-  for (std::size_t b = 0; b < mesh.num_base_vertices(); ++b)
-    s.base_points.push_back(mesh.insertion_point(VertexHandle(static_cast<std::int32_t>(b))));
-  s.base_triangles = mesh.base_triangles();
-  s.base_vertex.resize(entries.size());
-  s.parents.resize(entries.size());
-  for (std::size_t i = 0; i < entries.size(); ++i) {
-    const VertexHandle v = entries[i];
-    if (mesh.level(v) == 0) {
-      s.base_vertex[i] = v.idx;
-      s.parents[i] = {-1, -1};
-    } else {
-      const auto& p = mesh.parents(v);
-      s.base_vertex[i] = -1;
-      s.parents[i] = {entry_of_slot[static_cast<std::size_t>(p[0].idx)],
-                      entry_of_slot[static_cast<std::size_t>(p[1].idx)]};
-    }
-  }
-  return s;
+  return state_of(mesh, entries, entry_of_slot);
 }
 
 RgbState join_piece_states(const std::vector<RgbState>& pieces,

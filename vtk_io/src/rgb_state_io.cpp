@@ -214,6 +214,30 @@ void check_points(const fs::path& path, const std::vector<Vec3>& points, Restore
 
 }  // namespace detail
 
+namespace {
+
+// A file's cells as the triangles of its state: each a triangle of its points (InputError
+// naming the cell otherwise).
+std::vector<std::array<std::int32_t, 3>> triangles_with_state(const std::filesystem::path& path,
+                                                               const PolygonSoup& soup) {
+  std::vector<std::array<std::int32_t, 3>> out;
+  out.reserve(soup.faces.size());
+  for (std::size_t j = 0; j < soup.faces.size(); ++j) {
+    const auto& f = soup.faces[j];
+    if (f.size() != 3)
+      detail::bad(path, "cell " + std::to_string(j) + " has " + std::to_string(f.size()) +
+                            " vertices (a file with a state has triangles only)");
+    for (const std::int64_t v : f)
+      if (v < 0 || v >= static_cast<std::int64_t>(soup.points.size()))
+        detail::bad(path, "cell " + std::to_string(j) + " names point " + std::to_string(v) + " of " +
+                              std::to_string(soup.points.size()));
+    out.push_back({static_cast<std::int32_t>(f[0]), static_cast<std::int32_t>(f[1]), static_cast<std::int32_t>(f[2])});
+  }
+  return out;
+}
+
+}  // namespace
+
 RgbMeshFile read_rgb_mesh(const std::filesystem::path& path, const SoupOptions& options) {
   detail::SavedState saved;
   detail::ReadOptions read_options;
@@ -231,19 +255,7 @@ RgbMeshFile read_rgb_mesh(const std::filesystem::path& path, const SoupOptions& 
     return file;
   }
   // The file's cells are the triangles as written, in the state's point numbering.
-  saved.expected.triangles.reserve(soup.faces.size());
-  for (std::size_t j = 0; j < soup.faces.size(); ++j) {
-    const auto& f = soup.faces[j];
-    if (f.size() != 3)
-      detail::bad(path, "cell " + std::to_string(j) + " has " + std::to_string(f.size()) +
-                            " vertices (a file with a state has triangles only)");
-    for (const std::int64_t v : f)
-      if (v < 0 || v >= static_cast<std::int64_t>(soup.points.size()))
-        detail::bad(path, "cell " + std::to_string(j) + " names point " + std::to_string(v) + " of " +
-                              std::to_string(soup.points.size()));
-    saved.expected.triangles.push_back(
-        {static_cast<std::int32_t>(f[0]), static_cast<std::int32_t>(f[1]), static_cast<std::int32_t>(f[2])});
-  }
+  saved.expected.triangles = triangles_with_state(path, soup);
   RestoredMesh restored;
   try {
     restored = restore_state(*saved.state, saved.expected);
@@ -317,24 +329,11 @@ RgbMeshFile read_rgb_pieces(const std::filesystem::path& summary) {
     throw InputError(summary.string() + ": " + e.what());
   }
   // The pieces' cells are the whole mesh's triangles, each once.
-  for (std::size_t k = 0; k < pieces.size(); ++k) {
-    const PolygonSoup& soup = pieces[k].soup;
-    for (std::size_t j = 0; j < soup.faces.size(); ++j) {
-      const auto& f = soup.faces[j];
-      if (f.size() != 3)
-        detail::bad(pieces[k].path, "cell " + std::to_string(j) + " has " + std::to_string(f.size()) +
-                                        " vertices (a file with a state has triangles only)");
-      std::array<std::int32_t, 3> t{};
-      for (int c = 0; c < 3; ++c) {
-        const std::int64_t v = f[static_cast<std::size_t>(c)];
-        if (v < 0 || v >= static_cast<std::int64_t>(soup.points.size()))
-          detail::bad(pieces[k].path, "cell " + std::to_string(j) + " names point " + std::to_string(v) +
-                                          " of " + std::to_string(soup.points.size()));
-        t[static_cast<std::size_t>(c)] = entry_of[k][static_cast<std::size_t>(v)];
-      }
+  for (std::size_t k = 0; k < pieces.size(); ++k)
+    for (std::array<std::int32_t, 3> t : triangles_with_state(pieces[k].path, pieces[k].soup)) {
+      for (std::int32_t& c : t) c = entry_of[k][static_cast<std::size_t>(c)];
       expected.triangles.push_back(t);
     }
-  }
   RestoredMesh restored;
   try {
     restored = restore_state(whole, expected);
