@@ -5,9 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <tuple>
 
+#include "rgbmesh/canonical.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
+#include "rgbmesh/parallel.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "test_meshes.hpp"
 
@@ -47,6 +51,124 @@ TEST(Uniform, LevelKHasFourToTheKTrianglesAllGreen) {
       }
     }
   }
+}
+
+// Everything a vertex is in the Loop hierarchy, keyed by its name (canonical.hpp): level,
+// parents, boundary flag, control point at insertion and limit position, to the last bit.
+using VertexRecord = std::tuple<int, VertexName, VertexName, bool, double, double, double, double, double, double>;
+
+std::map<VertexName, VertexRecord> vertex_records(RgbMesh m) {
+  m.compute_limits();
+  const std::vector<VertexName> names = vertex_names(m);
+  std::map<VertexName, VertexRecord> out;
+  for (VertexHandle v : m.vertices()) {
+    const auto& p = m.parents(v);
+    const Vec3 c = m.insertion_point(v), x = m.limit_position(v);
+    // The parents as a set: which one is first depends on the order of an edge's ends.
+    const VertexName a = p[0].valid() ? names[p[0].idx] : 0, b = p[1].valid() ? names[p[1].idx] : 0;
+    out[names[v.idx]] = {m.level(v),
+                         std::min(a, b),
+                         std::max(a, b),
+                         m.is_boundary_vertex(v),
+                         c.x, c.y, c.z, x.x, x.y, x.z};
+  }
+  return out;
+}
+
+// The triangles as triples of names, each rotated to start at its smallest name, sorted.
+std::vector<std::array<VertexName, 3>> named_triangles(const RgbMesh& m) {
+  const std::vector<VertexName> names = vertex_names(m);
+  std::vector<std::array<VertexName, 3>> out;
+  for (TriangleHandle t : m.triangles()) {
+    const auto c = m.triangle_vertices(t);
+    std::array<VertexName, 3> n = {names[c[0].idx], names[c[1].idx], names[c[2].idx]};
+    std::rotate(n.begin(), std::min_element(n.begin(), n.end()), n.end());
+    out.push_back(n);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(Uniform, AllEdgesAtOnceIsSplittingEveryEdge) {
+  // split_all_edges against split_edge on every edge (section V, one operator at a time), on
+  // closed, open (several boundary loops), genus-1 and genus-2 bases with extraordinary
+  // vertices: the same vertices with the same parents, control points and limit positions to
+  // the last bit, the same triangles, and a valid, stable mesh after every level.
+  for (const auto& base : testing::all_base_meshes()) {
+    RgbMesh at_once = base.build(), one_by_one = base.build();
+    std::vector<std::array<VertexHandle, 3>> heard;  // (vertex, parents) from the observer
+    at_once.add_insertion_observer([&](VertexHandle v, VertexHandle a, VertexHandle b) { heard.push_back({v, a, b}); });
+    for (int level = 0; level < 3; ++level) {
+      ASSERT_TRUE(at_once.is_uniform()) << base.name;
+      const std::size_t vertices = at_once.num_vertices(), edges = at_once.num_edges();
+      heard.clear();
+      EXPECT_EQ(at_once.split_all_edges(), edges) << base.name;
+      const std::int32_t slots = one_by_one.edge_slots();
+      for (std::int32_t i = 0; i < slots; ++i) {
+        const EdgeHandle e(i);
+        if (one_by_one.alive(e) && !one_by_one.is_red(e) && one_by_one.level(e) == level) one_by_one.split_edge(e);
+      }
+      ASSERT_EQ(at_once.validate(true), "") << base.name << " level " << level + 1;
+      EXPECT_EQ(at_once.num_vertices(), vertices + edges);
+      EXPECT_EQ(at_once.counters().splits, one_by_one.counters().splits) << base.name;
+      EXPECT_EQ(vertex_records(at_once), vertex_records(one_by_one)) << base.name << " level " << level + 1;
+      EXPECT_EQ(named_triangles(at_once), named_triangles(one_by_one)) << base.name << " level " << level + 1;
+      // Every new vertex heard once, in slot order, with its parents.
+      ASSERT_EQ(heard.size(), edges);
+      for (std::size_t k = 0; k < heard.size(); ++k) {
+        EXPECT_EQ(heard[k][0].idx, static_cast<std::int32_t>(vertices + k));
+        EXPECT_EQ(at_once.parents(heard[k][0])[0], heard[k][1]);
+        EXPECT_EQ(at_once.parents(heard[k][0])[1], heard[k][2]);
+      }
+    }
+    // And back: coarsening everything returns the base exactly.
+    selective_refinement(at_once, CoarsenAll());
+    ASSERT_EQ(at_once.validate(true), "") << base.name;
+    EXPECT_EQ(named_triangles(at_once), named_triangles(base.build())) << base.name;
+  }
+}
+
+TEST(Uniform, AllEdgesAtOnceDoesNotDependOnTheThreads) {
+  // Each pass writes only its own slots: one thread and every core give the same arrays.
+  const testing::BaseMesh base = testing::torus(24, 16);
+  const auto refine = [&](unsigned threads) {
+    detail::thread_cap = threads;
+    RgbMesh m = base.build();
+    for (int level = 0; level < 3; ++level) m.split_all_edges();
+    detail::thread_cap = 0;
+    return m;
+  };
+  const RgbMesh one = refine(1), all = refine(4);
+  ASSERT_EQ(one.vertex_slots(), all.vertex_slots());
+  ASSERT_EQ(one.triangle_slots(), all.triangle_slots());
+  for (VertexHandle v : one.vertices()) {
+    ASSERT_EQ(one.insertion_point(v), all.insertion_point(v));
+    ASSERT_EQ(one.vertex_edge(v), all.vertex_edge(v));
+  }
+  for (TriangleHandle t : one.triangles()) ASSERT_EQ(one.triangle_vertices(t), all.triangle_vertices(t));
+}
+
+TEST(Uniform, AllEdgesAtOnceNeedsAUniformMesh) {
+  RgbMesh m = testing::icosahedron().build();
+  EXPECT_TRUE(m.is_uniform());
+  m.split_edge(*m.edges().begin());  // red edges now
+  EXPECT_FALSE(m.is_uniform());
+  EXPECT_THROW(m.split_all_edges(), PreconditionError);
+  selective_refinement(m, UniformLevel(1));
+  EXPECT_TRUE(m.is_uniform());
+  selective_refinement(m, UniformLevel(2));
+  RgbMesh partly = m;
+  for (VertexHandle v : partly.vertices()) {
+    if (partly.is_removable(v)) {
+      partly.remove_vertex(v);  // a free slot now
+      break;
+    }
+  }
+  ASSERT_LT(partly.num_vertices(), m.num_vertices());
+  EXPECT_FALSE(partly.is_uniform());
+  // The sweep still reaches the level one split at a time.
+  selective_refinement(partly, UniformLevel(2));
+  EXPECT_EQ(named_triangles(partly), named_triangles(m));
 }
 
 TEST(Uniform, PredictedCountsAreExactFromAnyMeshOfTheBase) {

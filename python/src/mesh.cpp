@@ -296,7 +296,8 @@ void bind_mesh(py::module_& m) {
             return r.splits;
           },
           py::arg("level"), "Refines (or coarsens) to the uniform mesh of this level; returns the vertices inserted. Ctrl-C "
-          "interrupts, leaving a valid mesh.")
+          "interrupts, leaving a valid mesh: between two levels when refining a uniform mesh (each level "
+          "is a few passes over the arrays, on every core), between two operations otherwise.")
       .def("refine", &refine, py::kw_only(), py::arg("uniform") = py::none(), py::arg("at_least") = py::none(),
            py::arg("ball") = py::none(), py::arg("max_edge") = py::none(), py::arg("tolerance") = py::none(),
            py::arg("budget") = py::none(), py::arg("max_level") = kMaxLevel,

@@ -190,14 +190,14 @@ bool RgbMesh::ring_limit(VertexHandle v, Vec3& limit) const {
   return limit_from_ring(v, limit, [this](VertexHandle w) { return limit_known(w); });
 }
 
-void RgbMesh::store_ring_limits() {
+void RgbMesh::store_ring_limits(int below_level) {
   // A vertex's limit needs only the limits of coarser vertices (its parents and the coarser
   // ones of its ring), so each level's can be computed at once, in parallel, once the coarser
   // levels' are stored. The mesh does not change meanwhile; results are stored in vertex
   // order by this thread. A vertex left out (incomplete ring) is left to compute_limits.
   std::vector<std::vector<VertexHandle>> by_level;
   for (VertexHandle v : vertices()) {
-    if (limit_known(v) || v_level_[v.idx] == 0) continue;
+    if (limit_known(v) || v_level_[v.idx] == 0 || v_level_[v.idx] >= below_level) continue;
     const std::size_t l = v_level_[v.idx];
     if (by_level.size() <= l) by_level.resize(l + 1);
     by_level[l].push_back(v);

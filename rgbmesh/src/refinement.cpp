@@ -480,6 +480,13 @@ class LevelSweep {
     }
     reserve_for_uniform_mesh(level);
     for (int l = 0; l < level; ++l) {
+      if (mesh_.is_uniform() && mesh_.level(EdgeHandle(0)) == l) {
+        // A uniform mesh (the usual start: a base mesh, or a level of it) goes a level at a
+        // time, in passes over the arrays on every core: the same mesh as the splits below.
+        result_.splits += mesh_.split_all_edges();
+        report();
+        continue;
+      }
       const std::int32_t n = mesh_.edge_slots();
       std::size_t count = 0;
       for (std::int32_t i = 0; i < n; ++i) {

@@ -527,6 +527,24 @@ class RgbMesh {
   /// by a merge.
   void remove_vertex(VertexHandle v);
 
+  // ---- uniform levels at once -----------------------------------------------------------
+  /// Whether the mesh is one level of Loop subdivision with nothing else in its arrays: every
+  /// edge green and of one level (then every triangle is green, of that level) and no free
+  /// slot (no removal since the last compaction). What split_all_edges needs.
+  bool is_uniform() const;
+  /// Splits every edge of a uniform mesh (is_uniform(), else PreconditionError) at once: the
+  /// mesh of the next uniform level, the one split_edge on every edge gives (the same
+  /// vertices, levels, parents, control points and limit positions; all green, so there is no
+  /// diagonal to choose), built in a few passes over the arrays on every core instead of one
+  /// operator per edge. The new elements take new slots in the order of what they come from:
+  /// the vertex that splits edge e is vertex V + e (V: the vertex slots before), e keeps its
+  /// half at edge_vertices(e)[0] and edge E + e is its other half (E: the edge slots before);
+  /// triangle t becomes its middle quarter and T + 3t + k its quarter at corner k (T: the
+  /// triangle slots before). Insertion observers hear of every new vertex, in that order, once
+  /// the level is complete. All or nothing before that: std::bad_alloc leaves the mesh as it was.
+  /// Returns the vertices inserted.
+  std::size_t split_all_edges();
+
   // ---- observers --------------------------------------------------------------------------
   /// Called after a vertex is inserted: (new vertex, endpoints of the edge it split). Within
   /// split_edge, once the step that inserted it is complete and stable.
@@ -657,9 +675,10 @@ class RgbMesh {
   /// (ring_limit) that a coarser ring vertex w has its limit. False for an incomplete ring.
   template <class Known>
   bool limit_from_ring(VertexHandle v, Vec3& limit, Known known) const;
-  /// Stores every limit position the current rings allow, level by level, on several
-  /// threads for large meshes (compute_limits' first pass).
-  void store_ring_limits();
+  /// Stores every limit position the current rings allow for the vertices of levels below
+  /// `below_level`, level by level, on several threads for large meshes (compute_limits' first
+  /// pass, and split_all_edges' stencils).
+  void store_ring_limits(int below_level = kMaxLevel + 1);
   /// Makes the limit positions of the stencil's vertices coarser than l known (may insert
   /// vertices elsewhere); returns whether it had to insert any.
   bool prepare_stencil(const std::array<VertexHandle, 4>& st, int l);

@@ -81,7 +81,8 @@ MeshCounts uniform_level_counts(const RgbMesh& mesh, int level);
 /// Runs one stage: fills both queues from the whole mesh, removes over-refined vertices, then
 /// splits under-refined edges, until both queues are empty or the criterion is satisfied.
 /// UniformLevel and CoarsenAll, which depend on levels only, run as level-by-level sweeps
-/// without queues (same result, less work).
+/// without queues (same result, less work); a uniform mesh is refined a whole level at a time
+/// (RgbMesh::split_all_edges, on every core), so progress is reported between levels there.
 RefinementResult selective_refinement(RgbMesh& mesh, const LodCriterion& criterion,
                                       const RefinementOptions& options = {});
 
