@@ -145,6 +145,8 @@ OwnedRows solve_rows(std::vector<RowEntries>& to, std::int64_t first, std::int64
   const auto check = [](PetscErrorCode code, const char* what) { fem::petsc::check(code, "distributed mesh amg", what); };
   check(MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, m, m, n, n, rows.outerIndexPtr(), rows.innerIndexPtr(), rows.valuePtr(), &o.a),
         "creating the matrix");
+  // PETSc copied the arrays: free them before the AMG setup, the solve's peak of memory.
+  Eigen::SparseMatrix<double, Eigen::RowMajor, PetscInt>().swap(rows);
   check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, n, rhs.data(), &o.b), "creating the right-hand side");
   check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, n, out.x.data(), &o.x), "creating the solution");
   out.iterations = fem::petsc::solve_cg_amg(PETSC_COMM_WORLD, o, tolerance, any_guess != 0, "distributed mesh amg", "");
