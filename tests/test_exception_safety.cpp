@@ -261,6 +261,11 @@ TEST(AllocationFailures, LeaveAValidStableMesh) {
   const RgbMesh ico = testing::icosahedron().build();
   each_allocation_failure(
       ico, [](RgbMesh& m) { selective_refinement(m, UniformLevel(2)); }, "uniform level 2");
+  // A vertex property that allocates per value: split_all_edges grows it first, undone if it fails.
+  RgbMesh ico_with_lists = ico;
+  (void)ico_with_lists.add_vertex_property<std::vector<int>>({1, 2, 3});
+  each_allocation_failure(
+      ico_with_lists, [](RgbMesh& m) { selective_refinement(m, UniformLevel(2)); }, "uniform level 2 with a property");
   each_allocation_failure(
       ico, [](RgbMesh& m) { selective_refinement(m, deep_ball(m)); }, "deep ball");
   each_allocation_failure(

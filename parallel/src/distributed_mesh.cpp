@@ -140,6 +140,29 @@ void add_unique(std::vector<std::int32_t>& set, std::int32_t x) {
   if (std::find(set.begin(), set.end(), x) == set.end()) set.push_back(x);
 }
 
+// A set of names kept for a whole cycle, as one sorted array (8 bytes a name, where a hash
+// set takes about 40: these sets span the view and are alive during the solve, the run's
+// peak), with the names added since it was made in a small hash set beside it.
+class NameSet {
+ public:
+  void assign(std::vector<VertexName> names) {
+    std::sort(names.begin(), names.end());
+    sorted_ = std::move(names);
+    sorted_.shrink_to_fit();
+    added_.clear();
+  }
+  bool contains(VertexName n) const {
+    return std::binary_search(sorted_.begin(), sorted_.end(), n) || (!added_.empty() && added_.count(n) != 0);
+  }
+  void insert(VertexName n) {
+    if (!contains(n)) added_.insert(n);
+  }
+
+ private:
+  std::vector<VertexName> sorted_;
+  std::unordered_set<VertexName> added_;
+};
+
 class DistributedMesh {
  public:
   // share: shared_units' limit on a unit's triangles before it is divided; infinite (the
@@ -281,15 +304,16 @@ class DistributedMesh {
     // (By names: the slots may change before the cycle's mesh is numbered, when limit
     // positions are computed with helper vertices that are taken out again.)
     const std::vector<VertexName> name = vertex_names(view);
-    known_.clear();
-    region_.clear();
-    known_.reserve(view.num_vertices());
     const std::vector<std::int32_t> part = parts_of(view);
     const std::vector<char> exact = corners_and_layers(view, part, me_, kGhostLayers);
+    std::vector<VertexName> known, region;
+    known.reserve(view.num_vertices());
     for (const VertexHandle v : view.vertices()) {
-      known_.insert(name[static_cast<std::size_t>(v.idx)]);
-      if (exact[static_cast<std::size_t>(v.idx)]) region_.insert(name[static_cast<std::size_t>(v.idx)]);
+      known.push_back(name[static_cast<std::size_t>(v.idx)]);
+      if (exact[static_cast<std::size_t>(v.idx)]) region.push_back(name[static_cast<std::size_t>(v.idx)]);
     }
+    known_.assign(std::move(known));
+    region_.assign(std::move(region));
     // The neighbours: the processes owning triangles among this one's ghost layers. Whoever
     // needs a split made here owns triangles within two layers of it, so the split's owner
     // (whose part holds it) has them among its ghost layers and hands it on.
@@ -309,7 +333,7 @@ class DistributedMesh {
     Names names(view);
     std::vector<VertexHandle> fresh;
     for (const VertexHandle v : view.vertices())
-      if (!known_.count(names.of(v))) fresh.push_back(v);
+      if (!known_.contains(names.of(v))) fresh.push_back(v);
     for (;;) {
       std::sort(fresh.begin(), fresh.end(), [&view](VertexHandle a, VertexHandle b) { return view.level(a) < view.level(b); });
       // Only the splits inside the part and its ghost layers: those beyond, where the view is
@@ -319,7 +343,7 @@ class DistributedMesh {
       for (const VertexHandle v : fresh) {
         if (!view.alive(v)) continue;
         const Travelling t = names.travelling(v);
-        if (!region_.count(t.a) || !region_.count(t.b)) continue;
+        if (!region_.contains(t.a) || !region_.contains(t.b)) continue;
         region_.insert(t.name);
         append(mine, t);
       }
@@ -333,7 +357,7 @@ class DistributedMesh {
       std::vector<Travelling> wanted;
       for (const auto& from : detail::all_to_all(to))
         for (const Travelling& t : unpack(from))
-          if (region_.count(t.a) && region_.count(t.b) && !names.find(t.name).valid()) wanted.push_back(t);
+          if (region_.contains(t.a) && region_.contains(t.b) && !names.find(t.name).valid()) wanted.push_back(t);
       names.inserted.clear();
       insert(view, names, std::move(wanted));
       fresh = names.inserted;
@@ -362,22 +386,38 @@ class DistributedMesh {
               edge_node_name(dof_name_[static_cast<std::size_t>(fe.triangles[t][k])],
                              dof_name_[static_cast<std::size_t>(fe.triangles[t][(k + 1) % 3])]);
     // Each node's parts around it, and its owner: the lowest (exact for the own triangles'
-    // nodes, whose neighbours the view holds).
-    std::vector<std::vector<std::int32_t>> around(nd);
+    // nodes, whose neighbours the view holds). As one array: node d's parts are
+    // parts_at[at[d] .. at[d] + count[d]), sorted.
+    std::vector<std::uint32_t> at(nd + 1, 0);
     std::vector<char> own_node(nd, 0);
+    for (std::size_t t = 0; t < nt; ++t)
+      if (tp[t] >= 0)
+        for (const std::int32_t d : nodes_of(t)) ++at[static_cast<std::size_t>(d) + 1];
+    for (std::size_t d = 0; d < nd; ++d) at[d + 1] += at[d];
+    std::vector<std::int32_t> parts_at(at[nd]);
+    std::vector<std::uint32_t> count(nd, 0);
     for (std::size_t t = 0; t < nt; ++t) {
       if (tp[t] < 0) continue;
       for (const std::int32_t d : nodes_of(t)) {
-        add_unique(around[static_cast<std::size_t>(d)], tp[t]);
-        if (tp[t] == me_) own_node[static_cast<std::size_t>(d)] = 1;
+        const auto n = static_cast<std::size_t>(d);
+        parts_at[at[n] + count[n]++] = tp[t];
+        if (tp[t] == me_) own_node[n] = 1;
       }
     }
+    for (std::size_t d = 0; d < nd; ++d) {
+      const auto first = parts_at.begin() + at[d], last = first + count[d];
+      std::sort(first, last);
+      count[d] = static_cast<std::uint32_t>(std::unique(first, last) - first);
+    }
+    const auto around = [&](std::size_t d) {
+      return std::make_pair(parts_at.data() + at[d], parts_at.data() + at[d] + count[d]);
+    };
     owner_.assign(nd, -1);
     gid_.assign(nd, -1);
     std::int64_t owned = 0;
     for (std::size_t d = 0; d < nd; ++d) {
       if (!own_node[d]) continue;
-      owner_[d] = *std::min_element(around[d].begin(), around[d].end());
+      owner_[d] = *around(d).first;  // the lowest
       if (owner_[d] == me_) gid_[d] = owned++;
     }
     const std::vector<std::uint64_t> counts = detail::all_gather({static_cast<std::uint64_t>(owned)});
@@ -388,11 +428,16 @@ class DistributedMesh {
       total_ += static_cast<std::int64_t>(counts[static_cast<std::size_t>(q)]);
     }
     owned_ = owned;
-    dof_of_name_.clear();
+    dof_of_name_.resize(nd);
     for (std::size_t d = 0; d < nd; ++d) {
-      dof_of_name_[dof_name_[d]] = static_cast<std::int32_t>(d);
+      dof_of_name_[d] = {dof_name_[d], static_cast<std::int32_t>(d)};
       if (gid_[d] >= 0) gid_[d] += first_;
     }
+    // By name; a name met twice keeps its last node first, as a map assigned in node order would.
+    std::sort(dof_of_name_.begin(), dof_of_name_.end(), [](const auto& a, const auto& b) {
+      return a.first != b.first ? a.first < b.first : a.second > b.second;
+    });
+    dof_of_name_.shrink_to_fit();
     // The other nodes of the own triangles: their numbers from their owners.
     std::vector<std::vector<std::uint64_t>> ask(static_cast<std::size_t>(parts_));
     std::vector<std::vector<std::int32_t>> asked(static_cast<std::size_t>(parts_));
@@ -418,8 +463,8 @@ class DistributedMesh {
       if (tp[t] != me_) continue;
       std::vector<std::int32_t> to;
       for (const std::int32_t c : fe.triangles[t])
-        for (const std::int32_t q : around[static_cast<std::size_t>(c)])
-          if (q != me_) add_unique(to, q);
+        for (auto [q, end] = around(static_cast<std::size_t>(c)); q != end; ++q)
+          if (*q != me_) add_unique(to, *q);
       for (const std::int32_t q : to) {
         auto& mark = pushed[static_cast<std::size_t>(q)];
         if (mark.empty()) mark.assign(nd, 0);
@@ -434,11 +479,13 @@ class DistributedMesh {
   }
 
   // ---- the system: own triangles' entries to the rows' owners; values back and around ----
-  fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<Eigen::Index>& row_of_dof,
+  // a is released once read (SharedLinearSolver): the AMG setup that follows is the peak.
+  fem::LinearSolution solve(fem::SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<Eigen::Index>& row_of_dof,
                             const Eigen::VectorXd* guess, double tolerance) const {
+    const Eigen::Index rows = a.rows();
     const std::size_t nd = row_of_dof.size();
     if (nd != gid_.size()) throw std::logic_error("distributed mesh: the system is not the numbered mesh's");
-    std::vector<std::int32_t> dof_of_row(static_cast<std::size_t>(a.rows()), -1);
+    std::vector<std::int32_t> dof_of_row(static_cast<std::size_t>(rows), -1);
     for (std::size_t d = 0; d < nd; ++d)
       if (row_of_dof[d] >= 0) dof_of_row[static_cast<std::size_t>(row_of_dof[d])] = static_cast<std::int32_t>(d);
     std::vector<detail::RowEntries> to(static_cast<std::size_t>(parts_));
@@ -467,6 +514,7 @@ class DistributedMesh {
         if (it.value() != 0.0) e.add(gid_[d], gid_[static_cast<std::size_t>(dof_of_row[static_cast<std::size_t>(it.index())])], it.value());
       if (b[r] != 0.0) e.add(gid_[d], -1, b[r]);
     }
+    fem::SparseMatrix().swap(a);
     // The owner's fixed nodes (boundary values, the zero-mean problem's pinned vertex): rows
     // of the identity, their values set by the caller.
     Eigen::VectorXd start = Eigen::VectorXd::Zero(owned_);
@@ -474,7 +522,7 @@ class DistributedMesh {
       if (gid_[d] < 0 || owner_[d] != me_) continue;
       if (row_of_dof[d] < 0) {
         to[static_cast<std::size_t>(me_)].add(gid_[d], gid_[d], 1.0);
-      } else if (guess != nullptr && guess->size() == a.rows()) {
+      } else if (guess != nullptr && guess->size() == rows) {
         start[gid_[d] - first_] = (*guess)[row_of_dof[d]];
       }
     }
@@ -524,7 +572,7 @@ class DistributedMesh {
         known[static_cast<std::size_t>(d)] = 1;
       }
     fem::LinearSolution out;
-    out.x = Eigen::VectorXd::Zero(a.rows());
+    out.x = Eigen::VectorXd::Zero(rows);
     for (std::size_t d = 0; d < nd; ++d)
       if (row_of_dof[d] >= 0) out.x[row_of_dof[d]] = value[d];
     out.iterations = solved.iterations;
@@ -534,8 +582,9 @@ class DistributedMesh {
 
  private:
   std::int32_t dof(std::uint64_t name) const {
-    const auto it = dof_of_name_.find(name);
-    return it == dof_of_name_.end() ? -1 : it->second;
+    const auto it = std::lower_bound(dof_of_name_.begin(), dof_of_name_.end(), name,
+                                     [](const auto& entry, std::uint64_t n) { return entry.first < n; });
+    return it == dof_of_name_.end() || it->first != name ? -1 : it->second;
   }
 
   // Each triangle's part (per slot; -1 where the view is coarser than the whole mesh).
@@ -663,12 +712,12 @@ class DistributedMesh {
   bool whole_ = true;  // every process holds the whole mesh (before the first cycle)
   Units units_;
   std::vector<std::int32_t> unit_part_;
-  std::unordered_set<VertexName> known_;    // its vertices
-  std::unordered_set<VertexName> region_;   // the part's and its ghost layers' vertices (and those between them)
+  NameSet known_;   // its vertices
+  NameSet region_;  // the part's and its ghost layers' vertices (and those between them)
   std::vector<std::int32_t> neighbours_;    // the processes owning some of its ghost layers
   // The numbered finite-element mesh.
   std::vector<VertexName> dof_name_;
-  std::unordered_map<VertexName, std::int32_t> dof_of_name_;
+  std::vector<std::pair<VertexName, std::int32_t>> dof_of_name_;  // sorted by name
   std::vector<std::int64_t> gid_;
   std::vector<std::int32_t> owner_;
   std::int64_t first_ = 0, owned_ = 0, total_ = 0;
@@ -700,7 +749,7 @@ void distribute_mesh(adapt::AdaptOptions& options) {
   // Each process keeps its own triangles' indicators: nothing to gather.
   options.gather_over_parts = [](double*, std::size_t, const std::vector<std::int32_t>&) {};
   options.bytes_sent = bytes_sent_since_last;
-  options.solve.shared_solver = [state](const fem::SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<std::int32_t>&,
+  options.solve.shared_solver = [state](fem::SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<std::int32_t>&,
                                         const std::vector<Eigen::Index>& row_of_dof, const Eigen::VectorXd* guess,
                                         double tolerance) { return state->solve(a, b, row_of_dof, guess, tolerance); };
 }

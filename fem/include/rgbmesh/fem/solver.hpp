@@ -66,9 +66,11 @@ using LinearSolver = std::function<LinearSolution(const SparseMatrix& a, const E
 /// fixed one), for a solver that names rows by the DOFs' points (a distributed mesh, whose
 /// processes number their DOFs differently). Returns the whole solution on every process (a
 /// distributed mesh: at the DOFs of the process's own triangles and their neighbours) and the
-/// relative residual of the summed system. Throws std::runtime_error when it fails.
+/// relative residual of the summed system. Throws std::runtime_error when it fails. The solver
+/// may release a's memory once it has read it (fem::solve does not use it afterwards): the
+/// solve is a run's peak of memory.
 using SharedLinearSolver = std::function<LinearSolution(
-    const SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<std::int32_t>& row_part,
+    SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<std::int32_t>& row_part,
     const std::vector<Eigen::Index>& row_of_dof, const Eigen::VectorXd* guess, double tolerance)>;
 
 struct SolveOptions {
