@@ -265,7 +265,8 @@ TEST(AllocationFailures, LeaveAValidStableMesh) {
   RgbMesh ico_with_lists = ico;
   (void)ico_with_lists.add_vertex_property<std::vector<int>>({1, 2, 3});
   each_allocation_failure(
-      ico_with_lists, [](RgbMesh& m) { selective_refinement(m, UniformLevel(2)); }, "uniform level 2 with a property");
+      ico_with_lists, [](RgbMesh& m) { selective_refinement(m, UniformLevel(2)); },
+      "uniform level 2 with a property");
   each_allocation_failure(
       ico, [](RgbMesh& m) { selective_refinement(m, deep_ball(m)); }, "deep ball");
   each_allocation_failure(

@@ -55,7 +55,8 @@ TEST(Uniform, LevelKHasFourToTheKTrianglesAllGreen) {
 
 // Everything a vertex is in the Loop hierarchy, keyed by its name (canonical.hpp): level,
 // parents, boundary flag, control point at insertion and limit position, to the last bit.
-using VertexRecord = std::tuple<int, VertexName, VertexName, bool, double, double, double, double, double, double>;
+using VertexRecord =
+    std::tuple<int, VertexName, VertexName, bool, double, double, double, double, double, double>;
 
 std::map<VertexName, VertexRecord> vertex_records(RgbMesh m) {
   m.compute_limits();
@@ -66,11 +67,8 @@ std::map<VertexName, VertexRecord> vertex_records(RgbMesh m) {
     const Vec3 c = m.insertion_point(v), x = m.limit_position(v);
     // The parents as a set: which one is first depends on the order of an edge's ends.
     const VertexName a = p[0].valid() ? names[p[0].idx] : 0, b = p[1].valid() ? names[p[1].idx] : 0;
-    out[names[v.idx]] = {m.level(v),
-                         std::min(a, b),
-                         std::max(a, b),
-                         m.is_boundary_vertex(v),
-                         c.x, c.y, c.z, x.x, x.y, x.z};
+    out[names[v.idx]] = {
+        m.level(v), std::min(a, b), std::max(a, b), m.is_boundary_vertex(v), c.x, c.y, c.z, x.x, x.y, x.z};
   }
   return out;
 }
@@ -97,7 +95,9 @@ TEST(Uniform, AllEdgesAtOnceIsSplittingEveryEdge) {
   for (const auto& base : testing::all_base_meshes()) {
     RgbMesh at_once = base.build(), one_by_one = base.build();
     std::vector<std::array<VertexHandle, 3>> heard;  // (vertex, parents) from the observer
-    at_once.add_insertion_observer([&](VertexHandle v, VertexHandle a, VertexHandle b) { heard.push_back({v, a, b}); });
+    at_once.add_insertion_observer([&](VertexHandle v, VertexHandle a, VertexHandle b) {
+      heard.push_back({v, a, b});
+    });
     for (int level = 0; level < 3; ++level) {
       ASSERT_TRUE(at_once.is_uniform()) << base.name;
       const std::size_t vertices = at_once.num_vertices(), edges = at_once.num_edges();
@@ -106,7 +106,8 @@ TEST(Uniform, AllEdgesAtOnceIsSplittingEveryEdge) {
       const std::int32_t slots = one_by_one.edge_slots();
       for (std::int32_t i = 0; i < slots; ++i) {
         const EdgeHandle e(i);
-        if (one_by_one.alive(e) && !one_by_one.is_red(e) && one_by_one.level(e) == level) one_by_one.split_edge(e);
+        if (one_by_one.alive(e) && !one_by_one.is_red(e) && one_by_one.level(e) == level)
+          one_by_one.split_edge(e);
       }
       ASSERT_EQ(at_once.validate(true), "") << base.name << " level " << level + 1;
       EXPECT_EQ(at_once.num_vertices(), vertices + edges);

@@ -357,7 +357,8 @@ class DistributedMesh {
       std::vector<Travelling> wanted;
       for (const auto& from : detail::all_to_all(to))
         for (const Travelling& t : unpack(from))
-          if (region_.contains(t.a) && region_.contains(t.b) && !names.find(t.name).valid()) wanted.push_back(t);
+          if (region_.contains(t.a) && region_.contains(t.b) && !names.find(t.name).valid())
+            wanted.push_back(t);
       names.inserted.clear();
       insert(view, names, std::move(wanted));
       fresh = names.inserted;
@@ -480,8 +481,9 @@ class DistributedMesh {
 
   // ---- the system: own triangles' entries to the rows' owners; values back and around ----
   // a is released once read (SharedLinearSolver): the AMG setup that follows is the peak.
-  fem::LinearSolution solve(fem::SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<Eigen::Index>& row_of_dof,
-                            const Eigen::VectorXd* guess, double tolerance) const {
+  fem::LinearSolution solve(fem::SparseMatrix& a, const Eigen::VectorXd& b,
+                            const std::vector<Eigen::Index>& row_of_dof, const Eigen::VectorXd* guess,
+                            double tolerance) const {
     const Eigen::Index rows = a.rows();
     const std::size_t nd = row_of_dof.size();
     if (nd != gid_.size()) throw std::logic_error("distributed mesh: the system is not the numbered mesh's");
@@ -749,9 +751,10 @@ void distribute_mesh(adapt::AdaptOptions& options) {
   // Each process keeps its own triangles' indicators: nothing to gather.
   options.gather_over_parts = [](double*, std::size_t, const std::vector<std::int32_t>&) {};
   options.bytes_sent = bytes_sent_since_last;
-  options.solve.shared_solver = [state](fem::SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<std::int32_t>&,
-                                        const std::vector<Eigen::Index>& row_of_dof, const Eigen::VectorXd* guess,
-                                        double tolerance) { return state->solve(a, b, row_of_dof, guess, tolerance); };
+  options.solve.shared_solver =
+      [state](fem::SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<std::int32_t>&,
+              const std::vector<Eigen::Index>& row_of_dof, const Eigen::VectorXd* guess,
+              double tolerance) { return state->solve(a, b, row_of_dof, guess, tolerance); };
 }
 
 }  // namespace rgbmesh::parallel

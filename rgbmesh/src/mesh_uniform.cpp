@@ -26,7 +26,8 @@ bool RgbMesh::is_uniform() const {
 }
 
 std::size_t RgbMesh::split_all_edges() {
-  if (!is_uniform()) fail("split_all_edges", "the mesh is not uniform (a red edge, two edge levels or free slots)");
+  if (!is_uniform())
+    fail("split_all_edges", "the mesh is not uniform (a red edge, two edge levels or free slots)");
   const int l = e_info_.front() & 0x7f;
   if (l + 1 > kMaxLevel) fail("split_all_edges", "level " + std::to_string(l + 1) + " is above kMaxLevel");
 
@@ -73,7 +74,9 @@ std::size_t RgbMesh::split_all_edges() {
   // Handles as the mesh hands them out (with their slots' generations in checked builds).
   const auto vertex = [this](std::size_t i) { return stamped(VertexHandle(static_cast<std::int32_t>(i))); };
   const auto edge = [this](std::size_t i) { return stamped(EdgeHandle(static_cast<std::int32_t>(i))); };
-  const auto triangle = [this](std::size_t i) { return stamped(TriangleHandle(static_cast<std::int32_t>(i))); };
+  const auto triangle = [this](std::size_t i) {
+    return stamped(TriangleHandle(static_cast<std::int32_t>(i)));
+  };
   const std::size_t cores = detail::hardware_threads();
   constexpr std::size_t kBlock = 8192;
 
@@ -119,7 +122,8 @@ std::size_t RgbMesh::split_all_edges() {
     const auto midpoint = [&](int k) { return vertex(nv + static_cast<std::size_t>(te[k].idx)); };
     std::array<EdgeHandle, 3> inner;
     for (int k = 0; k < 3; ++k) {
-      const std::size_t e = 2 * ne + 3 * t + static_cast<std::size_t>(k), corner = nt + 3 * t + static_cast<std::size_t>(k);
+      const std::size_t e = 2 * ne + 3 * t + static_cast<std::size_t>(k),
+                        corner = nt + 3 * t + static_cast<std::size_t>(k);
       inner[k] = edge(e);
       e_vert_[e] = {midpoint(k), midpoint((k + 2) % 3)};
       e_tri_[e] = {triangle(corner), triangle(t)};
