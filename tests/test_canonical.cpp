@@ -17,21 +17,7 @@
 namespace {
 
 using namespace rgbmesh;
-using Triangles = std::set<std::array<VertexName, 3>>;
-
-// The triangles by their corners' names, each rotated to start at its smallest name (the
-// orientation is kept).
-Triangles named_triangles(const RgbMesh& m) {
-  const std::vector<VertexName> name = vertex_names(m);
-  Triangles out;
-  for (const TriangleHandle t : m.triangles()) {
-    const auto c = m.triangle_vertices(t);
-    std::array<VertexName, 3> n{name[c[0].idx], name[c[1].idx], name[c[2].idx]};
-    std::rotate(n.begin(), std::min_element(n.begin(), n.end()), n.end());
-    out.insert(n);
-  }
-  return out;
-}
+using rgbmesh::testing::named_triangles;
 
 // The vertices of `m` inserted into its base mesh again, parents first, in a shuffled order
 // within each level: split_edge on the edge between the parents (forced splits may have

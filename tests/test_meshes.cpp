@@ -211,4 +211,16 @@ std::vector<std::array<std::int32_t, 3>> canonical_triangles(const RgbMesh& m) {
   return out;
 }
 
+std::set<std::array<VertexName, 3>> named_triangles(const RgbMesh& m) {
+  const std::vector<VertexName> name = vertex_names(m);
+  std::set<std::array<VertexName, 3>> out;
+  for (const TriangleHandle t : m.triangles()) {
+    const auto c = m.triangle_vertices(t);
+    std::array<VertexName, 3> n{name[c[0].idx], name[c[1].idx], name[c[2].idx]};
+    std::rotate(n.begin(), std::min_element(n.begin(), n.end()), n.end());
+    out.insert(n);
+  }
+  return out;
+}
+
 }  // namespace rgbmesh::testing

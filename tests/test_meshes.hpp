@@ -4,9 +4,11 @@
 #include <array>
 #include <cstdint>
 #include <ostream>
+#include <set>
 #include <string>
 #include <vector>
 
+#include "rgbmesh/canonical.hpp"
 #include "rgbmesh/mesh.hpp"
 
 namespace rgbmesh::testing {
@@ -44,5 +46,10 @@ std::vector<BaseMesh> all_base_meshes();
 // The triangles as vertex triples rotated to start at the smallest index, sorted: two meshes
 // with the same vertices have the same triangulation iff these are equal.
 std::vector<std::array<std::int32_t, 3>> canonical_triangles(const RgbMesh& m);
+
+// The triangles by their corners' names (canonical.hpp), each rotated to start at its
+// smallest name (the orientation kept): equal for two meshes of one base with the same
+// triangulation, whatever their handles.
+std::set<std::array<VertexName, 3>> named_triangles(const RgbMesh& m);
 
 }  // namespace rgbmesh::testing

@@ -73,19 +73,7 @@ std::map<VertexName, VertexRecord> vertex_records(RgbMesh m) {
   return out;
 }
 
-// The triangles as triples of names, each rotated to start at its smallest name, sorted.
-std::vector<std::array<VertexName, 3>> named_triangles(const RgbMesh& m) {
-  const std::vector<VertexName> names = vertex_names(m);
-  std::vector<std::array<VertexName, 3>> out;
-  for (TriangleHandle t : m.triangles()) {
-    const auto c = m.triangle_vertices(t);
-    std::array<VertexName, 3> n = {names[c[0].idx], names[c[1].idx], names[c[2].idx]};
-    std::rotate(n.begin(), std::min_element(n.begin(), n.end()), n.end());
-    out.push_back(n);
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
+using testing::named_triangles;
 
 TEST(Uniform, AllEdgesAtOnceIsSplittingEveryEdge) {
   // split_all_edges against split_edge on every edge (section V, one operator at a time), on
