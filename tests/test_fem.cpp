@@ -5,12 +5,16 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/SparseCholesky>
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
 #include "rgbmesh/fem/estimators.hpp"
 #include "rgbmesh/fem/solver.hpp"
+#include "rgbmesh/parallel.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "test_rates.hpp"
 #include "rgbmesh/soup.hpp"
@@ -299,6 +303,71 @@ TEST(Fem, AlgebraicMultigridStartsFromTheGuessAndIsTheAutomaticChoiceForLargeSys
   const Solution second = solve(mesh, sphere_peak(), again);
   EXPECT_LE(second.iterations, 1);
   EXPECT_LT((second.u - first.u).norm(), 1e-8 * first.u.norm());
+}
+
+TEST(Fem, SolveIsTheGlobalMatricesSystemOnAnyNumberOfThreads) {
+  // solve() assembles straight into compressed columns, a block of triangles at a time on every
+  // core. Reference: the global stiffness and mass matrices from assemble() (a triplet list,
+  // one thread), the Dirichlet values moved to the right-hand side, solved by LDLT. And one
+  // thread must give the same solution as all of them, to the last bit.
+  RgbMesh m = testing::grid_with_holes(6, 2).build();
+  selective_refinement(m, UniformLevel(1));
+  selective_refinement(m, BallLevel(m.control_point(VertexHandle(0)), 0.4, 3));  // graded: hanging levels
+  for (const int order : {1, 2}) {
+    SCOPED_TRACE("order " + std::to_string(order));
+    const SurfaceMesh mesh = build_surface_mesh(m, std::nullopt, order);
+    Problem p;
+    p.name = "reference";
+    p.c = 0.7;
+    p.source = [](const Vec3& x) { return 1.0 + x.x * x.y; };
+    p.dirichlet = [](const Vec3& x) { return x.x - 2.0 * x.y + 0.5 * x.z; };
+    SolveOptions direct;
+    direct.solver = SolverKind::ldlt;
+    const Solution s = solve(mesh, p, direct);
+    const unsigned cap = rgbmesh::detail::thread_cap.exchange(1);
+    const Solution one_thread = solve(mesh, p, direct);
+    rgbmesh::detail::thread_cap.store(cap);
+    EXPECT_EQ(0, std::memcmp(s.u.data(), one_thread.u.data(), sizeof(double) * static_cast<std::size_t>(s.u.size())));
+
+    const System sys = assemble(mesh, p);
+    const SparseMatrix a = sys.stiffness + p.c * sys.mass;
+    const auto n = static_cast<Eigen::Index>(mesh.num_dofs());
+    std::vector<char> fixed(static_cast<std::size_t>(n), 0);
+    for (const auto& e : mesh.boundary_edges) {
+      fixed[static_cast<std::size_t>(e.a)] = fixed[static_cast<std::size_t>(e.b)] = 1;
+      if (e.middle >= 0) fixed[static_cast<std::size_t>(e.middle)] = 1;
+    }
+    std::vector<Eigen::Index> free_row(static_cast<std::size_t>(n), -1);
+    Eigen::Index nf = 0;
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (fixed[static_cast<std::size_t>(i)]) {
+        g[i] = p.dirichlet(mesh.points[static_cast<std::size_t>(i)]);
+      } else {
+        free_row[static_cast<std::size_t>(i)] = nf++;
+      }
+    }
+    ASSERT_GT(nf, 100);
+    ASSERT_LT(nf, n);
+    const Eigen::VectorXd load = sys.load - a * g;
+    std::vector<Eigen::Triplet<double>> free_entries;
+    Eigen::VectorXd rhs(nf);
+    for (Eigen::Index j = 0; j < a.outerSize(); ++j)
+      for (SparseMatrix::InnerIterator it(a, j); it; ++it)
+        if (free_row[static_cast<std::size_t>(it.row())] >= 0 && free_row[static_cast<std::size_t>(j)] >= 0)
+          free_entries.emplace_back(free_row[static_cast<std::size_t>(it.row())], free_row[static_cast<std::size_t>(j)], it.value());
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (free_row[static_cast<std::size_t>(i)] >= 0) rhs[free_row[static_cast<std::size_t>(i)]] = load[i];
+    SparseMatrix a_free(nf, nf);
+    a_free.setFromTriplets(free_entries.begin(), free_entries.end());
+    Eigen::SimplicialLDLT<SparseMatrix> ldlt(a_free);
+    ASSERT_EQ(ldlt.info(), Eigen::Success);
+    const Eigen::VectorXd x = ldlt.solve(rhs);
+    Eigen::VectorXd reference = g;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (free_row[static_cast<std::size_t>(i)] >= 0) reference[i] = x[free_row[static_cast<std::size_t>(i)]];
+    EXPECT_LT((s.u - reference).norm(), 1e-11 * reference.norm());
+  }
 }
 
 TEST(Fem, LoopSurfaceConservesTheSource) {

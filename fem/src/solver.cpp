@@ -2,6 +2,7 @@
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -12,8 +13,8 @@
 
 #include "amg.hpp"
 #include "parallel.hpp"
-#include "source_samples.hpp"
 #include "rgbmesh/soup.hpp"
+#include "source_samples.hpp"
 
 #if defined(RGBMESH_HAVE_CHOLMOD)
 #include <Eigen/CholmodSupport>
@@ -294,6 +295,111 @@ System assemble(const SurfaceMesh& mesh, const Problem& problem) {
   return s;
 }
 
+namespace {
+
+// The system K + cM on the free DOFs (index: each DOF's free row, or -1 where its value is
+// fixed), from the triangles this process computes, with the fixed values moved to the
+// right-hand side and the vertex areas ∫φi summed in the same pass.
+// Straight into compressed columns, without a triplet list: first the pattern (the free DOFs
+// that share a computed triangle, gathered per DOF through its triangles), then the element
+// matrices, a block of triangles at a time on every core, added in triangle order. Each entry
+// is then the sum setFromTriplets forms from the element entries, in the same order, bit for
+// bit, and the same for any number of threads; but the memory is the matrix's, not a 16-byte
+// triplet per element entry plus the transposed copy setFromTriplets makes (on 1.9 million P1
+// triangles the triplets alone were 270 MB, and the assembly was the peak of a solve).
+SparseMatrix assemble(const SurfaceMesh& mesh, const Problem& problem, const WorkShare& share,
+                      const std::vector<Eigen::Index>& index, Eigen::Index nf, const Eigen::VectorXd& u,
+                      Eigen::VectorXd& rhs, Eigen::VectorXd& area) {
+  const std::size_t n = index.size();
+  const int nodes = mesh.order == 2 ? 6 : 3;
+  const auto node = [&mesh](std::size_t t, int i) {
+    return static_cast<std::size_t>(i < 3 ? mesh.triangles[t][i] : mesh.edge_nodes[t][i - 3]);
+  };
+  std::vector<std::size_t> mine;  // (on several processes, only this process's triangles)
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    if (share.computes(t)) mine.push_back(t);
+  // The pattern. Each free DOF's computed triangles (as compressed lists), then its column's
+  // rows: counted, then written, sorted, on every core.
+  std::vector<std::size_t> dof_of_free(static_cast<std::size_t>(nf));
+  for (std::size_t d = 0; d < n; ++d)
+    if (index[d] >= 0) dof_of_free[static_cast<std::size_t>(index[d])] = d;
+  std::vector<std::size_t> first_around(n + 1, 0);
+  for (const std::size_t t : mine)
+    for (int i = 0; i < nodes; ++i) ++first_around[node(t, i) + 1];
+  for (std::size_t d = 0; d < n; ++d) first_around[d + 1] += first_around[d];
+  std::vector<std::int32_t> around(first_around[n]);  // (the FE mesh numbers its triangles in int32)
+  {
+    std::vector<std::size_t> next(first_around.begin(), first_around.end() - 1);
+    for (const std::size_t t : mine)
+      for (int i = 0; i < nodes; ++i) around[next[node(t, i)]++] = static_cast<std::int32_t>(t);
+  }
+  SparseMatrix a(nf, nf);
+  const auto column_rows = [&](Eigen::Index j, std::vector<Eigen::Index>& rows) {
+    rows.clear();
+    const std::size_t d = dof_of_free[static_cast<std::size_t>(j)];
+    for (std::size_t k = first_around[d]; k < first_around[d + 1]; ++k)
+      for (int i = 0; i < nodes; ++i)
+        if (const Eigen::Index r = index[node(static_cast<std::size_t>(around[k]), i)]; r >= 0)
+          rows.push_back(r);
+    std::sort(rows.begin(), rows.end());
+    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  };
+  int* const outer = a.outerIndexPtr();
+  outer[0] = 0;
+  detail::for_each_index(static_cast<std::size_t>(nf), [&](std::size_t j) {
+    thread_local std::vector<Eigen::Index> rows;
+    column_rows(static_cast<Eigen::Index>(j), rows);
+    outer[j + 1] = static_cast<int>(rows.size());
+  });
+  for (Eigen::Index j = 0; j < nf; ++j) {
+    if (outer[j + 1] > std::numeric_limits<int>::max() - outer[j])
+      throw std::bad_alloc();  // (Eigen's int indices)
+    outer[j + 1] += outer[j];
+  }
+  a.resizeNonZeros(outer[nf]);
+  int* const inner = a.innerIndexPtr();
+  double* const value = a.valuePtr();
+  detail::for_each_index(static_cast<std::size_t>(nf), [&](std::size_t j) {
+    thread_local std::vector<Eigen::Index> rows;
+    column_rows(static_cast<Eigen::Index>(j), rows);
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      inner[static_cast<std::size_t>(outer[j]) + k] = static_cast<int>(rows[k]);
+      value[static_cast<std::size_t>(outer[j]) + k] = 0.0;
+    }
+  });
+  std::vector<std::int32_t>().swap(around);
+  std::vector<std::size_t>().swap(first_around);
+  std::vector<std::size_t>().swap(dof_of_free);
+  // The values: element matrices on every core, a block at a time, then added in order.
+  constexpr std::size_t kBlock = 1 << 14;
+  std::vector<LocalSystem> block(std::min(kBlock, mine.size()));
+  for (std::size_t begin = 0; begin < mine.size(); begin += kBlock) {
+    const std::size_t count = std::min(kBlock, mine.size() - begin);
+    detail::for_each_index(count, [&](std::size_t k) { local_system(mesh, mine[begin + k], block[k]); });
+    for (std::size_t k = 0; k < count; ++k) {
+      const LocalSystem& local = block[k];
+      for (int i = 0; i < local.nodes; ++i) {
+        area[local.dof[i]] += local.integral[i];
+        const Eigen::Index ri = index[local.dof[i]];
+        if (ri < 0) continue;
+        for (int j = 0; j < local.nodes; ++j) {
+          const double entry = local.stiffness[i][j] + problem.c * local.mass[i][j];
+          const Eigen::Index cj = index[local.dof[j]];
+          if (cj < 0) {
+            rhs[ri] -= entry * u[local.dof[j]];
+          } else {
+            int* const rows_end = inner + outer[cj + 1];
+            value[std::lower_bound(inner + outer[cj], rows_end, static_cast<int>(ri)) - inner] += entry;
+          }
+        }
+      }
+    }
+  }
+  return a;
+}
+
+}  // namespace
+
 Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptions& options) {
   if (!(problem.c >= 0) || !std::isfinite(problem.c))
     throw InputError("problem '" + problem.name + "': the coefficient c must be finite and >= 0, got " +
@@ -378,53 +484,8 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   for (Eigen::Index i = 0; i < n; ++i) {
     if (index[i] >= 0) rhs[index[i]] = b[i];
   }
-  // The element matrices on every core, each into its own slots of the triplet list (an entry
-  // of a fixed DOF becomes 0 added to entry (0, 0), which changes nothing); then, in triangle
-  // order, the vertex areas and the fixed values moved to the right-hand side: the same
-  // numbers as one thread computes.
-  // (On several processes, only this process's triangles: `mine`, in triangle order.)
-  std::vector<std::size_t> mine;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-    if (share.computes(t)) mine.push_back(t);
-  const std::size_t nt = mine.size();
-  const int nodes = mesh.order == 2 ? 6 : 3;
-  const auto slots = static_cast<std::size_t>(nodes * nodes);
   Eigen::VectorXd area = Eigen::VectorXd::Zero(n);  // ∫φ_i
-  std::vector<Triplet> trip(nt * slots);
-  std::vector<std::array<double, 6>> integral(nt);
-  std::vector<char> touches_fixed(nt, 0);
-  detail::for_each_index(nt, [&](std::size_t k) {
-    LocalSystem local;
-    local_system(mesh, mine[k], local);
-    for (int i = 0; i < local.nodes; ++i) {
-      integral[k][i] = local.integral[i];
-      const Eigen::Index ri = index[local.dof[i]];
-      if (ri < 0) touches_fixed[k] = 1;
-      for (int j = 0; j < local.nodes; ++j) {
-        const Eigen::Index cj = index[local.dof[j]];
-        trip[k * slots + static_cast<std::size_t>(i * local.nodes + j)] =
-            ri >= 0 && cj >= 0 ? Triplet(ri, cj, local.stiffness[i][j] + problem.c * local.mass[i][j]) : Triplet(0, 0, 0.0);
-      }
-    }
-  });
-  mine = {};
-  LocalSystem local;
-  for (std::size_t k = 0, t = 0; k < nt; ++k, ++t) {
-    while (!share.computes(t)) ++t;
-    const auto& c = mesh.triangles[t];
-    for (int i = 0; i < nodes; ++i) area[i < 3 ? c[i] : mesh.edge_nodes[t][i - 3]] += integral[k][i];
-    if (!touches_fixed[k]) continue;
-    local_system(mesh, t, local);
-    for (int i = 0; i < local.nodes; ++i) {
-      const Eigen::Index ri = index[local.dof[i]];
-      if (ri < 0) continue;
-      for (int j = 0; j < local.nodes; ++j) {
-        if (index[local.dof[j]] < 0) rhs[ri] -= (local.stiffness[i][j] + problem.c * local.mass[i][j]) * u[local.dof[j]];
-      }
-    }
-  }
-  integral = {};
-  touches_fixed = {};
+  SparseMatrix a = assemble(mesh, problem, share, index, nf, u, rhs, area);
   if (sol.zero_mean) {
     // The compatible load b - (∫f / |Γ|) ∫φi (its free rows; the fixed row is dropped).
     const double shift = mean_load / total_of(area.sum());
@@ -432,9 +493,6 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
       if (index[i] >= 0) rhs[index[i]] -= shift * area[i];
     }
   }
-  SparseMatrix a(nf, nf);
-  a.setFromTriplets(trip.begin(), trip.end());
-  trip = {};
   sol.assembly_seconds = seconds_since(t0);
 
   // Automatic: sparse LDLT for small systems; from 20,000 unknowns CG with algebraic multigrid

@@ -107,11 +107,11 @@ OwnedRows solve_rows(std::vector<RowEntries>& to, std::int64_t first, std::int64
   std::vector<std::int64_t> index_in(static_cast<std::size_t>(rd2.back() + receive2.back()));
   MPI_Alltoallv(index_out.data(), send2.data(), sd2.data(), MPI_INT64_T, index_in.data(), receive2.data(), rd2.data(),
                 MPI_INT64_T, PETSC_COMM_WORLD);
-  index_out = {};
+  std::vector<std::int64_t>().swap(index_out);
   std::vector<double> value_in(static_cast<std::size_t>(rd.back() + receive.back()));
   MPI_Alltoallv(value_out.data(), send.data(), sd.data(), MPI_DOUBLE, value_in.data(), receive.data(), rd.data(),
                 MPI_DOUBLE, PETSC_COMM_WORLD);
-  value_out = {};
+  std::vector<double>().swap(value_out);
   // This process's rows: its own contributions, then the others' in rank order.
   RowEntries& own = to[static_cast<std::size_t>(me)];
   std::vector<Eigen::Triplet<double, PetscInt>> entries;
@@ -129,12 +129,12 @@ OwnedRows solve_rows(std::vector<RowEntries>& to, std::int64_t first, std::int64
   for (std::size_t e = 0; e < own.value.size(); ++e) add(own.index[2 * e], own.index[2 * e + 1], own.value[e]);
   own = {};
   for (std::size_t e = 0; e < value_in.size(); ++e) add(index_in[2 * e], index_in[2 * e + 1], value_in[e]);
-  index_in = {};
-  value_in = {};
+  std::vector<std::int64_t>().swap(index_in);
+  std::vector<double>().swap(value_in);
   Eigen::SparseMatrix<double, Eigen::RowMajor, PetscInt> rows(static_cast<PetscInt>(count), static_cast<PetscInt>(total));
   rows.setFromTriplets(entries.begin(), entries.end());
   rows.makeCompressed();
-  entries = {};
+  std::vector<Eigen::Triplet<double, PetscInt>>().swap(entries);
   OwnedRows out;
   out.x = Eigen::VectorXd::Zero(count);
   int any_guess = guess != nullptr && guess->size() == count && guess->any() ? 1 : 0;

@@ -353,7 +353,7 @@ class DistributedMesh {
       // To the neighbours only.
       std::vector<std::vector<std::uint64_t>> to(static_cast<std::size_t>(parts_));
       for (const std::int32_t q : neighbours_) to[static_cast<std::size_t>(q)] = mine;
-      mine = {};
+      std::vector<std::uint64_t>().swap(mine);
       std::vector<Travelling> wanted;
       for (const auto& from : detail::all_to_all(to))
         for (const Travelling& t : unpack(from))

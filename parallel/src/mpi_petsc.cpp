@@ -167,7 +167,7 @@ fem::LinearSolution solve_shared(const fem::SparseMatrix& a, const Eigen::Vector
     if (b[k] != 0.0) to.add(row, -1, b[k]);
   }
   const Entries mine = exchange(outgoing, r);
-  outgoing = {};
+  std::vector<Entries>().swap(outgoing);
   // This process's rows: the sums of every process's contributions (added in the order
   // received), in compressed rows with sorted columns.
   std::vector<Eigen::Triplet<double, PetscInt>> entries;
@@ -184,7 +184,7 @@ fem::LinearSolution solve_shared(const fem::SparseMatrix& a, const Eigen::Vector
   Eigen::SparseMatrix<double, Eigen::RowMajor, PetscInt> rows(m, static_cast<PetscInt>(n));
   rows.setFromTriplets(entries.begin(), entries.end());
   rows.makeCompressed();
-  entries = {};
+  std::vector<Eigen::Triplet<double, PetscInt>>().swap(entries);
   Eigen::VectorXd x(m);
   const bool with_guess = guess != nullptr && guess->size() == b.size() && guess->any();
   for (PetscInt k = 0; k < m; ++k) x[k] = with_guess ? (*guess)[nb.to_old[static_cast<std::size_t>(first + k)]] : 0.0;
