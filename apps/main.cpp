@@ -26,18 +26,19 @@
 #include <sstream>
 
 #include "adapt_command.hpp"
-#include "processes.hpp"
 #include "fit_command.hpp"
 #include "json.hpp"
 #include "one_line.hpp"
+#include "processes.hpp"
+#include "resources.hpp"
 #include "rgbmesh/fit/base.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/repair/repair.hpp"
 #include "rgbmesh/soup.hpp"
 #include "rgbmesh/statistics.hpp"
+#include "rgbmesh/timing.hpp"
 #include "rgbmesh/vtk_io.hpp"
-#include "resources.hpp"
 #include "stages.hpp"
 #include "write_progress.hpp"
 
@@ -47,9 +48,7 @@ using namespace rgbmesh::cli;
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
+using rgbmesh::seconds_since;
 
 double peak_rss_mb() {
   rusage usage{};

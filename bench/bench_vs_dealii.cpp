@@ -56,11 +56,12 @@
 #include "rgbmesh/fem/estimators.hpp"
 #include "rgbmesh/fem/problem.hpp"
 #include "rgbmesh/shapes.hpp"
+#include "rgbmesh/timing.hpp"
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+using rgbmesh::seconds_since;
 
 struct Row {
   std::size_t unknowns = 0;  // the free unknowns: deal.II's DoFs less those its hanging nodes constrain

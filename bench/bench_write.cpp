@@ -37,6 +37,7 @@
 
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/refinement.hpp"
+#include "rgbmesh/timing.hpp"
 #include "rgbmesh/vtk_io.hpp"
 
 namespace {
@@ -46,9 +47,7 @@ using namespace rgbmesh;
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
+using rgbmesh::seconds_since;
 
 // A field of /proc/self/status in bytes ("VmRSS", "VmHWM"); 0 if unknown.
 double status_bytes(const std::string& field) {

@@ -14,14 +14,11 @@
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/rgb_state.hpp"
+#include "rgbmesh/timing.hpp"
 
 namespace rgbmesh::adapt {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 struct SolvedCycle {
   fem::SurfaceMesh fe;

@@ -14,6 +14,7 @@
 #include "amg.hpp"
 #include "parallel.hpp"
 #include "rgbmesh/soup.hpp"
+#include "rgbmesh/timing.hpp"
 #include "source_samples.hpp"
 
 #if defined(RGBMESH_HAVE_CHOLMOD)
@@ -25,10 +26,6 @@ namespace rgbmesh::fem {
 namespace {
 
 using Triplet = Eigen::Triplet<double>;
-
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 Vec3 at(const std::array<double, 3>& l, const Vec3& p0, const Vec3& p1, const Vec3& p2) {
   return l[0] * p0 + l[1] * p1 + l[2] * p2;

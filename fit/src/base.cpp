@@ -7,18 +7,15 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
-#include <utility>
 #include <string>
+#include <utility>
 
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/statistics.hpp"
+#include "rgbmesh/timing.hpp"
 
 namespace rgbmesh::fit {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 std::string plural(long n, const std::string& one, const std::string& many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);

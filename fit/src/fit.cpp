@@ -16,6 +16,7 @@
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/refinement.hpp"
+#include "rgbmesh/timing.hpp"
 
 namespace rgbmesh::fit {
 
@@ -25,10 +26,6 @@ using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Triangle = Kernel::Triangle_3;
 using TriangleTree = CGAL::AABB_tree<
     CGAL::AABB_traits<Kernel, CGAL::AABB_triangle_primitive<Kernel, std::vector<Triangle>::const_iterator>>>;
-
-double seconds_since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 std::vector<std::vector<std::int32_t>> adjacency(const TriangleMeshData& m) {
   std::vector<std::vector<std::int32_t>> adj(m.points.size());
