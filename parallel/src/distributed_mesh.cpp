@@ -691,9 +691,7 @@ class DistributedMesh {
       // Away from the new part before receiving, so that what arrives takes the slots that the
       // old part's vertices leave: the view's arrays then grow to its largest size, not to its
       // old and new parts together (which kept 505,000 vertex slots for 282,000 vertices).
-      std::vector<char> keep(part.size());
-      for (std::size_t t = 0; t < part.size(); ++t) keep[t] = part[t] == me_;
-      coarsen_away(view, keep, floor_, kGhostLayers);
+      coarsen_away(view, own_of(part), floor_, kGhostLayers);
     }
     const auto from = detail::all_to_all(to);
     std::vector<Travelling> items;
