@@ -133,7 +133,7 @@ struct Settings {
 Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   Settings s;
   s.ceiling = MemoryCeiling::from_option(a.memory_limit);
-  s.options.memory_headroom = [ceiling = s.ceiling] { return ceiling.headroom(); };
+  s.options.control.memory_headroom = [ceiling = s.ceiling] { return ceiling.headroom(); };
   s.mesh_name = a.mesh.empty() ? "icosahedron (embedded)" : a.mesh;
   s.problem = !a.problem.empty() ? a.problem : (a.mesh.empty() ? "sphere-peak" : "gaussian");
   choose<int>("--problem", s.problem,
@@ -146,16 +146,12 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   o.strategy = choose<adapt::Strategy>("--strategy", a.strategy,
                                        {{"adaptive", adapt::Strategy::adaptive}, {"uniform", adapt::Strategy::uniform}});
   s.marking = !a.marking.empty() ? a.marking : (s.moving ? "equidistribution" : "dorfler");
-  o.marking = choose<adapt::Marking>("--marking", s.marking,
-                                     {{"dorfler", adapt::Marking::dorfler},
-                                      {"fraction", adapt::Marking::fixed_fraction},
-                                      {"equidistribution", adapt::Marking::equidistribution}});
+  o.marking = named_row(adapt::marking_table(), s.marking, "--marking").make(a.theta);
   if (a.order != 1 && a.order != 2) throw InputError("--order " + std::to_string(a.order) + ": 1 or 2");
   o.order = a.order;
   o.min_level = a.min_level;
   s.estimator = a.estimator;
-  o.estimator = choose<adapt::EstimatorKind>(
-      "--estimator", s.estimator, {{"residual", adapt::EstimatorKind::residual}, {"zz", adapt::EstimatorKind::zz}});
+  o.estimator = named_row(fem::estimator_table(), s.estimator, "--estimator").make();
   o.solve.solver = fem::parse_solver(a.solver);
 
   // Geometry: the sphere problems' exact solutions hold on the unit sphere only.
@@ -175,14 +171,13 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   if (s.problem != "gaussian") refuse(a, {"--center", "--width"}, "to " + s.problem + " (only to gaussian)");
   if (o.strategy == adapt::Strategy::uniform)
     refuse(a, {"--marking", "--theta", "--coarsen"}, "to --strategy uniform (every triangle is refined)");
-  if (o.marking == adapt::Marking::equidistribution && !s.moving) {
+  if (o.marking->marks_by_target() && !s.moving) {
     if (!(a.target_error > 0))
       throw InputError("--marking equidistribution: needs --target-error E (it refines every triangle whose "
                        "indicator exceeds E / sqrt(number of triangles))");
     refuse(a, {"--theta"}, "to --marking equidistribution (it marks by --target-error)");
   }
 
-  o.theta = a.theta;
   o.target_estimate = a.target_error;
   o.max_dofs = static_cast<std::size_t>(a.max_dofs);
   o.coarsen_below = a.coarsen >= 0 ? a.coarsen : (s.moving && o.strategy == adapt::Strategy::adaptive ? 0.25 : 0.0);
@@ -597,7 +592,7 @@ int run_adapt(const AdaptArgs& args) {
     }();
     if (a.mesh.empty()) selective_refinement(mesh, UniformLevel(1));  // 42 vertices to start from
   }
-  s.options.resumable = true;  // every cycle's file can be resumed from, exactly
+  s.options.control.resumable = true;  // every cycle's file can be resumed from, exactly
   // Several processes: they share the units above the floor and hold the mesh itself
   // distributed (each process its part: its cycles are written as pieces only, each with its
   // piece's state, which --resume joins).
@@ -608,7 +603,7 @@ int run_adapt(const AdaptArgs& args) {
       s.dynamic.first_step = next;
       s.options.target_estimate = prior->done.target_estimate;
     } else {
-      s.options.first_cycle = next;
+      s.options.control.first_cycle = next;
     }
   }
   if (!prior) refuse_first_mesh_above_max_dofs(mesh, a);
@@ -658,7 +653,11 @@ int run_adapt(const AdaptArgs& args) {
     j.raw("stopped", stopped.empty() ? "null" : JsonObject::quote(stopped));
     j.add("stop_message", message);
     j.add("mesh", s.mesh_name).add("problem", s.problem).add("strategy", a.strategy).add("marking", s.marking);
-    j.raw("theta", exact(s.options.theta)).add("estimator", s.estimator).add("order", a.order).add("solver", a.solver).add("geometry", s.geometry);
+    j.raw("theta", exact(a.theta))
+        .add("estimator", s.estimator)
+        .add("order", a.order)
+        .add("solver", a.solver)
+        .add("geometry", s.geometry);
     j.raw("coarsen", exact(s.options.coarsen_below)).add("min_level", a.min_level).add("max_cycles", s.options.max_cycles);
     j.raw("target_error", exact(a.target_error)).add("max_dofs", static_cast<std::int64_t>(a.max_dofs));
     if (s.moving) j.add("steps", s.dynamic.steps).add("cycles_per_step", s.dynamic.cycles_per_step);
@@ -700,10 +699,10 @@ int run_adapt(const AdaptArgs& args) {
     // The whole mesh with its RGB state (what --resume reads), by rank 0; on several
     // processes also each process's piece and the summary that joins them for ParaView.
     // (A distributed mesh: no process has the whole, only pieces are written.)
-    if (a.writes && !s.options.distributed_mesh)
+    if (a.writes && !s.options.distribution.distributed_mesh)
       write_mesh(dir / file, snapshot, output_options((dir / file).string(), a.compression));
     // (P2 too: its pieces' states are what --resume reads.)
-    if (pieces && (a.order == 1 || s.options.distributed_mesh)) {
+    if (pieces && (a.order == 1 || s.options.distribution.distributed_mesh)) {
       const std::string mine = piece_file(s.moving, r.cycle, a.rank);
       MeshSnapshot piece = snapshot_piece(snapshot, c.solved->triangle_part, a.rank);
       piece.piece_state = c.solved->piece_state;
@@ -762,7 +761,7 @@ int run_adapt(const AdaptArgs& args) {
         progress.target_estimate = target;
         std::cout << "  (adapted to the start in " << start.size() << " cycles: " << start.back().dofs
                   << " unknowns, estimate " << number(start.back().estimate, "%.4e");
-        if (s.options.marking == adapt::Marking::equidistribution)
+        if (s.options.marking->marks_by_target())
           std::cout << "; every step keeps each triangle's indicator below " << number(target, "%.4e")
                     << " / sqrt(triangles)";
         std::cout << ")\n";

@@ -102,6 +102,18 @@ CLI::Validator number_in(const std::string& what, bool (*ok)(double)) {
       what);
 }
 
+// The names of a library's table (marking_table, estimator_table) for an option's help.
+template <class Row>
+std::string choices_help(const std::vector<Row>& table) {
+  std::string help;
+  for (std::size_t i = 0; i < table.size(); ++i)
+    help += (i == 0                  ? ""
+             : i + 1 == table.size() ? " or "
+                                     : ", ") +
+            std::string(table[i].name) + " (" + table[i].description + ")";
+  return help;
+}
+
 std::string vec_json(const Vec3& p) {
   std::ostringstream o;
   o.precision(17);
@@ -423,13 +435,15 @@ int main(int argc, char** argv) {
                         "sphere-harmonic, sphere-peak, moving-peak (exact solutions on the unit sphere) or gaussian "
                         "(a source on any surface) [default: sphere-peak; gaussian with --mesh]");
   adapt_cmd->add_option("--strategy", adapt_args.strategy, "adaptive or uniform")->capture_default_str();
-  adapt_cmd->add_option("--marking", adapt_args.marking,
-                        "dorfler (bulk), fraction (fixed fraction) or equidistribution (needs --target-error) "
-                        "[default: dorfler; equidistribution for moving-peak]");
+  adapt_cmd->add_option(
+      "--marking", adapt_args.marking,
+      choices_help(adapt::marking_table()) +
+          " (equidistribution needs --target-error) [default: dorfler; equidistribution for moving-peak]");
   adapt_cmd->add_option("--theta", adapt_args.theta, "Marking parameter of dorfler and fraction, in (0, 1]")
       ->capture_default_str()
       ->check(number_in("a number in (0, 1]", [](double x) { return x > 0 && x <= 1; }));
-  adapt_cmd->add_option("--estimator", adapt_args.estimator, "residual or zz")->capture_default_str();
+  adapt_cmd->add_option("--estimator", adapt_args.estimator, choices_help(fem::estimator_table()))
+      ->capture_default_str();
   adapt_cmd->add_option("--order", adapt_args.order, "finite elements: 1 (linear) or 2 (quadratic, isoparametric on the surface)")
       ->capture_default_str();
   adapt_cmd

@@ -28,9 +28,9 @@ void distribute(AdaptArgs& args, const Processes& processes) {
   args.rank = processes.rank;
   args.distribute = [](adapt::AdaptOptions& o, bool may_distribute_mesh) {
     adapt::AdaptOptions probe = o;
-    probe.resumable = false;  // a distributed mesh's cycles are pieces, not resumable files
+    probe.control.resumable = false;  // a distributed mesh's cycles are pieces, not resumable files
     if (may_distribute_mesh && parallel::mesh_can_be_distributed(probe)) {
-      o.resumable = false;
+      o.control.resumable = false;
       parallel::distribute_mesh(o);
     } else {
       parallel::distribute(o);

@@ -83,7 +83,7 @@ adapt::AdaptRun sphere_peak_run(std::size_t target, bool resumable) {
   o.projection = Projection(project_to_unit_sphere);
   o.max_cycles = 60;
   o.max_dofs = target;
-  o.resumable = resumable;
+  o.control.resumable = resumable;
   return adapt::run_cycles(mesh, sphere_peak(), o);
 }
 

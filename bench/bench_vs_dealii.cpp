@@ -187,20 +187,17 @@ Series run_dealii(int degree, const rgbmesh::fem::Problem& problem, std::size_t 
 
 // ---- rgbmesh ------------------------------------------------------------------------------
 
-Series run_rgbmesh(int order, rgbmesh::adapt::EstimatorKind estimator, const rgbmesh::fem::Problem& problem,
+Series run_rgbmesh(int order, const std::string& estimator, const rgbmesh::fem::Problem& problem,
                    std::size_t max_dofs) {
   using namespace rgbmesh;
-  Series s{"rgbmesh P" + std::to_string(order) +
-               (estimator == adapt::EstimatorKind::zz ? " (ZZ)" : " (residual)"),
-           {}};
+  Series s{"rgbmesh P" + std::to_string(order) + (estimator == "zz" ? " (ZZ)" : " (residual)"), {}};
   const TriangleMeshData ico = icosahedron();
   RgbMesh mesh = RgbMesh::from_triangles(ico.points, ico.triangles);
   adapt::AdaptOptions o;
   o.projection = fem::Projection(fem::project_to_unit_sphere);
   o.order = order;
-  o.estimator = estimator;
-  o.marking = adapt::Marking::dorfler;
-  o.theta = 0.5;
+  o.estimator = fem::make_estimator(estimator);
+  o.marking = std::make_shared<adapt::DorflerMarking>(0.5);
   o.max_cycles = 100;
   o.max_dofs = max_dofs;
   adapt::run_cycles(mesh, problem, o, [&](const adapt::CycleState& c) {
@@ -272,8 +269,7 @@ void compare(const Series& ours, const Series& theirs, bool within_ten_percent) 
 
 int main(int argc, char** argv) {
   std::size_t max_dofs = 100000;
-  auto p1_estimator = rgbmesh::adapt::EstimatorKind::residual;
-  auto p2_estimator = rgbmesh::adapt::EstimatorKind::residual;
+  std::string p1_estimator = "residual", p2_estimator = "residual";
   bool only_rgbmesh = false;
   for (int i = 1; i < argc; ++i) {
     const bool has_value = i + 1 < argc;
@@ -285,8 +281,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "bench_vs_dealii: %s takes zz or residual, not '%s'\n", argv[i], e.c_str());
         return 2;
       }
-      (argv[i][3] == '1' ? p1_estimator : p2_estimator) =
-          e == "zz" ? rgbmesh::adapt::EstimatorKind::zz : rgbmesh::adapt::EstimatorKind::residual;
+      (argv[i][3] == '1' ? p1_estimator : p2_estimator) = e;
       ++i;
     } else if (!std::strcmp(argv[i], "--only-rgbmesh")) {
       only_rgbmesh = true;

@@ -72,7 +72,7 @@ TEST(Adapt, QuadraticElementsReachTheirRateAndBeatLinearOnesAtEqualUnknowns) {
   const fem::Problem peak = fem::sphere_peak();
   AdaptOptions o = sphere_options(Strategy::adaptive);
   o.max_dofs = 60000;
-  o.estimator = EstimatorKind::residual;
+  o.estimator = std::make_shared<fem::ResidualEstimator>();
   o.order = 2;
   RgbMesh quadratic_mesh = icosphere();
   int invalid = 0;
@@ -202,7 +202,7 @@ TEST(Adapt, MeshFollowsAMovingPeakAtASteadySizeCentredOnIt) {
   RgbMesh mesh = icosphere();
   AdaptOptions o = sphere_options(Strategy::adaptive);
   o.coarsen_below = 0.25;
-  o.marking = Marking::equidistribution;  // towards the estimate reached at the start
+  o.marking = std::make_shared<EquidistributionMarking>();  // towards the estimate reached at the start
   DynamicOptions d;                       // 24 steps of 3.75 degrees
   int invalid = 0;
   std::vector<double> offset;
@@ -258,7 +258,7 @@ TEST(Adapt, NoTriangleFallsBelowTheMinimumLevel) {
   RgbMesh mesh = RgbMesh::from_triangles(ico.points, ico.triangles);
   AdaptOptions o = sphere_options(Strategy::adaptive);
   o.coarsen_below = 0.25;
-  o.marking = Marking::equidistribution;
+  o.marking = std::make_shared<EquidistributionMarking>();
   o.min_level = 2;
   DynamicOptions d;
   d.steps = 8;
@@ -312,7 +312,7 @@ TEST(Adapt, RunsStopAtMaxDofsAndSayWhy) {
   // A moving run whose target needs more than max_dofs stops at the step that would exceed.
   RgbMesh moving_mesh = icosphere();
   AdaptOptions m = sphere_options(Strategy::adaptive);
-  m.marking = Marking::equidistribution;
+  m.marking = std::make_shared<EquidistributionMarking>();
   m.target_estimate = 0.05;
   m.max_dofs = 3000;
   const AdaptRun mv = run_dynamic(moving_mesh, [](double time) { return moving_peak(time); }, m, DynamicOptions{});
@@ -326,7 +326,7 @@ TEST(Adapt, ARunStopsWhenAskedAndCanBeAbandonedWithAValidMesh) {
   RgbMesh mesh = icosphere();
   AdaptOptions o = sphere_options(Strategy::adaptive);
   std::vector<std::size_t> asked;
-  o.stop = [&](const CycleReport& r) {
+  o.control.stop = [&](const CycleReport& r) {
     asked.push_back(r.dofs);
     return r.dofs > 500;
   };
@@ -345,7 +345,7 @@ TEST(Adapt, ARunStopsWhenAskedAndCanBeAbandonedWithAValidMesh) {
     RgbMesh m = icosphere();
     AdaptOptions a = sphere_options(Strategy::adaptive);
     int calls = 0;
-    a.interruption_point = [&] {
+    a.control.interruption_point = [&] {
       if (++calls == throw_at) throw std::runtime_error("interrupted");
     };
     EXPECT_THROW(run_cycles(m, fem::sphere_peak(), a), std::runtime_error) << throw_at;
@@ -368,10 +368,20 @@ TEST(Adapt, SphereHarmonicAdaptsWithItsZeroMeanSource) {
 TEST(Adapt, MarkingTakesTheBulkOrTheFraction) {
   const std::vector<double> eta = {1, 4, 2, 3, 0.5};  // squares 1, 16, 4, 9, 0.25: total 30.25
   // Dörfler, θ = 0.5: 16 alone is 53%.
-  EXPECT_EQ(mark(eta, Marking::dorfler, 0.5), (std::vector<char>{0, 1, 0, 0, 0}));
+  const Indicators in(eta);
+  EXPECT_EQ(DorflerMarking(0.5).mark(in), (std::vector<char>{0, 1, 0, 0, 0}));
   // θ = 0.8: 16 + 9 = 25 is 83%.
-  EXPECT_EQ(mark(eta, Marking::dorfler, 0.8), (std::vector<char>{0, 1, 0, 1, 0}));
-  EXPECT_EQ(mark(eta, Marking::fixed_fraction, 0.4), (std::vector<char>{0, 1, 0, 1, 0}));
+  EXPECT_EQ(DorflerMarking(0.8).mark(in), (std::vector<char>{0, 1, 0, 1, 0}));
+  EXPECT_EQ(FixedFractionMarking(0.4).mark(in), (std::vector<char>{0, 1, 0, 1, 0}));
+  // Equidistribution towards a total of 10: every η above 10 / sqrt(5) = 4.47; towards 5, above 2.24.
+  EXPECT_EQ(EquidistributionMarking().mark(Indicators(eta, 10.0)), (std::vector<char>{0, 0, 0, 0, 0}));
+  EXPECT_EQ(EquidistributionMarking().mark(Indicators(eta, 5.0)), (std::vector<char>{0, 1, 0, 1, 0}));
+  // The tables of names give these strategies and refuse others, naming the choices.
+  EXPECT_EQ(make_marking("fraction", 0.4)->mark(in), (std::vector<char>{0, 1, 0, 1, 0}));
+  EXPECT_TRUE(make_marking("equidistribution", 0.5)->marks_by_target());
+  EXPECT_THROW(make_marking("bulk", 0.5), InputError);
+  EXPECT_THROW(make_marking("dorfler", 0), InputError);
+  EXPECT_THROW(fem::make_estimator("kelly"), InputError);
 }
 
 }  // namespace

@@ -146,7 +146,7 @@ TEST(Partition, AnAdaptiveRunAboveAFloorBalancesWithinTwentyPercent) {
 // exactly once by its triangles (parametric areas relative to the unit's level add up to 1).
 TEST(Partition, UnitsFinerWhereTheMeshIsHeavyBalanceAMovingPeaksWake) {
   adapt::AdaptOptions o = above_level_2();
-  o.marking = adapt::Marking::equidistribution;
+  o.marking = std::make_shared<adapt::EquidistributionMarking>();
   o.coarsen_below = 0.25;
   adapt::DynamicOptions d;
   d.steps = 6;

@@ -11,10 +11,10 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
-#include <thread>
-#include <vector>
-
 #include <random>
+#include <thread>
+#include <utility>
+#include <vector>
 
 #include "rgbmesh/adapt/adaptive.hpp"
 #include "rgbmesh/fem/estimators.hpp"
@@ -165,8 +165,9 @@ TEST(WorkShare, NeumannEdgesAndTheLoopSurfaceAreSharedToo) {
   }
 }
 
-// Marking on a distributed mesh (adapt::mark_shared): each process passes only its own
-// triangles' indicators; the union of what they mark is what mark() marks among all, also
+// Marking on a distributed mesh (adapt::Indicators with own flags and sums): each process
+// passes only its own triangles' indicators; the union of what they mark is what the same
+// strategy marks on one process holding all, also
 // with ties (equal indicators and ones that only rounding separates) at the threshold.
 TEST(WorkShare, MarksFoundTogetherAreTheMarksOfOneProcess) {
   std::mt19937_64 rng(11);
@@ -179,12 +180,14 @@ TEST(WorkShare, MarksFoundTogetherAreTheMarksOfOneProcess) {
       for (std::size_t i = 0; i < n; i += 7) eta[i] = eta[i / 2];              // exact ties
       for (std::size_t i = 3; i < n; i += 11) eta[i] = eta[i - 1] * (1 + 1e-9);  // rounding apart
       const std::vector<std::int32_t> part = parts_of(n, processes);
-      for (const adapt::Marking marking :
-           {adapt::Marking::dorfler, adapt::Marking::fixed_fraction, adapt::Marking::equidistribution}) {
+      for (const adapt::NamedMarking& named : adapt::marking_table()) {
         for (const double theta : {0.3, 0.5, 0.9}) {
+          const auto marking = named.make(theta);
           const double target = 0.5 * std::sqrt(static_cast<double>(n)) * eta[n / 3];
-          const std::vector<char> whole = adapt::mark(eta, marking, theta, target);
-          const auto marks = on_processes<std::vector<char>>(processes, part, [&](const WorkShare& share) {
+          const std::vector<char> whole = marking->mark(adapt::Indicators(eta, target));
+          const double threshold = marking->refinement_threshold(adapt::Indicators(eta, target), whole);
+          using Marks = std::pair<std::vector<char>, double>;  // the marks and the refinement threshold
+          const auto marks = on_processes<Marks>(processes, part, [&](const WorkShare& share) {
             // Each process holds its own indicators only (the others' are not known to it).
             std::vector<double> mine(n, 0.0);
             std::vector<char> own(n, 0);
@@ -193,19 +196,24 @@ TEST(WorkShare, MarksFoundTogetherAreTheMarksOfOneProcess) {
                 mine[t] = eta[t];
                 own[t] = 1;
               }
-            return adapt::mark_shared(mine, own, marking, theta, target, share.sum);
+            const adapt::Indicators mine_only(mine, target, own, share.sum);
+            std::vector<char> marked = marking->mark(mine_only);
+            const double found = marking->refinement_threshold(mine_only, marked);
+            return Marks{std::move(marked), found};
           });
           std::vector<char> joined(n, 0);
           for (int q = 0; q < processes; ++q)
             for (std::size_t t = 0; t < n; ++t) {
-              if (marks[static_cast<std::size_t>(q)][t]) {
+              if (marks[static_cast<std::size_t>(q)].first[t]) {
                 EXPECT_EQ(part[t], q) << "a process marks only its own triangles";
                 joined[t] = 1;
               }
             }
-          EXPECT_EQ(joined, whole) << processes << " processes, marking " << static_cast<int>(marking) << ", theta "
+          EXPECT_EQ(joined, whole) << processes << " processes, marking " << named.name << ", theta "
                                    << theta;
           EXPECT_GT(std::count(whole.begin(), whole.end(), 1), 0);
+          for (const Marks& m : marks)
+            EXPECT_EQ(m.second, threshold) << "the whole mesh's refinement threshold";
         }
       }
     }

@@ -39,7 +39,7 @@ struct SolvedCycle {
 void count_over_parts(SolvedCycle& c, const RgbMesh& mesh, const AdaptOptions& options) {
   const fem::SurfaceMesh& fe = c.fe;
   const std::vector<std::int32_t>& part = c.triangle_part;
-  const std::int32_t me = options.part;
+  const std::int32_t me = options.distribution.share.process;
   // Each triangle's part by slot, for the edges' neighbours (-1: none or unknown).
   std::vector<std::int32_t> part_of_slot(static_cast<std::size_t>(mesh.triangle_slots()), -1);
   for (std::size_t t = 0; t < fe.triangles.size(); ++t) part_of_slot[static_cast<std::size_t>(fe.triangle[t].idx)] = part[t];
@@ -66,7 +66,7 @@ void count_over_parts(SolvedCycle& c, const RgbMesh& mesh, const AdaptOptions& o
       if (q < 0 || q > me || (q == me && h.idx < other.idx)) counts[1] += 1;
     }
   }
-  options.sum_over_parts(counts, 3);
+  options.distribution.share.sum(counts, 3);
   c.vertices = static_cast<std::size_t>(counts[0]);
   c.edges = static_cast<std::size_t>(counts[1]);
   c.report.triangles = static_cast<std::size_t>(counts[2]);
@@ -76,30 +76,28 @@ void count_over_parts(SolvedCycle& c, const RgbMesh& mesh, const AdaptOptions& o
 SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
                                SolutionTransfer& transfer, bool check_max_dofs = false) {
   SolvedCycle c;
-  if (options.prepare_mesh) {
+  if (options.distribution.prepare_mesh) {
     const auto t_prepare = std::chrono::steady_clock::now();
-    options.prepare_mesh(mesh);
+    options.distribution.prepare_mesh(mesh);
     c.report.exchange_seconds = seconds_since(t_prepare);
   }
   const auto t_mesh = std::chrono::steady_clock::now();
   c.fe = fem::build_surface_mesh(mesh, options.projection, options.order);
   c.report.mesh_seconds = seconds_since(t_mesh);
-  if (options.interruption_point) options.interruption_point();
+  if (options.control.interruption_point) options.control.interruption_point();
   // On several processes, each assembles and computes the estimator's and the norms' terms of
   // its part's triangles.
   fem::WorkShare share;
-  if (options.partition) {
+  if (options.distribution.partition) {
     const auto t_part = std::chrono::steady_clock::now();
-    c.triangle_part = options.partition(mesh, c.fe);
+    c.triangle_part = options.distribution.partition(mesh, c.fe);
     c.report.partition_seconds = seconds_since(t_part);
-    if (options.sum_over_parts && options.gather_over_parts) {
+    if (options.distribution.share.sum && options.distribution.share.gather) {
+      share = options.distribution.share;
       share.part = c.triangle_part;
-      share.process = options.part;
-      share.sum = options.sum_over_parts;
-      share.gather = options.gather_over_parts;
     }
   }
-  if (options.distributed_mesh) {
+  if (options.distribution.distributed_mesh) {
     count_over_parts(c, mesh, options);
     if (check_max_dofs && c.report.dofs > options.max_dofs) {
       c.over_max_dofs = true;
@@ -111,17 +109,16 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   if (guess.size() > 0) so.initial_guess = &guess;
   if (so.shared_solver) so.share = share;
   c.solution = fem::solve(c.fe, problem, so);
-  if (options.interruption_point) options.interruption_point();
+  if (options.control.interruption_point) options.control.interruption_point();
   const auto t0 = std::chrono::steady_clock::now();
-  c.estimate = options.estimator == EstimatorKind::residual ? fem::residual_estimator(c.fe, problem, c.solution.u, share)
-                                                            : fem::zz_estimator(c.fe, c.solution.u, share);
+  c.estimate = options.estimator->estimate(c.fe, problem, c.solution.u, share);
   c.report.estimate_seconds = seconds_since(t0);
-  if (options.distributed_mesh) {
+  if (options.distribution.distributed_mesh) {
     // Each process has its own triangles' indicators: the total over all.
     double squares = 0;
     for (std::size_t t = 0; t < c.fe.triangles.size(); ++t)
       if (share.computes(t)) squares += c.estimate.eta[t] * c.estimate.eta[t];
-    options.sum_over_parts(&squares, 1);
+    options.distribution.share.sum(&squares, 1);
     c.estimate.total = std::sqrt(squares);
   } else {
     c.report.triangles = c.fe.triangles.size();
@@ -143,8 +140,8 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
 }
 
 void count_bytes_sent(CycleReport& report, const AdaptOptions& options) {
-  if (!options.bytes_sent) return;
-  const std::array<std::uint64_t, 2> sent = options.bytes_sent();
+  if (!options.distribution.bytes_sent) return;
+  const std::array<std::uint64_t, 2> sent = options.distribution.bytes_sent();
   report.bytes_sent = sent[0];
   report.bytes_sent_largest = sent[1];
 }
@@ -191,11 +188,28 @@ std::size_t unknowns(const RgbMesh& mesh, int order) {
 // Exact for a uniform mesh; for a selectively refined one, a lower bound.
 // (A distributed mesh: the whole mesh's counts, from the solved cycle.)
 std::size_t unknowns_after_uniform_level(const RgbMesh& mesh, const SolvedCycle& c, const AdaptOptions& options) {
-  const bool whole = options.distributed_mesh;
+  const bool whole = options.distribution.distributed_mesh;
   const std::size_t vertices = whole ? c.vertices : mesh.num_vertices(), edges = whole ? c.edges : mesh.num_edges(),
                     triangles = whole ? c.report.triangles : mesh.num_triangles();
   const std::size_t v = vertices + edges;
   return options.order == 2 ? v + 2 * edges + 3 * triangles : v;
+}
+
+// A distributed mesh: per FE triangle, whether it is this process's own. Empty otherwise.
+std::vector<char> own_triangles(const SolvedCycle& c, const AdaptOptions& options) {
+  std::vector<char> own;
+  if (!options.distribution.distributed_mesh) return own;
+  own.resize(c.fe.triangles.size());
+  for (std::size_t i = 0; i < own.size(); ++i)
+    own[i] = c.triangle_part[i] == options.distribution.share.process ? 1 : 0;
+  return own;
+}
+
+// The indicators as the marking sees them; on a distributed mesh, with the own triangles'
+// flags and the sums over the processes.
+Indicators indicators_of(const SolvedCycle& c, const AdaptOptions& options, const std::vector<char>& own) {
+  if (!options.distribution.distributed_mesh) return Indicators(c.estimate.eta, options.target_estimate);
+  return Indicators(c.estimate.eta, options.target_estimate, own, options.distribution.share.sum);
 }
 
 // Marks, then refines and coarsens the mesh through the queues; returns the marks per FE
@@ -205,17 +219,15 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
   std::vector<char> marked(c.fe.triangles.size(), 0);
   RefinementOptions ro;
   ro.max_level = options.max_level;
-  if (options.memory_headroom) ro.max_mesh_bytes = mesh.memory_bytes() + options.memory_headroom();
-  if (options.interruption_point) ro.progress = [&options](std::uint64_t, std::size_t) { options.interruption_point(); };
+  if (options.control.memory_headroom)
+    ro.max_mesh_bytes = mesh.memory_bytes() + options.control.memory_headroom();
+  if (options.control.interruption_point)
+    ro.progress = [&options](std::uint64_t, std::size_t) { options.control.interruption_point(); };
   RefinementResult r;
   // A distributed mesh: this process's own triangles, marked against thresholds found with
   // the other processes.
-  std::vector<char> own;
-  if (options.distributed_mesh) {
-    own.resize(c.fe.triangles.size());
-    for (std::size_t i = 0; i < own.size(); ++i) own[i] = c.triangle_part[i] == options.part ? 1 : 0;
-  }
-  if (options.strategy == Strategy::uniform && options.distributed_mesh) {
+  const std::vector<char> own = own_triangles(c, options);
+  if (options.strategy == Strategy::uniform && options.distribution.distributed_mesh) {
     // Its own triangles one level up: the next uniform level once every process has its own
     // and the interfaces' splits.
     marked = own;
@@ -227,9 +239,8 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
     std::fill(marked.begin(), marked.end(), 1);
     r = selective_refinement(mesh, UniformLevel(std::min(mesh.max_level() + 1, options.max_level)), ro);
   } else {
-    marked = options.distributed_mesh
-                 ? mark_shared(c.estimate.eta, own, options.marking, options.theta, options.target_estimate, options.sum_over_parts)
-                 : mark(c.estimate.eta, options.marking, options.theta, options.target_estimate);
+    const Indicators indicators = indicators_of(c, options, own);
+    marked = options.marking->mark(indicators);
     std::vector<double> triangle_values(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
     for (std::size_t i = 0; i < marked.size(); ++i) {
       if (marked[i]) triangle_values[c.fe.triangle[i].idx] = 1.0;
@@ -242,21 +253,16 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
       // around each interface vertex.)
       std::vector<double> star(c.fe.vertex.size(), 0.0);
       for (std::size_t i = 0; i < c.fe.triangles.size(); ++i) {
-        if (options.distributed_mesh && !own[i]) continue;
+        if (options.distribution.distributed_mesh && !own[i]) continue;
         for (std::int32_t v : c.fe.triangles[i]) star[v] = std::max(star[v], c.estimate.eta[i]);
       }
-      if (options.distributed_mesh) ro.coarsen = options.coarsen_mesh;
+      if (options.distribution.distributed_mesh) ro.coarsen = options.distribution.coarsen_mesh;
       vertex_values.assign(static_cast<std::size_t>(mesh.vertex_slots()), 1e300);
       for (std::size_t v = 0; v < star.size(); ++v) {
         // Vertices at or below the floor stay (their removal would coarsen below it).
         if (mesh.level(c.fe.vertex[v]) > options.min_level) vertex_values[c.fe.vertex[v].idx] = star[v];
       }
-      threshold =
-          options.coarsen_below *
-          (options.distributed_mesh
-               ? shared_refinement_threshold(c.estimate.eta, marked, own, options.marking,
-                                             options.target_estimate, options.sum_over_parts)
-               : refinement_threshold(c.estimate.eta, marked, options.marking, options.target_estimate));
+      threshold = options.coarsen_below * options.marking->refinement_threshold(indicators, marked);
     }
     r = selective_refinement(mesh, FieldCriterion(std::move(triangle_values), 0.5, std::move(vertex_values), threshold),
                              ro);
@@ -266,9 +272,9 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
   // processes) they were inserted.
   canonical_diagonals(mesh);
   double exchange = 0;
-  if (options.after_adaptation) {
+  if (options.distribution.after_adaptation) {
     const auto t_exchange = std::chrono::steady_clock::now();
-    options.after_adaptation(mesh);
+    options.distribution.after_adaptation(mesh);
     exchange = seconds_since(t_exchange);
     report.exchange_seconds += exchange;
   }
@@ -277,7 +283,7 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
                       static_cast<double>(r.removals)};
   // (A distributed mesh: over all processes; a split that processes on both sides of an
   // interface make counts on each.)
-  if (options.distributed_mesh) options.sum_over_parts(counts, 3);
+  if (options.distribution.distributed_mesh) options.distribution.share.sum(counts, 3);
   report.marked = static_cast<std::size_t>(counts[0]);
   report.splits += static_cast<std::size_t>(counts[1]);
   report.removals += static_cast<std::size_t>(counts[2]);
@@ -293,7 +299,8 @@ void refine_to_floor(RgbMesh& mesh, const AdaptOptions& options) {
                                 std::to_string(options.max_level) + "]");
   if (options.min_level > 0) {
     RefinementOptions ro;
-    if (options.interruption_point) ro.progress = [&options](std::uint64_t, std::size_t) { options.interruption_point(); };
+    if (options.control.interruption_point)
+      ro.progress = [&options](std::uint64_t, std::size_t) { options.control.interruption_point(); };
     selective_refinement(mesh, AtLeastLevel(options.min_level), ro);
   }
 }
@@ -301,9 +308,9 @@ void refine_to_floor(RgbMesh& mesh, const AdaptOptions& options) {
 // Whether a cycle on the mesh as it is now fits under the memory ceiling: the unknowns added
 // since the last solve each need kSolveBytesPerDof more.
 bool next_cycle_fits(const RgbMesh& mesh, const AdaptOptions& options, std::size_t solved_dofs) {
-  if (!options.memory_headroom) return true;
+  if (!options.control.memory_headroom) return true;
   const double added = static_cast<double>(unknowns(mesh, options.order)) - static_cast<double>(solved_dofs);
-  return added * kSolveBytesPerDof <= static_cast<double>(options.memory_headroom());
+  return added * kSolveBytesPerDof <= static_cast<double>(options.control.memory_headroom());
 }
 
 }  // namespace
@@ -320,159 +327,22 @@ const char* to_string(StopReason reason) {
   return "?";
 }
 
-std::vector<char> mark(const std::vector<double>& eta, Marking marking, double theta, double target) {
-  std::vector<char> marked(eta.size(), 0);
-  if (eta.empty()) return marked;
-  if (marking == Marking::equidistribution) {
-    const double limit = target / std::sqrt(static_cast<double>(eta.size()));
-    for (std::size_t i = 0; i < eta.size(); ++i) marked[i] = eta[i] > limit ? 1 : 0;
-    return marked;
-  }
-  std::vector<std::size_t> order(eta.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&eta](std::size_t a, std::size_t b) { return eta[a] > eta[b]; });
-  std::size_t k = 0;
-  if (marking == Marking::fixed_fraction) {
-    const auto n = static_cast<std::size_t>(std::ceil(theta * static_cast<double>(eta.size())));
-    for (; k < std::min(n, eta.size()); ++k) marked[order[k]] = 1;
-  } else {
-    double total = 0;
-    for (double e : eta) total += e * e;
-    double sum = 0;
-    for (; k < order.size() && sum < theta * total; ++k) {
-      marked[order[k]] = 1;
-      sum += eta[order[k]] * eta[order[k]];
-    }
-  }
-  // Ties: every indicator within a relative 1e-6 of the last one marked is marked too. On
-  // symmetric meshes many indicators are equal but for rounding, and rounding (the solver's
-  // last digits, which differ with the number of processes) must not choose which of them
-  // are refined: the same marks, and the same mesh, on any number of processes.
-  if (k > 0) {
-    const double cutoff = eta[order[k - 1]] * (1 - 1e-6);
-    for (; k < order.size() && eta[order[k]] >= cutoff; ++k) marked[order[k]] = 1;
-  }
-  return marked;
-}
-
-std::vector<char> mark_shared(const std::vector<double>& eta, const std::vector<char>& own, Marking marking,
-                              double theta, double target, const std::function<void(double*, std::size_t)>& sum) {
-  if (own.size() != eta.size()) throw std::invalid_argument("mark_shared: one flag per indicator is needed");
-  std::vector<char> marked(eta.size(), 0);
-  double totals[2] = {0, 0};  // own triangles, Σ η²
-  for (std::size_t i = 0; i < eta.size(); ++i)
-    if (own[i]) {
-      totals[0] += 1;
-      totals[1] += eta[i] * eta[i];
-    }
-  sum(totals, 2);
-  const double n = totals[0];
-  if (n == 0) return marked;
-  if (marking == Marking::equidistribution) {
-    const double limit = target / std::sqrt(n);
-    for (std::size_t i = 0; i < eta.size(); ++i) marked[i] = own[i] && eta[i] > limit ? 1 : 0;
-    return marked;
-  }
-  // mark() marks the largest indicators down to the k-th, k the fewest whose squares reach
-  // θ Σ η² (Dörfler) or ceil(θ n) (fixed fraction): the k-th is the largest x for which the
-  // indicators at least x reach that. Found by bisection on x's bits (non-negative doubles
-  // order as their bit patterns), each step one sum over the processes.
-  const bool dorfler = marking == Marking::dorfler;
-  const double goal = dorfler ? theta * totals[1] : std::ceil(theta * n);
-  if (!(goal > 0)) return marked;
-  const auto reaches = [&](double x) {
-    double s = 0;
-    for (std::size_t i = 0; i < eta.size(); ++i)
-      if (own[i] && eta[i] >= x) s += dorfler ? eta[i] * eta[i] : 1.0;
-    sum(&s, 1);
-    return s >= goal;
-  };
-  const auto as_double = [](std::uint64_t bits) {
-    double x = 0;
-    std::memcpy(&x, &bits, sizeof x);
-    return x;
-  };
-  std::uint64_t lo = 0, hi = 0x7FF0000000000000ull;  // 0 and +infinity
-  if (reaches(as_double(lo))) {
-    while (hi - lo > 1) {
-      const std::uint64_t mid = lo + (hi - lo) / 2;
-      (reaches(as_double(mid)) ? lo : hi) = mid;
-    }
-  }
-  // (Where even every indicator does not reach the goal, mark() marks them all: x = 0.)
-  // The ties that mark() adds: every indicator within a relative 1e-6 of the k-th.
-  const double cutoff = as_double(lo) * (1 - 1e-6);
-  for (std::size_t i = 0; i < eta.size(); ++i) marked[i] = own[i] && eta[i] >= cutoff ? 1 : 0;
-  return marked;
-}
-
-double refinement_threshold(const std::vector<double>& eta, const std::vector<char>& marked, Marking marking,
-                            double target) {
-  if (eta.empty()) return 0;
-  if (marking == Marking::equidistribution) return target / std::sqrt(static_cast<double>(eta.size()));
-  double smallest = 0;
-  bool any = false;
-  for (std::size_t i = 0; i < eta.size(); ++i) {
-    if (!marked[i]) continue;
-    smallest = any ? std::min(smallest, eta[i]) : eta[i];
-    any = true;
-  }
-  return smallest;
-}
-
-double shared_refinement_threshold(const std::vector<double>& eta, const std::vector<char>& marked,
-                                   const std::vector<char>& own, Marking marking, double target,
-                                   const std::function<void(double*, std::size_t)>& sum) {
-  if (marking == Marking::equidistribution) {
-    // mark_shared's limit: over the whole mesh's triangles.
-    double n = 0;
-    for (const char o : own) n += o ? 1 : 0;
-    sum(&n, 1);
-    return n > 0 ? target / std::sqrt(n) : 0.0;
-  }
-  double count = 0;
-  for (std::size_t i = 0; i < marked.size(); ++i) count += marked[i] && own[i] ? 1 : 0;
-  // The smallest marked indicator of all processes: the smallest x that at least one marked
-  // indicator does not pass, by bisection on x's bits (non-negative doubles order as their
-  // bit patterns), each step one sum.
-  sum(&count, 1);
-  if (count == 0) return 0;
-  const auto as_double = [](std::uint64_t bits) {
-    double x = 0;
-    std::memcpy(&x, &bits, sizeof x);
-    return x;
-  };
-  const auto some_at_most = [&](double x) {
-    double s = 0;
-    for (std::size_t i = 0; i < eta.size(); ++i)
-      if (marked[i] && own[i] && eta[i] <= x) s += 1;
-    sum(&s, 1);
-    return s > 0;
-  };
-  std::uint64_t lo = 0, hi = 0x7FF0000000000000ull;  // the answer is in (lo, hi]
-  if (some_at_most(0.0)) return 0.0;
-  while (hi - lo > 1) {
-    const std::uint64_t mid = lo + (hi - lo) / 2;
-    (some_at_most(as_double(mid)) ? hi : lo) = mid;
-  }
-  return as_double(hi);
-}
-
 AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
                     const CycleCallback& on_cycle) {
   refine_to_floor(mesh, options);
   SolutionTransfer transfer(mesh);
   AdaptRun run;
   std::size_t solved_dofs = 0;
-  for (int cycle = std::max(0, options.first_cycle - 1); cycle < options.max_cycles; ++cycle) {
+  for (int cycle = std::max(0, options.control.first_cycle - 1); cycle < options.max_cycles; ++cycle) {
     // Resuming: the earlier run's last cycle, solved again to be adapted as it was.
-    const bool replay = cycle < options.first_cycle;
+    const bool replay = cycle < options.control.first_cycle;
     const auto t0 = std::chrono::steady_clock::now();
     if (!next_cycle_fits(mesh, options, solved_dofs)) {
       run.stopped = StopReason::memory;
       break;
     }
-    SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer, cycle > std::max(0, options.first_cycle - 1));
+    SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer,
+                                       cycle > std::max(0, options.control.first_cycle - 1));
     if (c.over_max_dofs) {  // a distributed mesh knows its size once its parts are decided
       run.stopped = StopReason::max_dofs;
       break;
@@ -481,7 +351,8 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
     c.report.cycle = cycle;
     const SolvedMesh solved =
         replay ? SolvedMesh{}
-               : describe(mesh, c, options.resumable, options.distributed_mesh ? options.part : -1);
+               : describe(mesh, c, options.control.resumable,
+                          options.distribution.distributed_mesh ? options.distribution.share.process : -1);
     bool last = true;
     if (cycle + 1 == options.max_cycles)
       run.stopped = StopReason::cycles;
@@ -489,11 +360,11 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
       run.stopped = StopReason::target_error;
     else if (options.strategy == Strategy::uniform && unknowns_after_uniform_level(mesh, c, options) > options.max_dofs)
       run.stopped = StopReason::max_dofs;  // predicted: the next mesh is never built
-    else if (!replay && options.stop && options.stop(c.report))
+    else if (!replay && options.control.stop && options.control.stop(c.report))
       run.stopped = StopReason::requested;
     else
       last = false;
-    if (options.interruption_point) options.interruption_point();
+    if (options.control.interruption_point) options.control.interruption_point();
     std::vector<char> marked(c.fe.triangles.size(), 0);
     if (!last) {
       transfer.store(c.fe, c.solution.u);
@@ -510,7 +381,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
       run.stopped = StopReason::memory;
       break;
     }
-    if (!options.distributed_mesh && unknowns(mesh, options.order) > options.max_dofs) {
+    if (!options.distribution.distributed_mesh && unknowns(mesh, options.order) > options.max_dofs) {
       run.stopped = StopReason::max_dofs;
       break;
     }
@@ -522,19 +393,20 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
                      const AdaptOptions& options, const DynamicOptions& dynamic, const CycleCallback& on_step) {
   // A distributed mesh knows its size when a cycle is solved (its parts decided): a step
   // whose mesh would pass max_dofs stops the run at its solve instead of after its adaptation.
-  const bool distributed = options.distributed_mesh;
+  const bool distributed = options.distribution.distributed_mesh;
   refine_to_floor(mesh, options);
   AdaptRun run;
   const bool resuming = dynamic.first_step > 0;
-  if (resuming && options.marking == Marking::equidistribution && !(options.target_estimate > 0))
+  if (resuming && options.marking->marks_by_target() && !(options.target_estimate > 0))
     throw std::invalid_argument("run_dynamic: resuming under equidistribution needs the earlier run's target");
   if (!resuming) {
     // Adapt to the start, refinement only.
     AdaptOptions start = options;
     start.coarsen_below = 0;
     start.max_cycles = std::max(1, dynamic.start_cycles);
-    start.first_cycle = 0;
-    if (start.marking == Marking::equidistribution && !(start.target_estimate > 0)) start.marking = Marking::dorfler;
+    start.control.first_cycle = 0;
+    if (start.marking->marks_by_target() && !(start.target_estimate > 0) && start.marking->before_target())
+      start.marking = start.marking->before_target();
     AdaptRun started = run_cycles(mesh, problem_at(0.0), start);
     run.start = std::move(started.cycles);
     const bool over = distributed ? options.strategy != Strategy::uniform
@@ -558,7 +430,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     return false;
   };
   AdaptOptions o = options;
-  if (o.marking == Marking::equidistribution && !(o.target_estimate > 0)) o.target_estimate = run.start.back().estimate;
+  if (o.marking->marks_by_target() && !(o.target_estimate > 0)) o.target_estimate = run.start.back().estimate;
   run.target_estimate = o.target_estimate;
   if (dynamic.on_started && !resuming) dynamic.on_started(run.start, run.target_estimate);
 
@@ -577,7 +449,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     SolvedCycle c = solve_and_estimate(mesh, problem_at(t), o, transfer);
     transfer.store(c.fe, c.solution.u);
     solved_dofs = c.fe.num_dofs();
-  } else if (o.strategy == Strategy::adaptive && o.marking == Marking::equidistribution) {
+  } else if (o.strategy == Strategy::adaptive && o.marking->marks_by_target()) {
     // Settle the start under the steps' own marking and coarsening (equidistribution towards a
     // target reached by Dörfler marking is a different balance), so that the size is steady
     // from the first step on: until an adaptation changes the size by less than 2%.
@@ -632,14 +504,12 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     count_bytes_sent(c.report, o);
     run.cycles.push_back(c.report);
     std::vector<char> marked(c.fe.triangles.size(), 0);
-    if (o.strategy == Strategy::adaptive && distributed) {
-      std::vector<char> own(c.fe.triangles.size());
-      for (std::size_t i = 0; i < own.size(); ++i) own[i] = c.triangle_part[i] == o.part ? 1 : 0;
-      marked = mark_shared(c.estimate.eta, own, o.marking, o.theta, o.target_estimate, o.sum_over_parts);
-    } else if (o.strategy == Strategy::adaptive) {
-      marked = mark(c.estimate.eta, o.marking, o.theta, o.target_estimate);
+    if (o.strategy == Strategy::adaptive) {
+      const std::vector<char> own = own_triangles(c, o);
+      marked = o.marking->mark(indicators_of(c, o, own));
     }
-    const SolvedMesh solved = describe(mesh, c, o.resumable, o.distributed_mesh ? o.part : -1);
+    const SolvedMesh solved = describe(mesh, c, o.control.resumable,
+                                       o.distribution.distributed_mesh ? o.distribution.share.process : -1);
     if (on_step) on_step({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved});
   }
   return run;

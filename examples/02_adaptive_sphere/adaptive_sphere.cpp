@@ -28,7 +28,8 @@ std::vector<adapt::CycleReport> run(adapt::Strategy strategy, const std::filesys
 
   adapt::AdaptOptions options;
   options.strategy = strategy;
-  options.theta = 0.5;  // mark the fewest triangles that carry half of Σ η²
+  // Dörfler marking: the fewest triangles that carry half of Σ η²
+  options.marking = std::make_shared<adapt::DorflerMarking>(0.5);
   options.projection = fem::Projection(fem::project_to_unit_sphere);
   options.max_cycles = 30;
   options.max_dofs = 60000;

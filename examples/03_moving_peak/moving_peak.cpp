@@ -37,7 +37,8 @@ int main(int argc, char** argv) {
 
   adapt::AdaptOptions options;
   options.projection = fem::Projection(fem::project_to_unit_sphere);
-  options.marking = adapt::Marking::equidistribution;  // target: the estimate reached at the start
+  options.marking =
+      std::make_shared<adapt::EquidistributionMarking>();  // target: the estimate reached at the start
   options.coarsen_below = 0.25;
   adapt::DynamicOptions dynamic;  // 24 steps, 2 adaptations per step, 8 cycles for the start
   dynamic.on_started = [](const std::vector<adapt::CycleReport>& start, double target) {

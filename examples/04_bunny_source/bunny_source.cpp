@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
   const fem::Problem problem = fem::gaussian_source(mesh.limit_position(top), 0.08);
 
   adapt::AdaptOptions options;  // Loop geometry: no projection
-  options.theta = 0.5;
+  options.marking = std::make_shared<adapt::DorflerMarking>(0.5);
   options.max_cycles = 10;
   options.max_dofs = 60000;
 

@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
   const TriangleMeshData ico = icosahedron();
   RgbMesh mesh = RgbMesh::from_triangles(ico.points, ico.triangles);
   adapt::AdaptOptions options;
-  options.theta = 0.5;
+  options.marking = std::make_shared<adapt::DorflerMarking>(0.5);
   options.projection = fem::Projection(fem::project_to_unit_sphere);
   options.max_cycles = cycles;
   options.min_level = floor;  // refined to it first: the units the processes share lie above it

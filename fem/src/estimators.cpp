@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "parallel.hpp"
+#include "rgbmesh/errors.hpp"
 #include "source_samples.hpp"
 
 namespace rgbmesh::fem {
@@ -566,6 +567,30 @@ Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const W
     }
   }
   return finish(std::move(eta2), std::vector<double>(nt, 0.0), share);
+}
+
+Estimate ResidualEstimator::estimate(const SurfaceMesh& mesh, const Problem& problem,
+                                     const Eigen::VectorXd& u, const WorkShare& share) const {
+  return residual_estimator(mesh, problem, u, share);
+}
+
+Estimate ZzEstimator::estimate(const SurfaceMesh& mesh, const Problem&, const Eigen::VectorXd& u,
+                               const WorkShare& share) const {
+  return zz_estimator(mesh, u, share);
+}
+
+const std::vector<NamedEstimator>& estimator_table() {
+  static const std::vector<NamedEstimator> table = {
+      {"residual", "the residual estimator: element residuals, conormal jumps and the geometric term",
+       [] { return std::shared_ptr<const ErrorEstimator>(std::make_shared<ResidualEstimator>()); }},
+      {"zz", "Zienkiewicz-Zhu: the distance to the recovered (averaged) gradient",
+       [] { return std::shared_ptr<const ErrorEstimator>(std::make_shared<ZzEstimator>()); }},
+  };
+  return table;
+}
+
+std::shared_ptr<const ErrorEstimator> make_estimator(const std::string& name) {
+  return named_row(estimator_table(), name, "estimator").make();
 }
 
 }  // namespace rgbmesh::fem

@@ -13,13 +13,14 @@ void distribute(adapt::AdaptOptions& options) {
   if (parts <= 1) return;
   const int floor = options.min_level;
   // The floor's uniform mesh is kept from cycle to cycle (FloorCache).
-  options.partition = [floor, parts, cache = make_floor_cache()](const RgbMesh& mesh, const fem::SurfaceMesh& fe) {
+  options.distribution.partition = [floor, parts, cache = make_floor_cache()](const RgbMesh& mesh,
+                                                                              const fem::SurfaceMesh& fe) {
     return triangle_parts(mesh, fe, floor, parts, cache.get());
   };
-  options.part = rank();
-  options.sum_over_parts = sum;
-  options.gather_over_parts = gather;
-  options.bytes_sent = bytes_sent_since_last;
+  options.distribution.share.process = rank();
+  options.distribution.share.sum = sum;
+  options.distribution.share.gather = gather;
+  options.distribution.bytes_sent = bytes_sent_since_last;
   options.solve.shared_solver = shared_amg();  // (the systems are always assembled in parts here)
 }
 

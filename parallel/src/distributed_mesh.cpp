@@ -735,7 +735,7 @@ class DistributedMesh {
 
 }  // namespace
 
-bool mesh_can_be_distributed(const adapt::AdaptOptions& options) { return !options.resumable; }
+bool mesh_can_be_distributed(const adapt::AdaptOptions& options) { return !options.control.resumable; }
 
 void distribute_mesh(adapt::AdaptOptions& options) {
   const int parts = processes();
@@ -748,16 +748,20 @@ void distribute_mesh(adapt::AdaptOptions& options) {
   const bool coarsens = options.coarsen_below > 0;
   auto state = std::make_shared<DistributedMesh>(options.min_level, parts, rank(),
                                                  coarsens ? std::numeric_limits<double>::infinity() : 0.1);
-  options.distributed_mesh = true;
-  options.prepare_mesh = [state](RgbMesh& view) { state->prepare(view); };
-  options.after_adaptation = [state](RgbMesh& view) { state->reconcile(view); };
-  options.coarsen_mesh = [state](RgbMesh& view, const LodCriterion& c) { return state->coarsen(view, c); };
-  options.partition = [state](const RgbMesh& view, const fem::SurfaceMesh& fe) { return state->number(view, fe); };
-  options.part = rank();
-  options.sum_over_parts = sum;
+  options.distribution.distributed_mesh = true;
+  options.distribution.prepare_mesh = [state](RgbMesh& view) { state->prepare(view); };
+  options.distribution.after_adaptation = [state](RgbMesh& view) { state->reconcile(view); };
+  options.distribution.coarsen_mesh = [state](RgbMesh& view, const LodCriterion& c) {
+    return state->coarsen(view, c);
+  };
+  options.distribution.partition = [state](const RgbMesh& view, const fem::SurfaceMesh& fe) {
+    return state->number(view, fe);
+  };
+  options.distribution.share.process = rank();
+  options.distribution.share.sum = sum;
   // Each process keeps its own triangles' indicators: nothing to gather.
-  options.gather_over_parts = [](double*, std::size_t, const std::vector<std::int32_t>&) {};
-  options.bytes_sent = bytes_sent_since_last;
+  options.distribution.share.gather = [](double*, std::size_t, const std::vector<std::int32_t>&) {};
+  options.distribution.bytes_sent = bytes_sent_since_last;
   options.solve.shared_solver =
       [state](fem::SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<std::int32_t>&,
               const std::vector<Eigen::Index>& row_of_dof, const Eigen::VectorXd* guess,

@@ -128,12 +128,6 @@ Setup settle(const RgbMesh& mesh, const PyProblem& p, int order, const std::opti
   return s;
 }
 
-adapt::EstimatorKind estimator_kind(const std::string& name) {
-  if (name == "residual") return adapt::EstimatorKind::residual;
-  if (name == "zz") return adapt::EstimatorKind::zz;
-  throw InputError(choice_error("estimator", name, "residual, zz"));
-}
-
 // A solved mesh, kept after the call that made it: the finite-element mesh, the solution, the
 // estimate, and for a cycle its report and marks.
 struct Solution {
@@ -188,7 +182,8 @@ adapt::SolvedMesh levels_of(const RgbMesh& mesh, const fem::SurfaceMesh& fe) {
 std::shared_ptr<Solution> solve(RgbMesh& mesh, const PyProblem& p, int order, const std::optional<std::string>& geometry,
                                 const std::string& solver, const std::string& estimator) {
   const Setup setup = settle(mesh, p, order, geometry, solver);
-  const adapt::EstimatorKind kind = estimator_kind(estimator);
+  const std::shared_ptr<const fem::ErrorEstimator> estimate =
+      named_row(fem::estimator_table(), estimator, "estimator").make();
   auto s = std::make_shared<Solution>();
   s->problem = std::make_shared<const fem::Problem>(p.problem);
   {
@@ -200,8 +195,7 @@ std::shared_ptr<Solution> solve(RgbMesh& mesh, const PyProblem& p, int order, co
     const fem::Solution solution = fem::solve(s->fe, p.problem, o);
     check_signals();
     s->u = solution.u;
-    s->estimate = kind == adapt::EstimatorKind::residual ? fem::residual_estimator(s->fe, p.problem, s->u)
-                                                         : fem::zz_estimator(s->fe, s->u);
+    s->estimate = estimate->estimate(s->fe, p.problem, s->u, {});
     s->report.triangles = s->fe.triangles.size();
     s->report.dofs = s->fe.num_dofs();
     s->report.estimate = s->estimate.total;
@@ -242,14 +236,13 @@ py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strateg
   if (strategy == "adaptive") o.strategy = adapt::Strategy::adaptive;
   else if (strategy == "uniform") o.strategy = adapt::Strategy::uniform;
   else throw InputError(choice_error("strategy", strategy, "adaptive, uniform"));
-  if (marking == "dorfler") o.marking = adapt::Marking::dorfler;
-  else if (marking == "fraction") o.marking = adapt::Marking::fixed_fraction;
-  else if (marking == "equidistribution") o.marking = adapt::Marking::equidistribution;
-  else throw InputError(choice_error("marking", marking, "dorfler, fraction, equidistribution"));
-  if (o.marking == adapt::Marking::equidistribution && !(target_error > 0))
-    throw InputError("marking 'equidistribution': needs target_error (it refines every triangle whose indicator "
-                     "exceeds target_error / sqrt(number of triangles))");
+  const adapt::NamedMarking& marking_row = named_row(adapt::marking_table(), marking, "marking");
   if (!(theta > 0 && theta <= 1)) throw InputError("theta: must be in (0, 1], got " + std::to_string(theta));
+  o.marking = marking_row.make(theta);
+  if (o.marking->marks_by_target() && !(target_error > 0))
+    throw InputError("marking '" + marking +
+                     "': needs target_error (it refines every triangle whose indicator "
+                     "exceeds target_error / sqrt(number of triangles))");
   if (!(coarsen >= 0 && coarsen < 1)) throw InputError("coarsen: must be in [0, 1), got " + std::to_string(coarsen));
   if (max_level < 0 || max_level > kMaxLevel)
     throw InputError("max_level " + std::to_string(max_level) + " is not in [0, " + std::to_string(kMaxLevel) + "]");
@@ -257,8 +250,7 @@ py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strateg
     throw InputError("min_level " + std::to_string(min_level) + " is not in [0, max_level " + std::to_string(max_level) + "]");
   if (cycles < 1) throw InputError("cycles: at least 1, got " + std::to_string(cycles));
   if (!(target_error >= 0)) throw InputError("target_error: must be >= 0");
-  o.theta = theta;
-  o.estimator = estimator_kind(estimator);
+  o.estimator = named_row(fem::estimator_table(), estimator, "estimator").make();
   o.order = order;
   o.coarsen_below = coarsen;
   o.min_level = min_level;
@@ -268,7 +260,7 @@ py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strateg
   o.max_dofs = max_dofs;
   o.projection = setup.projection;
   o.solve.solver = setup.solver;
-  o.interruption_point = check_signals;
+  o.control.interruption_point = check_signals;
   const auto problem = std::make_shared<const fem::Problem>(p.problem);
   if (!callback.is_none()) {
     if (!PyCallable_Check(callback.ptr())) throw InputError("callback: must be callable, callback(cycle)");
@@ -276,7 +268,7 @@ py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strateg
   if (!stop.is_none()) {
     if (!PyCallable_Check(stop.ptr())) throw InputError("stop: must be callable, stop(report) -> bool");
     auto predicate = std::make_shared<Callable>(stop);
-    o.stop = [predicate](const adapt::CycleReport& r) {
+    o.control.stop = [predicate](const adapt::CycleReport& r) {
       py::gil_scoped_acquire gil;
       return predicate->f(report_dict(r)).cast<bool>();
     };

@@ -9,12 +9,13 @@
 ///   ResourceError  the work needs more than the machine has (memory): exit code 3
 /// \endverbatim
 ///
-/// Anything else that escapes (std::bad_alloc, std::logic_error, solver failures) is an
-/// internal failure or an exhausted resource: exit code 3 too. Messages are one line and name
-/// the file, element or option concerned.
+/// Anything else that escapes (std::bad_alloc, std::logic_error such as PreconditionError,
+/// solver failures) is an internal failure or an exhausted resource: exit code 3 too. Messages are one line
+/// and name the file, element or option concerned.
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace rgbmesh {
 
@@ -46,5 +47,25 @@ class ResourceError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+/// A mesh operator was called where it does not apply (a dead or stale handle, the wrong
+/// configuration): a programming error, not bad input (RgbMesh's operators check it).
+class PreconditionError : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+
+/// The row whose `name` is `value` in a table of named choices (fem::estimator_table,
+/// adapt::marking_table: rows with a `name` member); InputError "option: 'value' is not one of
+/// a, b, c" otherwise. The command line and Python read the same tables through it.
+template <class Row>
+const Row& named_row(const std::vector<Row>& table, const std::string& value, const std::string& option) {
+  std::string names;
+  for (const Row& row : table) {
+    if (value == row.name) return row;
+    names += (names.empty() ? "" : ", ") + std::string(row.name);
+  }
+  throw InputError(option + ": '" + value + "' is not one of " + names);
+}
 
 }  // namespace rgbmesh

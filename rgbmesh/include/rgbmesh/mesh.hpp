@@ -99,12 +99,13 @@
 #include <exception>
 #include <functional>
 #include <iterator>
-#include <utility>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "rgbmesh/errors.hpp"
 #include "rgbmesh/handles.hpp"
 #include "rgbmesh/loop_rules.hpp"
 #include "rgbmesh/snapshot.hpp"
@@ -115,12 +116,6 @@ namespace rgbmesh {
 /// Levels are stored in 6 bits of the triangle byte; 30 is far beyond any practical use
 /// (a level-30 uniform refinement of one triangle has 4^30 triangles).
 inline constexpr int kMaxLevel = 30;
-
-/// A local operator was called where it does not apply.
-class PreconditionError : public std::logic_error {
- public:
-  using std::logic_error::logic_error;
-};
 
 /// The split variants of Fig. 5, named after the colors of the triangles incident at the edge.
 enum class SplitKind : std::uint8_t {

@@ -6,10 +6,12 @@
 #include <Eigen/Core>
 #include <array>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "rgbmesh/adapt/marking.hpp"
 #include "rgbmesh/fem/estimators.hpp"
 #include "rgbmesh/fem/solver.hpp"
 #include "rgbmesh/mesh.hpp"
@@ -19,50 +21,22 @@
 namespace rgbmesh::adapt {
 
 enum class Strategy { adaptive, uniform };
-enum class Marking {
-  dorfler,         ///< the fewest triangles carrying a fraction θ of Σ η_T² (bulk chasing)
-  fixed_fraction,  ///< the fraction θ of the triangles with the largest η_T
-  /// every triangle with η_T > target_estimate / sqrt(number of triangles): equidistribution
-  /// towards a fixed total, which keeps the mesh at a steady size for moving features
-  equidistribution,
-};
-enum class EstimatorKind { residual, zz };
 
 struct CycleReport;
 
-struct AdaptOptions {
-  Strategy strategy = Strategy::adaptive;
-  Marking marking = Marking::dorfler;
-  double theta = 0.5;
-  EstimatorKind estimator = EstimatorKind::residual;
-  /// Coarsening, in [0, 1): removable vertices whose largest indicator over their star is below
-  /// coarsen_below times the refinement threshold (the smallest indicator marked for
-  /// refinement; with equidistribution the limit target_estimate / sqrt(N)) are removed. The
-  /// same scale for both halves puts the coarsest fine triangles where refinement would stop,
-  /// so that a moving feature leaves as much refinement behind as it finds ahead. 0: none.
-  double coarsen_below = 0.0;
-  /// Stops: after max_cycles, when the estimate is at most target_estimate, or when the mesh
-  /// would exceed max_dofs (uniform refinement predicts the next size and stops before it;
-  /// adaptive refinement stops once a refined mesh has more, before solving on it).
-  int max_cycles = 10;
-  double target_estimate = 0.0;
-  std::size_t max_dofs = 1000000;
-  int max_level = kMaxLevel;
-  /// A floor: no triangle coarser than this level. The mesh is refined to it before the first
-  /// solve (AtLeastLevel) and coarsening never removes a vertex of this level or below, so
-  /// every triangle of every cycle lies inside one triangle of the uniform level-min_level mesh
-  /// (the unit a distributed run partitions).
-  int min_level = 0;
+/// How a run is shared among processes: rgbmesh::parallel's distribute and distribute_mesh set
+/// these hooks, and a run on one process leaves them empty. Nothing here needs MPI: the serial
+/// loop calls the hooks where they are set.
+struct Distribution {
   /// Output in pieces (a run on several processes): the part of every triangle of a solved
   /// mesh, per FE triangle, taken before the mesh is adapted (SolvedMesh::triangle_part, the
   /// snapshot's "rank" cell array). Empty: none.
   std::function<std::vector<std::int32_t>(const RgbMesh&, const fem::SurfaceMesh&)> partition;
-  /// With partition: this process's part, the sum across processes and the gather of
-  /// per-triangle values (fem::WorkShare). Each process then computes the estimator's and the
-  /// error norms' terms of its own part's triangles only, and receives the others'.
-  int part = 0;
-  std::function<void(double* values, std::size_t count)> sum_over_parts;
-  std::function<void(double* values, std::size_t width, const std::vector<std::int32_t>& part)> gather_over_parts;
+  /// With partition: this process (share.process), the sum across processes and the gather of
+  /// per-triangle values. Each process then computes the estimator's and the error norms'
+  /// terms of its own part's triangles only, and receives the others'. (share.part is
+  /// ignored: each cycle's comes from partition.)
+  fem::WorkShare share;
   /// On several processes: called by every process at the end of each cycle, returns the
   /// bytes all processes sent since the previous call, in all and the most by one process
   /// (CycleReport::bytes_sent, bytes_sent_largest).
@@ -81,6 +55,10 @@ struct AdaptOptions {
   bool distributed_mesh = false;
   std::function<void(RgbMesh&)> prepare_mesh, after_adaptation;
   std::function<std::uint64_t(RgbMesh&, const LodCriterion&)> coarsen_mesh;
+};
+
+/// When a run stops early, how it is interrupted, and what it keeps for a later run.
+struct RunControl {
   /// Memory: when set, returns the bytes still free under the caller's ceiling. A cycle whose
   /// mesh would need more (kSolveBytesPerDof per new unknown, the refinement's arrays) is not
   /// run: the run stops with StopReason::memory, its results so far intact.
@@ -93,13 +71,6 @@ struct AdaptOptions {
   /// throw to abandon the run (how the Python package lets Ctrl-C through): the exception
   /// leaves run_cycles or run_dynamic with the mesh valid, though perhaps partly adapted.
   std::function<void()> interruption_point;
-  fem::SolveOptions solve;
-  std::optional<fem::Projection> projection;  ///< exact-geometry mode (e.g. the unit sphere)
-  /// Finite elements: 1 (P1) or 2 (isoparametric P2, fem::build_surface_mesh). Order 2 counts
-  /// unknowns as vertices + edges, carries the solution's vertex and edge values through the
-  /// adaptation (SolutionTransfer) as the next solve's initial guess, and writes each cycle's
-  /// solution at the vertices (quadratic_snapshot: every node).
-  int order = 1;
   /// Resumable runs: each cycle's CycleState carries the mesh's RGB state
   /// (SolvedMesh::state), so that snapshot() gives a file that read_rgb_mesh restores. A run
   /// continued from such a file (first_cycle, DynamicOptions::first_step) repeats the
@@ -114,14 +85,51 @@ struct AdaptOptions {
   int first_cycle = 0;
 };
 
+/// The adaptive algorithm and its stops, plus how the run is distributed and controlled.
+struct AdaptOptions {
+  Strategy strategy = Strategy::adaptive;
+  /// Which triangles a cycle refines (marking.hpp: built-in strategies, or your own).
+  std::shared_ptr<const MarkingStrategy> marking = std::make_shared<DorflerMarking>(0.5);
+  /// The per-triangle indicators (fem::ErrorEstimator: built-in estimators, or your own).
+  std::shared_ptr<const fem::ErrorEstimator> estimator = std::make_shared<fem::ResidualEstimator>();
+  /// Coarsening, in [0, 1): removable vertices whose largest indicator over their star is below
+  /// coarsen_below times the refinement threshold (MarkingStrategy::refinement_threshold: the
+  /// smallest indicator marked for refinement; with equidistribution the limit
+  /// target_estimate / sqrt(N)) are removed. The same scale for both halves puts the coarsest
+  /// fine triangles where refinement would stop, so that a moving feature leaves as much
+  /// refinement behind as it finds ahead. 0: none.
+  double coarsen_below = 0.0;
+  /// Stops: after max_cycles, when the estimate is at most target_estimate, or when the mesh
+  /// would exceed max_dofs (uniform refinement predicts the next size and stops before it;
+  /// adaptive refinement stops once a refined mesh has more, before solving on it).
+  int max_cycles = 10;
+  double target_estimate = 0.0;
+  std::size_t max_dofs = 1000000;
+  int max_level = kMaxLevel;
+  /// A floor: no triangle coarser than this level. The mesh is refined to it before the first
+  /// solve (AtLeastLevel) and coarsening never removes a vertex of this level or below, so
+  /// every triangle of every cycle lies inside one triangle of the uniform level-min_level mesh
+  /// (the unit a distributed run partitions).
+  int min_level = 0;
+  fem::SolveOptions solve;
+  std::optional<fem::Projection> projection;  ///< exact-geometry mode (e.g. the unit sphere)
+  /// Finite elements: 1 (P1) or 2 (isoparametric P2, fem::build_surface_mesh). Order 2 counts
+  /// unknowns as vertices + edges, carries the solution's vertex and edge values through the
+  /// adaptation (SolutionTransfer) as the next solve's initial guess, and writes each cycle's
+  /// solution at the vertices (quadratic_snapshot: every node).
+  int order = 1;
+  Distribution distribution;  ///< several processes (rgbmesh::parallel); empty on one
+  RunControl control;
+};
+
 /// Why a run ended.
 enum class StopReason {
   cycles,        ///< max_cycles done
   target_error,  ///< the estimate reached target_estimate
   max_dofs,      ///< the next mesh would exceed max_dofs
   steps,         ///< every time step done (run_dynamic)
-  memory,        ///< the next cycle would pass the memory ceiling (AdaptOptions::memory_headroom)
-  requested,     ///< AdaptOptions::stop said so
+  memory,        ///< the next cycle would pass the memory ceiling (RunControl::memory_headroom)
+  requested,     ///< RunControl::stop said so
 };
 
 /// Peak memory of one cycle per unknown (mesh, finite-element mesh, assembly, CHOLMOD's factor,
@@ -144,14 +152,14 @@ struct CycleReport {
   double estimate_seconds = 0;
   double error_seconds = 0;  ///< the errors against the exact solution, where it is known
   double adapt_seconds = 0;  ///< marking + mesh update + solution transfer
-  double partition_seconds = 0;  ///< with AdaptOptions::partition: the triangles' parts
+  double partition_seconds = 0;  ///< with Distribution::partition: the triangles' parts
   /// A distributed mesh: the parts decided and the views migrated (prepare_mesh), and the
   /// interface splits exchanged after the adaptation (after_adaptation); not in adapt_seconds.
   double exchange_seconds = 0;
   /// Writing the cycle's files, for the caller that writes them (the tool sets it in its
   /// report); not part of `seconds`.
   double output_seconds = 0;
-  /// With AdaptOptions::bytes_sent: the bytes the processes sent during the cycle, in all and
+  /// With Distribution::bytes_sent: the bytes the processes sent during the cycle, in all and
   /// the most by one of them.
   std::uint64_t bytes_sent = 0, bytes_sent_largest = 0;
   std::size_t marked = 0, splits = 0, removals = 0;
@@ -166,8 +174,8 @@ struct CycleReport {
 struct SolvedMesh {
   std::vector<std::uint8_t> vertex_level, triangle_level;
   std::vector<Color> triangle_color;
-  std::optional<RgbState> state;  ///< with AdaptOptions::resumable; point i is FE point i
-  std::vector<std::int32_t> triangle_part;  ///< with AdaptOptions::partition, per FE triangle
+  std::optional<RgbState> state;            ///< with RunControl::resumable; point i is FE point i
+  std::vector<std::int32_t> triangle_part;  ///< with Distribution::partition, per FE triangle
   /// A distributed mesh: the state of this process's piece (save_piece_state; its points in
   /// the order snapshot_piece gives them), which a resumed run joins with the others'.
   std::optional<RgbState> piece_state;
@@ -234,8 +242,8 @@ fem::Problem moving_peak(double t, double kappa = 100.0);
 /// The cycle's mesh for output: the finite-element geometry (limit or projected positions)
 /// with point data "solution", and "exact_solution" and "error" where the exact solution is
 /// known, plus the insertion level; cell data "error_indicator", "marked", "level", "color";
-/// and the RGB state when the cycle carries one (AdaptOptions::resumable); "rank" (each
-/// triangle's part) with AdaptOptions::partition.
+/// and the RGB state when the cycle carries one (RunControl::resumable); "rank" (each
+/// triangle's part) with Distribution::partition.
 MeshSnapshot snapshot(const CycleState& state);
 
 /// A P2 cycle's elements for output as quadratic triangles (vtk_io's
@@ -251,29 +259,5 @@ QuadraticSnapshot quadratic_snapshot(const CycleState& state);
 /// One process's piece of it (runs on several processes): the cells whose `part` is `which`,
 /// the nodes they use (in their order), and every array restricted alike.
 QuadraticSnapshot quadratic_piece(const QuadraticSnapshot& whole, const std::vector<std::int32_t>& part, std::int32_t which);
-
-/// Marks triangles (per FE triangle) by the chosen strategy (target: for equidistribution).
-/// Dörfler and fixed-fraction marking also mark every indicator within a relative 1e-6 of the
-/// last one they mark (ties that only rounding separates), so that marks do not depend on the
-/// solver's last digits (e.g. on the number of processes).
-std::vector<char> mark(const std::vector<double>& eta, Marking marking, double theta, double target = 0);
-
-/// mark() on a mesh whose triangles are divided among processes: each passes the indicators
-/// of the triangles it holds, `own` flags those that are its own, and `sum` adds over the
-/// processes. Every process then marks those of its own triangles that mark() would mark
-/// among all processes' own triangles (the thresholds are searched together: Dörfler's and
-/// the fixed fraction's by bisection on the indicator's value, about 64 sums of two numbers).
-std::vector<char> mark_shared(const std::vector<double>& eta, const std::vector<char>& own, Marking marking,
-                              double theta, double target, const std::function<void(double*, std::size_t)>& sum);
-
-/// The refinement threshold of a marking: the smallest marked indicator (the equidistribution
-/// limit target / sqrt(N) for that marking; 0 if nothing is marked).
-double refinement_threshold(const std::vector<double>& eta, const std::vector<char>& marked, Marking marking,
-                            double target = 0);
-/// refinement_threshold on a distributed mesh: `own` flags this process's triangles; the
-/// threshold is the whole mesh's, found with the other processes (`sum` over them).
-double shared_refinement_threshold(const std::vector<double>& eta, const std::vector<char>& marked,
-                                   const std::vector<char>& own, Marking marking, double target,
-                                   const std::function<void(double*, std::size_t)>& sum);
 
 }  // namespace rgbmesh::adapt

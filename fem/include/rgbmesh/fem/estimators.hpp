@@ -6,6 +6,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "rgbmesh/fem/problem.hpp"
@@ -110,5 +112,46 @@ double laplace_beltrami(const SurfaceMesh& mesh, std::size_t triangle, const std
 /// The Zienkiewicz-Zhu estimator: η_T = ‖G_h - ∇u_h‖_T, with G_h the piecewise linear field of
 /// area-weighted averages of ∇u_h at the vertices, projected onto each triangle's plane.
 Estimate zz_estimator(const SurfaceMesh& mesh, const Eigen::VectorXd& u, const WorkShare& share = {});
+
+/// An a posteriori error estimator: what the adaptive loop (adapt::AdaptOptions::estimator)
+/// asks for the indicators of a solved cycle. Derive from it to drive adaptation by your own
+/// indicators, as MFEM's ErrorEstimator is used; make_estimator gives the built-in ones by name.
+class ErrorEstimator {
+ public:
+  virtual ~ErrorEstimator() = default;
+  /// Per-triangle indicators η_T of the solution u of `problem` on `mesh` (one per FE
+  /// triangle) and their total sqrt(Σ η_T²). On several processes (share.part not empty)
+  /// compute the triangles for which share.computes(t) holds and fill in the others with
+  /// share.gather, as the built-in estimators do; the adaptive loop forms the total of a
+  /// distributed mesh itself. Called from one thread at a time.
+  virtual Estimate estimate(const SurfaceMesh& mesh, const Problem& problem, const Eigen::VectorXd& u,
+                            const WorkShare& share) const = 0;
+};
+
+/// residual_estimator as an ErrorEstimator.
+class ResidualEstimator final : public ErrorEstimator {
+ public:
+  Estimate estimate(const SurfaceMesh& mesh, const Problem& problem, const Eigen::VectorXd& u,
+                    const WorkShare& share) const override;
+};
+
+/// zz_estimator as an ErrorEstimator (the problem is not used).
+class ZzEstimator final : public ErrorEstimator {
+ public:
+  Estimate estimate(const SurfaceMesh& mesh, const Problem& problem, const Eigen::VectorXd& u,
+                    const WorkShare& share) const override;
+};
+
+/// One row of the table of estimators by name, which the command line's --estimator and
+/// Python's estimator= both read (adding an estimator: its class, and a row here).
+struct NamedEstimator {
+  const char* name;
+  const char* description;
+  std::shared_ptr<const ErrorEstimator> (*make)();
+};
+/// Every built-in estimator: "residual", "zz".
+const std::vector<NamedEstimator>& estimator_table();
+/// The estimator of that name; InputError naming the choices otherwise.
+std::shared_ptr<const ErrorEstimator> make_estimator(const std::string& name);
 
 }  // namespace rgbmesh::fem
