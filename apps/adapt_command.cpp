@@ -552,6 +552,159 @@ bool is_vtk_xml(const std::string& path) {
 
 }  // namespace
 
+// An adapt run's files in its folder: each cycle's mesh (whole, or this process's piece and the
+// summary joining them), the .pvd series and the report, written after every cycle so that
+// ParaView and --resume can use them while the run goes on; and the row printed per cycle.
+class RunFiles {
+ public:
+  // A resumed run goes on with its folder's series and report.
+  RunFiles(const AdaptArgs& a, const Settings& s, const PriorRun* prior)
+      : a_(a), s_(s), prior_(prior), dir_(a.out) {
+    if (!prior) return;
+    progress_ = prior->done;
+    for (const auto& r : progress_.cycles) {
+      // The earlier run's pieces' summary where it was run on several processes.
+      const std::string summary = series_file(s.moving, r.cycle, a.order, true);
+      const bool in_pieces = fs::exists(dir_ / summary);
+      series_.emplace_back(s.moving ? r.time : r.cycle,
+                           in_pieces ? summary : series_file(s.moving, r.cycle, a.order));
+    }
+    resumed_ = prior->resumed;
+    resumed_.push_back(a.command_line);
+  }
+
+  const fs::path& dir() const { return dir_; }
+  std::size_t files() const { return series_.size(); }
+  // What has been computed so far, for the report.
+  adapt::AdaptRun& progress() { return progress_; }
+
+  void write_cycle(const adapt::CycleState& c) {
+    const auto t_output = std::chrono::steady_clock::now();
+    const auto& r = c.report;
+    const std::string file = cycle_file(s_.moving, r.cycle);
+    const bool pieces = a_.processes > 1 && c.solved && !c.solved->triangle_part.empty();
+    const MeshSnapshot snapshot = adapt::snapshot(c);
+    // The whole mesh with its RGB state (what --resume reads), by rank 0; on several
+    // processes also each process's piece and the summary that joins them for ParaView.
+    // (A distributed mesh: no process has the whole, only pieces are written.)
+    if (a_.writes && !s_.options.distribution.distributed_mesh)
+      write_mesh(dir_ / file, snapshot, output_options((dir_ / file).string(), a_.compression));
+    // (P2 too: its pieces' states are what --resume reads.)
+    if (pieces && (a_.order == 1 || s_.options.distribution.distributed_mesh)) {
+      const std::string mine = piece_file(s_.moving, r.cycle, a_.rank);
+      MeshSnapshot piece = snapshot_piece(snapshot, c.solved->triangle_part, a_.rank);
+      piece.piece_state = c.solved->piece_state;
+      write_mesh(dir_ / mine, piece, output_options((dir_ / mine).string(), a_.compression));
+      if (a_.writes) {
+        std::vector<std::string> all;
+        for (int q = 0; q < a_.processes; ++q) all.push_back(piece_file(s_.moving, r.cycle, q));
+        write_pvtp(dir_ / series_file(s_.moving, r.cycle, 1, true), snapshot, all);
+      }
+    }
+    if (a_.order == 2 && pieces) {
+      // P2 on several processes: each process its piece, rank 0 the summary.
+      const adapt::QuadraticSnapshot q = adapt::quadratic_snapshot(c);
+      const adapt::QuadraticSnapshot piece = adapt::quadratic_piece(q, c.solved->triangle_part, a_.rank);
+      const std::string mine = piece_file(s_.moving, r.cycle, a_.rank, 2);
+      write_quadratic_triangles(dir_ / mine, piece.points, piece.cells, piece.point_data, piece.cell_data,
+                                output_options((dir_ / mine).string(), a_.compression));
+      if (a_.writes) {
+        std::vector<std::string> all;
+        for (int k = 0; k < a_.processes; ++k) all.push_back(piece_file(s_.moving, r.cycle, k, 2));
+        write_quadratic_pvtu(dir_ / series_file(s_.moving, r.cycle, 2, true), q.point_data, q.cell_data, all);
+      }
+    } else if (a_.order == 2 && a_.writes) {
+      const std::string p2 = series_file(s_.moving, r.cycle, 2);
+      const adapt::QuadraticSnapshot q = adapt::quadratic_snapshot(c);
+      write_quadratic_triangles(dir_ / p2, q.points, q.cells, q.point_data, q.cell_data,
+                                output_options((dir_ / p2).string(), a_.compression));
+    }
+    series_.emplace_back(s_.moving ? r.time : r.cycle, series_file(s_.moving, r.cycle, a_.order, pieces));
+    if (a_.writes) write_pvd(dir_ / "solution.pvd", series_);  // after every cycle: usable while running
+    progress_.cycles.push_back(r);
+    progress_.cycles.back().output_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_output).count();
+    write_report(report_json("running", "", ""));
+    std::cout << number(r.cycle, "%5.0f") << (s_.moving ? number(r.time, "%7.3f") : "")
+              << number(static_cast<double>(r.triangles), "%11.0f")
+              << number(static_cast<double>(r.dofs), "%10.0f") << number(r.estimate, "%12.4e")
+              << (r.error_l2 ? number(*r.error_l2, "%12.4e") : std::string(12, ' '))
+              << (r.error_h1 ? number(*r.error_h1, "%12.4e") : std::string(12, ' '))
+              << number(r.seconds, "%9.3f") << std::endl;
+  }
+
+  void finished(const adapt::AdaptRun& run, const std::string& message) {
+    progress_ = run;
+    write_report(report_json("finished", adapt::to_string(run.stopped), message));
+  }
+
+  // A failure while the run works (a full disk, the memory) would leave the last report saying
+  // "running": it says "failed" and why, where the report can still be written (a failed large
+  // write has removed its temporary).
+  void failed(const std::string& why) noexcept {
+    try {
+      write_report(report_json("failed", "error", why));
+    } catch (const std::exception&) {
+    }
+  }
+
+ private:
+  std::string report_json(const char* status, const std::string& stopped, const std::string& message) const {
+    JsonObject j;
+    j.add("version", RGBMESH_VERSION)
+        .add("command", prior_ ? prior_->command : a_.command_line)
+        .add("status", status);
+    if (!resumed_.empty()) {
+      std::string lines;
+      for (const auto& line : resumed_) lines += (lines.empty() ? "" : ", ") + JsonObject::quote(line);
+      j.raw("resumed_", "[" + lines + "]");
+    }
+    j.raw("stopped", stopped.empty() ? "null" : JsonObject::quote(stopped));
+    j.add("stop_message", message);
+    j.add("mesh", s_.mesh_name)
+        .add("problem", s_.problem)
+        .add("strategy", a_.strategy)
+        .add("marking", s_.marking);
+    j.raw("theta", exact(a_.theta))
+        .add("estimator", s_.estimator)
+        .add("order", a_.order)
+        .add("solver", a_.solver)
+        .add("geometry", s_.geometry);
+    j.raw("coarsen", exact(s_.options.coarsen_below))
+        .add("min_level", a_.min_level)
+        .add("max_cycles", s_.options.max_cycles);
+    j.raw("target_error", exact(a_.target_error)).add("max_dofs", static_cast<std::int64_t>(a_.max_dofs));
+    if (s_.moving) j.add("steps", s_.dynamic.steps).add("cycles_per_step", s_.dynamic.cycles_per_step);
+    if (s_.problem == "gaussian") {
+      j.raw("center", "[" + number(s_.center.x, "%.17g") + ", " + number(s_.center.y, "%.17g") + ", " +
+                          number(s_.center.z, "%.17g") + "]");
+      j.raw("width", exact(s_.width));
+    }
+    if (s_.moving) {
+      j.raw("target_estimate", exact(progress_.target_estimate));
+      j.raw("start_cycles", cycles_json(progress_.start, false));
+    }
+    j.raw("cycles", cycles_json(progress_.cycles, s_.moving));
+    return j.str() + "\n";
+  }
+
+  // The report goes into the run's folder (what --resume reads), and to --report FILE.
+  void write_report(const std::string& json) const {
+    if (!a_.writes) return;
+    const fs::path run_report = dir_ / "report.json";
+    write_text_atomically(run_report, json);
+    if (!a_.report.empty() && !same_path(a_.report, run_report)) write_text_atomically(a_.report, json);
+  }
+
+  const AdaptArgs& a_;
+  const Settings& s_;
+  const PriorRun* prior_;
+  fs::path dir_;
+  std::vector<std::pair<double, std::string>> series_;
+  adapt::AdaptRun progress_;
+  std::vector<std::string> resumed_;
+};
+
 int run_adapt(const AdaptArgs& args) {
   // One run per folder (run_lock.hpp). A resumed run's folder is locked before its report is
   // read (a run still writing it is refused); a missing one is read_prior_run's to refuse.
@@ -628,59 +781,7 @@ int run_adapt(const AdaptArgs& args) {
     lock.emplace(dir);
     prepare_output_directory(dir);
   }
-  std::vector<std::pair<double, std::string>> series;
-  adapt::AdaptRun progress;  // what has been computed so far, for the report
-  std::vector<std::string> resumed;
-  if (prior) {
-    progress = prior->done;
-    for (const auto& r : progress.cycles) {
-      // The earlier run's pieces' summary where it was run on several processes.
-      const std::string summary = series_file(s.moving, r.cycle, a.order, true);
-      const bool in_pieces = fs::exists(dir / summary);
-      series.emplace_back(s.moving ? r.time : r.cycle, in_pieces ? summary : series_file(s.moving, r.cycle, a.order));
-    }
-    resumed = prior->resumed;
-    resumed.push_back(a.command_line);
-  }
-  auto report_json = [&](const char* status, const std::string& stopped, const std::string& message) {
-    JsonObject j;
-    j.add("version", RGBMESH_VERSION).add("command", prior ? prior->command : a.command_line).add("status", status);
-    if (!resumed.empty()) {
-      std::string lines;
-      for (const auto& line : resumed) lines += (lines.empty() ? "" : ", ") + JsonObject::quote(line);
-      j.raw("resumed", "[" + lines + "]");
-    }
-    j.raw("stopped", stopped.empty() ? "null" : JsonObject::quote(stopped));
-    j.add("stop_message", message);
-    j.add("mesh", s.mesh_name).add("problem", s.problem).add("strategy", a.strategy).add("marking", s.marking);
-    j.raw("theta", exact(a.theta))
-        .add("estimator", s.estimator)
-        .add("order", a.order)
-        .add("solver", a.solver)
-        .add("geometry", s.geometry);
-    j.raw("coarsen", exact(s.options.coarsen_below)).add("min_level", a.min_level).add("max_cycles", s.options.max_cycles);
-    j.raw("target_error", exact(a.target_error)).add("max_dofs", static_cast<std::int64_t>(a.max_dofs));
-    if (s.moving) j.add("steps", s.dynamic.steps).add("cycles_per_step", s.dynamic.cycles_per_step);
-    if (s.problem == "gaussian") {
-      j.raw("center", "[" + number(s.center.x, "%.17g") + ", " + number(s.center.y, "%.17g") + ", " +
-                          number(s.center.z, "%.17g") + "]");
-      j.raw("width", exact(s.width));
-    }
-    if (s.moving) {
-      j.raw("target_estimate", exact(progress.target_estimate));
-      j.raw("start_cycles", cycles_json(progress.start, false));
-    }
-    j.raw("cycles", cycles_json(progress.cycles, s.moving));
-    return j.str() + "\n";
-  };
-  // The report goes into the run's folder (what --resume reads), and to --report FILE.
-  const fs::path run_report = dir / "report.json";
-  auto write_report = [&](const std::string& json) {
-    if (!a.writes) return;
-    write_text_atomically(run_report, json);
-    if (!a.report.empty() && !same_path(a.report, run_report)) write_text_atomically(a.report, json);
-  };
-
+  RunFiles files(a, s, prior ? &*prior : nullptr);
   if (prior)
     std::cout << "rgbmesh adapt: resuming " << dir.string() << " after " << (s.moving ? "step " : "cycle ")
               << prior->done.cycles.back().cycle << "\n";
@@ -690,75 +791,14 @@ int run_adapt(const AdaptArgs& args) {
             << (a.processes > 1 ? ", on " + std::to_string(a.processes) + " processes" : std::string()) << "\n"
             << (s.moving ? " step   time" : "cycle")
             << "  triangles      dofs    estimate    error_L2    error_H1  seconds\n";
-  auto on_cycle = [&](const adapt::CycleState& c) {
-    const auto t_output = std::chrono::steady_clock::now();
-    const auto& r = c.report;
-    const std::string file = cycle_file(s.moving, r.cycle);
-    const bool pieces = a.processes > 1 && c.solved && !c.solved->triangle_part.empty();
-    const MeshSnapshot snapshot = adapt::snapshot(c);
-    // The whole mesh with its RGB state (what --resume reads), by rank 0; on several
-    // processes also each process's piece and the summary that joins them for ParaView.
-    // (A distributed mesh: no process has the whole, only pieces are written.)
-    if (a.writes && !s.options.distribution.distributed_mesh)
-      write_mesh(dir / file, snapshot, output_options((dir / file).string(), a.compression));
-    // (P2 too: its pieces' states are what --resume reads.)
-    if (pieces && (a.order == 1 || s.options.distribution.distributed_mesh)) {
-      const std::string mine = piece_file(s.moving, r.cycle, a.rank);
-      MeshSnapshot piece = snapshot_piece(snapshot, c.solved->triangle_part, a.rank);
-      piece.piece_state = c.solved->piece_state;
-      write_mesh(dir / mine, piece, output_options((dir / mine).string(), a.compression));
-      if (a.writes) {
-        std::vector<std::string> all;
-        for (int q = 0; q < a.processes; ++q) all.push_back(piece_file(s.moving, r.cycle, q));
-        write_pvtp(dir / series_file(s.moving, r.cycle, 1, true), snapshot, all);
-      }
-    }
-    if (a.order == 2 && pieces) {
-      // P2 on several processes: each process its piece, rank 0 the summary.
-      const adapt::QuadraticSnapshot q = adapt::quadratic_snapshot(c);
-      const adapt::QuadraticSnapshot piece = adapt::quadratic_piece(q, c.solved->triangle_part, a.rank);
-      const std::string mine = piece_file(s.moving, r.cycle, a.rank, 2);
-      write_quadratic_triangles(dir / mine, piece.points, piece.cells, piece.point_data, piece.cell_data,
-                                output_options((dir / mine).string(), a.compression));
-      if (a.writes) {
-        std::vector<std::string> all;
-        for (int k = 0; k < a.processes; ++k) all.push_back(piece_file(s.moving, r.cycle, k, 2));
-        write_quadratic_pvtu(dir / series_file(s.moving, r.cycle, 2, true), q.point_data, q.cell_data, all);
-      }
-    } else if (a.order == 2 && a.writes) {
-      const std::string p2 = series_file(s.moving, r.cycle, 2);
-      const adapt::QuadraticSnapshot q = adapt::quadratic_snapshot(c);
-      write_quadratic_triangles(dir / p2, q.points, q.cells, q.point_data, q.cell_data,
-                                output_options((dir / p2).string(), a.compression));
-    }
-    series.emplace_back(s.moving ? r.time : r.cycle, series_file(s.moving, r.cycle, a.order, pieces));
-    if (a.writes) write_pvd(dir / "solution.pvd", series);  // after every cycle: usable while running
-    progress.cycles.push_back(r);
-    progress.cycles.back().output_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_output).count();
-    write_report(report_json("running", "", ""));
-    std::cout << number(r.cycle, "%5.0f") << (s.moving ? number(r.time, "%7.3f") : "")
-              << number(static_cast<double>(r.triangles), "%11.0f") << number(static_cast<double>(r.dofs), "%10.0f")
-              << number(r.estimate, "%12.4e") << (r.error_l2 ? number(*r.error_l2, "%12.4e") : std::string(12, ' '))
-              << (r.error_h1 ? number(*r.error_h1, "%12.4e") : std::string(12, ' ')) << number(r.seconds, "%9.3f")
-              << std::endl;
-  };
-  // A failure while the run works (a full disk, the memory) would leave the last report
-  // saying "running": it says "failed" and why, where the report can still be written (a
-  // failed large write has removed its temporary). The error goes on to the caller.
-  const auto report_failure = [&](const std::string& why) {
-    try {
-      write_report(report_json("failed", "error", why));
-    } catch (const std::exception&) {
-    }
-  };
+  const auto on_cycle = [&files](const adapt::CycleState& c) { files.write_cycle(c); };
   adapt::AdaptRun run;
   std::string message;
   try {
     if (s.moving) {
       s.dynamic.on_started = [&](const std::vector<adapt::CycleReport>& start, double target) {
-        progress.start = start;
-        progress.target_estimate = target;
+        files.progress().start = start;
+        files.progress().target_estimate = target;
         std::cout << "  (adapted to the start in " << start.size() << " cycles: " << start.back().dofs
                   << " unknowns, estimate " << number(start.back().estimate, "%.4e");
         if (s.options.marking->marks_by_target())
@@ -777,16 +817,15 @@ int run_adapt(const AdaptArgs& args) {
       run.target_estimate = prior->done.target_estimate;
     }
     // (The times of writing each cycle are the tool's own: measured above.)
-    for (std::size_t i = 0; i < run.cycles.size() && i < progress.cycles.size(); ++i)
-      run.cycles[i].output_seconds = progress.cycles[i].output_seconds;
-    progress = run;
+    for (std::size_t i = 0; i < run.cycles.size() && i < files.progress().cycles.size(); ++i)
+      run.cycles[i].output_seconds = files.progress().cycles[i].output_seconds;
     message = stop_message(run.stopped, s, a, run);
-    write_report(report_json("finished", adapt::to_string(run.stopped), message));
+    files.finished(run, message);
   } catch (const std::bad_alloc&) {
-    report_failure("out of memory");
+    files.failed("out of memory");
     throw;
   } catch (const std::exception& e) {
-    report_failure(e.what());
+    files.failed(e.what());
     throw;
   }
   if (a.processes > 1) {
@@ -796,10 +835,102 @@ int run_adapt(const AdaptArgs& args) {
               << " MB sent between them in all (bytes_sent in the report, per cycle)\n";
   }
   std::cout << "stopped: " << message << "\n"
-            << "wrote " << series.size() << " files and " << (dir / "solution.pvd").string()
+            << "wrote " << files.files() << " files and " << (files.dir() / "solution.pvd").string()
             << " (open the .pvd in ParaView: color by 'solution', 'error_indicator' or 'level')\n";
   if (run.stopped == adapt::StopReason::memory) throw ResourceError("adapt: " + message);
   return 0;
+}
+
+void AdaptCommand::add(CLI::App& tool, CompressionOption& compression) {
+  app = tool.add_subcommand(
+      "adapt",
+      "Error-driven adaptive finite elements: solve, estimate, mark, refine and coarsen, repeat.\n"
+      "Writes one .vtp per cycle (or time step) and a .pvd series for ParaView into --out.\n"
+      "Under mpirun -np P the processes share each cycle's work (the same results; each writes its\n"
+      "piece, joined by a .pvtp or .pvtu summary) and the mesh itself (each process holds its part;\n"
+      "--resume joins the pieces); --min-level K sets the floor whose units they share.");
+  // (Empty is refused: an unset shell variable would silently give the icosahedron.)
+  app->add_option("--mesh", args.mesh, "Base mesh (default: an embedded icosahedron)")->check(kNonEmptyPath);
+  app->add_flag("--triangulate", args.triangulate,
+                "Fan-split the mesh's polygons with more than three vertices");
+  app->add_flag("--repair", args.repair, kRepairHelp);
+  app->add_option(
+      "--problem", args.problem,
+      "sphere-harmonic, sphere-peak, moving-peak (exact solutions on the unit sphere) or gaussian "
+      "(a source on any surface) [default: sphere-peak; gaussian with --mesh]");
+  app->add_option("--strategy", args.strategy, "adaptive or uniform")->capture_default_str();
+  app->add_option(
+      "--marking", args.marking,
+      choices_help(adapt::marking_table()) +
+          " (equidistribution needs --target-error) [default: dorfler; equidistribution for moving-peak]");
+  app->add_option("--theta", args.theta, "Marking parameter of dorfler and fraction, in (0, 1]")
+      ->capture_default_str()
+      ->check(number_in("a number in (0, 1]", [](double x) { return x > 0 && x <= 1; }));
+  app->add_option("--estimator", args.estimator, choices_help(fem::estimator_table()))->capture_default_str();
+  app->add_option("--order", args.order,
+                  "finite elements: 1 (linear) or 2 (quadratic, isoparametric on the surface)")
+      ->capture_default_str();
+  app->add_option(
+         "--coarsen", args.coarsen,
+         "Remove vertices whose largest indicator over their star is below this times the refinement "
+         "threshold, in [0, 1) [default: 0.25 for moving-peak, else 0]")
+      ->check(number_in("a number in [0, 1)", [](double x) { return x >= 0 && x < 1; }));
+  app->add_option("--min-level", args.min_level,
+                  "A floor: the mesh is refined to this level first and never coarsened below it")
+      ->capture_default_str()
+      ->check(number_in("an integer in [0, " + std::to_string(kMaxLevel) + "]",
+                        [](double x) { return x >= 0 && x <= kMaxLevel; }));
+  app->add_option(
+         "--cycles", args.cycles,
+         "Maximum number of cycles; for moving-peak, the cycles adapting to the start [default: 20; 8]")
+      ->check(number_in("an integer in [1, 1000000]", [](double x) { return x >= 1 && x <= 1e6; }));
+  app->add_option("--steps", args.steps, "Time steps of moving-peak")
+      ->capture_default_str()
+      ->check(number_in("an integer in [1, 1000000]", [](double x) { return x >= 1 && x <= 1e6; }));
+  app->add_option(
+         "--target-error", args.target_error,
+         "Stop once the estimate is at most this; for moving-peak and equidistribution, the error every "
+         "step is kept at [moving-peak: the estimate reached at the start]")
+      ->check(number_in("a finite number >= 0", [](double x) { return x >= 0 && std::isfinite(x); }));
+  app->add_option("--max-dofs", args.max_dofs, "Never solve on a mesh with more unknowns")
+      ->capture_default_str()
+      ->check(number_in("an integer in [1, 2^40]", [](double x) { return x >= 1 && x <= 1099511627776.0; }));
+  app->add_option("--geometry", args.geometry,
+                  "loop (vertices on the Loop limit surface) or sphere (projected onto the unit sphere) "
+                  "[default: sphere for the sphere problems, else loop]");
+  app->add_option("--center", args.center, "gaussian: the source's centre [default: the first vertex]")
+      ->delimiter(',')
+      ->type_name("X,Y,Z")
+      ->expected(3);
+  app->add_option("--width", args.width, "gaussian: the source's width sigma [default: diagonal / 20]")
+      ->check(number_in("a finite number > 0", [](double x) { return x > 0 && std::isfinite(x); }));
+  app->add_option(
+         "--solver", args.solver,
+         "auto, ldlt, cg, cholmod or amg (CG with algebraic multigrid: hypre BoomerAMG through PETSc)")
+      ->capture_default_str();
+  out = app->add_option("--out", args.out, "Output directory")->capture_default_str()->check(kNonEmptyPath);
+  compression.add_to(*app);
+  app->add_option("--report", args.report,
+                  "Also write the JSON report (settings, cycles, why the run stopped; always written as "
+                  "DIR/report.json) to this file, after every cycle")
+      ->check(kNonEmptyPath);
+  app->add_option("--resume", args.resume,
+                  "Continue the run in this folder from its last cycle, with its settings (--cycles and "
+                  "--max-dofs may extend it)")
+      ->type_name("DIR")
+      ->check(kNonEmptyPath);
+}
+
+void AdaptCommand::settle_given() {
+  for (const char* name :
+       {"--mesh",    "--problem",   "--strategy", "--marking", "--theta",        "--estimator", "--order",
+        "--coarsen", "--min-level", "--cycles",   "--steps",   "--target-error", "--max-dofs",  "--geometry",
+        "--center",  "--width",     "--solver",   "--out",     "--triangulate",  "--repair"}) {
+    if (app->count(name) > 0) args.given.insert(name);
+  }
+  if (app->parsed() && !args.resume.empty() && args.repair)
+    throw InputError(
+        "--repair: does not apply with --resume (the mesh is the run's last cycle, restored exactly)");
 }
 
 }  // namespace rgbmesh::cli

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_options.hpp"
 #include "rgbmesh/adapt/adaptive.hpp"
 #include "rgbmesh/fem/solver.hpp"
 #include "rgbmesh/vtk_io.hpp"
@@ -51,6 +52,17 @@ struct AdaptArgs {
   bool writes = true;
   int processes = 1, rank = 0;
   std::function<void(adapt::AdaptOptions&, bool may_distribute_mesh)> distribute;
+};
+
+// The subcommand's options on the tool, bound to `args` (the object must stay where add() saw it).
+struct AdaptCommand {
+  CLI::App* app = nullptr;
+  CLI::Option* out = nullptr;
+  AdaptArgs args;
+  void add(CLI::App& tool, CompressionOption& compression);
+  // Once parsed: the options given (AdaptArgs::given, for the refusals that depend on the
+  // problem); an InputError for combinations refused before any work.
+  void settle_given();
 };
 
 // Checks the arguments against each other and the mesh, runs, writes everything; returns the

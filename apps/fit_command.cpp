@@ -311,4 +311,51 @@ int run_fit(const FitArgs& a) {
   return 0;
 }
 
+void FitCommand::add(CLI::App& tool, CompressionOption& compression) {
+  app = tool.add_subcommand(
+      "fit",
+      "Fit a Loop subdivision surface to points: move the base mesh's control points so that the\n"
+      "limit surface passes through the targets (Ceres). Writes base.obj, fitted_base.obj,\n"
+      "initial_limit_surface.vtp, limit_surface.vtp and targets.vtp into --out.");
+  app->add_option("--target", args.target,
+                  "Target points: a point cloud (" + supported_point_cloud_extensions() +
+                      ", or a mesh format without faces) or a mesh (its vertices)")
+      ->required()
+      ->check(kNonEmptyPath);
+  auto* fit_base = app->add_option("--base", args.base, "Base mesh (its points are the starting controls)")
+                       ->check(kNonEmptyPath);
+  app->add_option(
+         "--base-faces", args.base_faces,
+         "Without --base: triangles of the base built from the target (decimated, or reconstructed from a "
+         "cloud and decimated)")
+      ->capture_default_str()
+      ->check(number_in("an integer in [4, 10^8]", [](double x) { return x >= 4 && x <= 1e8; }))
+      ->excludes(fit_base);
+  app->add_flag("--triangulate", args.triangulate, "Fan-split polygons of the --target and --base faces");
+  app->add_flag(
+      "--ignore-faces", args.ignore_faces,
+      "Fit the --target's vertices as a point cloud, whatever its faces (by default a mesh target is "
+      "the surface its faces make)");
+  app->add_option(
+         "--reconstruction", args.reconstruction,
+         "How a point cloud's base surface is reconstructed: automatic (Poisson where the points enclose a "
+         "volume, else advancing front), poisson (closed) or advancing-front (open where the points are)")
+      ->capture_default_str();
+  app->add_flag("--repair", args.repair,
+                "Repair the --target faces and the --base mesh first (as info --repair)");
+  app->add_option("--levels", args.levels, "Uniform level of the limit surface used in the fit")
+      ->capture_default_str()
+      ->check(number_in("an integer in [1, 6]", [](double x) { return x >= 1 && x <= 6; }));
+  app->add_option("--loss", args.loss, "huber, cauchy or none")->capture_default_str();
+  app->add_option("--smooth", args.smooth, "Weight of the control-net smoothness term")
+      ->capture_default_str()
+      ->check(number_in("a finite number >= 0", [](double x) { return x >= 0 && std::isfinite(x); }));
+  app->add_option("--iterations", args.iterations, "Maximum outer iterations")
+      ->capture_default_str()
+      ->check(number_in("an integer in [1, 1000]", [](double x) { return x >= 1 && x <= 1000; }));
+  out = app->add_option("--out", args.out, "Output directory")->capture_default_str()->check(kNonEmptyPath);
+  app->add_option("--report", args.report, "Write a JSON report to this file")->check(kNonEmptyPath);
+  compression.add_to(*app);
+}
+
 }  // namespace rgbmesh::cli

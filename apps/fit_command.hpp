@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <string>
 
+#include "cli_options.hpp"
 #include "rgbmesh/vtk_io.hpp"
 
 namespace rgbmesh::cli {
@@ -44,5 +45,13 @@ struct FitArgs {
 // fitted surface fails the two-sided check (after the files are written, so that the user can
 // see where); ResourceError when a stage passes the memory ceiling.
 int run_fit(const FitArgs& args);
+
+// The subcommand's options on the tool, bound to `args` (the object must stay where add() saw it).
+struct FitCommand {
+  CLI::App* app = nullptr;
+  CLI::Option* out = nullptr;
+  FitArgs args;
+  void add(CLI::App& tool, CompressionOption& compression);
+};
 
 }  // namespace rgbmesh::cli

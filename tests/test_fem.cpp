@@ -6,19 +6,18 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/SparseCholesky>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numeric>
 
+#include "rgbmesh/detail/parallel_for.hpp"
 #include "rgbmesh/fem/estimators.hpp"
 #include "rgbmesh/fem/solver.hpp"
-#include "rgbmesh/parallel.hpp"
 #include "rgbmesh/refinement.hpp"
-#include "test_rates.hpp"
 #include "rgbmesh/soup.hpp"
 #include "test_meshes.hpp"
+#include "test_rates.hpp"
 
 namespace rgbmesh::fem {
 namespace {

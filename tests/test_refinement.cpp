@@ -9,9 +9,9 @@
 #include <tuple>
 
 #include "rgbmesh/canonical.hpp"
+#include "rgbmesh/detail/parallel_for.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
-#include "rgbmesh/parallel.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "test_meshes.hpp"
 

@@ -123,7 +123,7 @@ void random_operation(RgbMesh& a, RgbMesh& b, Correspondence& c, std::mt19937_64
   if (rng() % 2 == 0) {
     const TriangleHandle t = ts[rng() % ts.size()];
     std::vector<EdgeHandle> edges;
-    edges_raising(a, t, edges);
+    a.raising_edges(t, edges);
     if (edges.empty() || a.level(edges[0]) + 1 >= max_level) return;
     const auto ends = a.edge_vertices(edges[rng() % edges.size()]);
     const EdgeHandle eb = b.find_edge(c(ends[0]), c(ends[1]));

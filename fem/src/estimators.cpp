@@ -6,7 +6,7 @@
 #include <string>
 #include <unordered_map>
 
-#include "parallel.hpp"
+#include "for_each_index.hpp"
 #include "rgbmesh/errors.hpp"
 #include "source_samples.hpp"
 

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "amg.hpp"
-#include "parallel.hpp"
+#include "for_each_index.hpp"
 #include "rgbmesh/soup.hpp"
 #include "rgbmesh/timing.hpp"
 #include "source_samples.hpp"
@@ -397,6 +397,179 @@ SparseMatrix assemble(const SurfaceMesh& mesh, const Problem& problem, const Wor
 
 }  // namespace
 
+namespace {
+
+// A sum over the processes of a shared solve (the value itself on one process).
+double total_over(const WorkShare& share, double value) {
+  if (share.sum) share.sum(&value, 1);
+  return value;
+}
+
+// What a solve holds fixed: the Dirichlet DOFs with their data and, for a problem without
+// Dirichlet boundary and c = 0, one DOF and the zero-mean condition.
+struct Constraints {
+  std::vector<char> fixed;  // per DOF
+  Eigen::VectorXd u;        // the fixed DOFs' values, 0 elsewhere
+  bool zero_mean = false;
+  double mean_load = 0;  // ∫f + ∫h, removed in the zero-mean case
+};
+
+Constraints constrain(const SurfaceMesh& mesh, const Problem& problem, const WorkShare& share, bool shared,
+                      const Eigen::VectorXd& b) {
+  const auto n = static_cast<Eigen::Index>(mesh.num_dofs());
+  Constraints c;
+  c.fixed = dirichlet_dofs(mesh, problem);
+  c.u = Eigen::VectorXd::Zero(n);
+  if (problem.dirichlet && problem.dirichlet_values)
+    throw InputError("problem '" + problem.name + "': both dirichlet and dirichlet_values are set (give one)");
+  std::vector<Eigen::Index> fixed_dofs;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (c.fixed[i]) fixed_dofs.push_back(i);
+  }
+  bool any_dirichlet = !fixed_dofs.empty();
+  if (problem.dirichlet) {
+    for (const Eigen::Index i : fixed_dofs) c.u[i] = problem.dirichlet(mesh.lift(mesh.points[i]));
+  } else if (problem.dirichlet_values && !fixed_dofs.empty()) {
+    std::vector<Vec3> at_dofs;
+    at_dofs.reserve(fixed_dofs.size());
+    for (const Eigen::Index i : fixed_dofs) at_dofs.push_back(mesh.lift(mesh.points[i]));
+    const std::vector<double> g = detail::point_values(problem.dirichlet_values, at_dofs);
+    for (std::size_t k = 0; k < fixed_dofs.size(); ++k) c.u[fixed_dofs[k]] = g[k];
+  }
+  if (total_over(share, c.u.allFinite() ? 0.0 : 1.0) > 0)  // (decided together, as the load's check)
+    throw InputError("problem '" + problem.name + "': the Dirichlet data are not finite somewhere on the boundary");
+  // (Decided together: on a distributed mesh each process sees the boundary of its own view.)
+  if (shared) any_dirichlet = total_over(share, any_dirichlet ? 1.0 : 0.0) > 0;
+  if (!any_dirichlet && problem.c == 0) {
+    // Closed surface (or all Neumann) with c = 0: solutions differ by constants, and exist
+    // only if ∫f + ∫h = 0. Check it, make it exact for the discrete system (once the vertex
+    // areas are known), fix one value and shift the result to zero mean.
+    // The discrete load need not sum to zero even when the source has zero mean: the flat
+    // triangles' areas differ from the surface's by O(h²), unevenly on an adaptive mesh. So
+    // the check integrates the source over the surface itself (the lifted area element when
+    // a projection is known), and only a source whose mean is clearly non-zero is refused;
+    // the discrete load is then made compatible by removing its mean, as FEM codes do.
+    c.zero_mean = true;
+    const auto [total, scale] = surface_integral_of_data(mesh, problem, share);
+    if (std::abs(total) > problem.mean_tolerance * scale)
+      throw InputError("problem '" + problem.name +
+                       "': on a closed surface with c = 0 the source must have zero mean, but ∫f = " +
+                       std::to_string(total) + " (relative " +
+                       std::to_string(scale > 0 ? total / scale : 0.0) +
+                       "); use c > 0, or subtract the mean");
+    c.mean_load = total_over(share, b.sum());
+    c.fixed[0] = 1;
+  }
+  return c;
+}
+
+// The solution of the free system and how it was found.
+struct FreeSolution {
+  Eigen::VectorXd x;
+  SolverKind kind = SolverKind::automatic;  // the solver that ran
+  int iterations = 0;
+  double shared_residual = -1;  // a shared system's residual, as its solver measured it
+};
+
+// Solves a x = rhs by options' choice. Automatic: sparse LDLT for small systems; from 20,000
+// unknowns CG with algebraic multigrid (faster than CHOLMOD from about 10,000 unknowns on,
+// 0.57 x its time at 164,000, and linear in the size), else CHOLMOD; a direct solver takes
+// over if the multigrid solve fails (PETSc cannot start, no convergence). `guess` is the
+// initial guess on the free unknowns (empty: none). The hooks (a shared solver, a linear
+// solver) are multigrid on all processes: kind amg.
+FreeSolution solve_free_system(SparseMatrix& a, const Eigen::VectorXd& rhs, const Eigen::VectorXd& guess,
+                               const SolveOptions& options, const std::vector<std::int32_t>* shared_rows,
+                               const std::vector<Eigen::Index>& index, const std::string& problem_name) {
+  const Eigen::Index nf = rhs.size();
+  const auto direct = [&] {
+    if (cholmod_available()) return SolverKind::cholmod;
+    return nf <= 200000 ? SolverKind::ldlt : SolverKind::cg_ichol;
+  };
+  FreeSolution f;
+  SolverKind kind = options.solver;
+  const bool automatic = kind == SolverKind::automatic;
+  if (automatic) kind = nf < 20000 ? SolverKind::ldlt : amg_available() ? SolverKind::amg : direct();
+  const Eigen::VectorXd* initial = guess.size() > 0 ? &guess : nullptr;
+  if (shared_rows != nullptr) {
+    a.makeCompressed();
+    LinearSolution s = options.shared_solver(a, rhs, *shared_rows, index, initial, options.cg_tolerance);
+    f.x = std::move(s.x);
+    f.iterations = s.iterations;
+    f.shared_residual = s.relative_residual;
+  } else if (options.linear_solver) {
+    a.makeCompressed();
+    LinearSolution s = options.linear_solver(a, rhs, initial, options.cg_tolerance);
+    f.x = std::move(s.x);
+    f.iterations = s.iterations;
+  } else if (kind == SolverKind::amg) {
+    a.makeCompressed();
+    try {
+      detail::AmgSolution amg = detail::solve_amg(a, rhs, initial, options.cg_tolerance);
+      f.x = std::move(amg.x);
+      f.iterations = amg.iterations;
+    } catch (const std::runtime_error&) {
+      if (!automatic) throw;
+      kind = direct();
+    }
+  }
+  const bool hook = shared_rows != nullptr || options.linear_solver;
+  f.kind = hook ? SolverKind::amg : kind;
+  switch (hook ? SolverKind::automatic : kind) {
+    case SolverKind::ldlt: {
+      Eigen::SimplicialLDLT<SparseMatrix> ldlt;
+      f.x = factor_and_solve(ldlt, a, rhs, "ldlt");
+      // A zero pivot means a singular system (a part without Dirichlet boundary and c = 0).
+      const Eigen::VectorXd d = ldlt.vectorD();
+      if (d.minCoeff() <= 1e-12 * d.cwiseAbs().maxCoeff())
+        throw std::runtime_error("problem '" + problem_name +
+                                 "': the system is singular (a connected part of the mesh has no "
+                                 "Dirichlet boundary while c = 0)");
+      break;
+    }
+    case SolverKind::cholmod: {
+#if defined(RGBMESH_HAVE_CHOLMOD)
+      Eigen::CholmodSupernodalLLT<SparseMatrix> llt;
+      // One ordering, AMD: on surface meshes of a million vertices METIS's better ordering
+      // costs more to compute (6 s) than it saves in the factorization (3 s).
+      llt.cholmod().nmethods = 1;
+      llt.cholmod().method[0].ordering = CHOLMOD_AMD;
+      f.x = factor_and_solve(llt, a, rhs, "cholmod");
+#else
+      throw InputError("solver 'cholmod' is not available: rgbmesh was built without SuiteSparse");
+#endif
+      break;
+    }
+    case SolverKind::cg_ichol: {
+      Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>> cg;
+      cg.setTolerance(options.cg_tolerance);
+      cg.setMaxIterations(static_cast<Eigen::Index>(std::max<Eigen::Index>(1000, 10 * nf)));
+      cg.compute(a);
+      if (cg.info() != Eigen::Success)
+        throw std::runtime_error("cg: the incomplete Cholesky preconditioner failed (singular or indefinite system)");
+      f.x = initial != nullptr ? Eigen::VectorXd(cg.solveWithGuess(rhs, guess))
+                               : Eigen::VectorXd(cg.solve(rhs));
+      f.iterations = static_cast<int>(cg.iterations());
+      if (cg.info() != Eigen::Success)
+        throw std::runtime_error("cg: no convergence to " + std::to_string(options.cg_tolerance) + " in " +
+                                 std::to_string(cg.iterations()) + " iterations (error " + std::to_string(cg.error()) +
+                                 "); the system may be singular");
+      break;
+    }
+    case SolverKind::amg:  // solved above
+    case SolverKind::automatic:
+      break;
+  }
+  // (Each process holds only its part of a shared system: its solver measured the residual.)
+  const double relative =
+      shared_rows != nullptr ? f.shared_residual : (a * f.x - rhs).norm() / std::max(rhs.norm(), 1e-300);
+  if (!f.x.allFinite() || !(relative <= 1e-6))
+    throw std::runtime_error("problem '" + problem_name + "': the system is singular (" + to_string(kind) +
+                             " left a relative residual of " + std::to_string(relative) + ")");
+  return f;
+}
+
+}  // namespace
+
 Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptions& options) {
   if (!(problem.c >= 0) || !std::isfinite(problem.c))
     throw InputError("problem '" + problem.name + "': the coefficient c must be finite and >= 0, got " +
@@ -408,68 +581,25 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   const bool shared = !options.share.part.empty() && options.shared_solver;
   const WorkShare everything;
   const WorkShare& share = shared ? options.share : everything;
-  const auto total_of = [&share](double value) {
-    if (share.sum) share.sum(&value, 1);
-    return value;
-  };
-  Eigen::VectorXd b = shared_load_vector(mesh, problem, share);
+  const Eigen::VectorXd b = shared_load_vector(mesh, problem, share);
   // (Decided together: every process refuses, not only the one whose triangles it is.)
-  if (total_of(b.allFinite() ? 0.0 : 1.0) > 0)
-    throw InputError("problem '" + problem.name + "': the source or flux is not finite somewhere on the mesh");
-  std::vector<char> fixed = dirichlet_dofs(mesh, problem);
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
-  bool any_dirichlet = false;
-  if (problem.dirichlet && problem.dirichlet_values)
-    throw InputError("problem '" + problem.name + "': both dirichlet and dirichlet_values are set (give one)");
-  std::vector<Eigen::Index> fixed_dofs;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (!fixed[i]) continue;
-    any_dirichlet = true;
-    fixed_dofs.push_back(i);
-  }
-  if (problem.dirichlet) {
-    for (const Eigen::Index i : fixed_dofs) u[i] = problem.dirichlet(mesh.lift(mesh.points[i]));
-  } else if (problem.dirichlet_values && !fixed_dofs.empty()) {
-    std::vector<Vec3> at_dofs;
-    at_dofs.reserve(fixed_dofs.size());
-    for (const Eigen::Index i : fixed_dofs) at_dofs.push_back(mesh.lift(mesh.points[i]));
-    const std::vector<double> g = detail::point_values(problem.dirichlet_values, at_dofs);
-    for (std::size_t k = 0; k < fixed_dofs.size(); ++k) u[fixed_dofs[k]] = g[k];
-  }
-  if (total_of(u.allFinite() ? 0.0 : 1.0) > 0)  // (decided together, as the load's check)
-    throw InputError("problem '" + problem.name + "': the Dirichlet data are not finite somewhere on the boundary");
-  // (Decided together: on a distributed mesh each process sees the boundary of its own view.)
-  if (shared) any_dirichlet = total_of(any_dirichlet ? 1.0 : 0.0) > 0;
-  double mean_load = 0;  // ∫f + ∫h, removed in the zero-mean case
-  if (!any_dirichlet && problem.c == 0) {
-    // Closed surface (or all Neumann) with c = 0: solutions differ by constants, and exist
-    // only if ∫f + ∫h = 0. Check it, make it exact for the discrete system (below, once the
-    // vertex areas are known), fix one value and shift the result to zero mean.
-    // The discrete load need not sum to zero even when the source has zero mean: the flat
-    // triangles' areas differ from the surface's by O(h²), unevenly on an adaptive mesh. So
-    // the check integrates the source over the surface itself (the lifted area element when
-    // a projection is known), and only a source whose mean is clearly non-zero is refused;
-    // the discrete load is then made compatible by removing its mean, as FEM codes do.
-    sol.zero_mean = true;
-    const auto [total, scale] = surface_integral_of_data(mesh, problem, share);
-    if (std::abs(total) > problem.mean_tolerance * scale)
-      throw InputError("problem '" + problem.name + "': on a closed surface with c = 0 the source must have zero mean, but ∫f = " +
-                       std::to_string(total) + " (relative " + std::to_string(scale > 0 ? total / scale : 0.0) +
-                       "); use c > 0, or subtract the mean");
-    mean_load = total_of(b.sum());
-    fixed[0] = 1;
-  }
+  if (total_over(share, b.allFinite() ? 0.0 : 1.0) > 0)
+    throw InputError("problem '" + problem.name +
+                     "': the source or flux is not finite somewhere on the mesh");
+  Constraints constraints = constrain(mesh, problem, share, shared, b);
+  Eigen::VectorXd& u = constraints.u;
+  sol.zero_mean = constraints.zero_mean;
 
   // The system K + cM on the free DOFs, assembled directly, with the fixed values moved to
   // the right-hand side; the same pass sums the vertex areas ∫ φi.
   std::vector<Eigen::Index> index(static_cast<std::size_t>(n), -1);
   Eigen::Index nf = 0;
   for (Eigen::Index i = 0; i < n; ++i) {
-    if (!fixed[i]) index[i] = nf++;
+    if (!constraints.fixed[i]) index[i] = nf++;
   }
   // (Decided together too: a process whose view has no free unknown still takes part in the
   // others' solve.)
-  if ((shared ? total_of(static_cast<double>(nf)) : static_cast<double>(nf)) == 0) {
+  if ((shared ? total_over(share, static_cast<double>(nf)) : static_cast<double>(nf)) == 0) {
     // Every vertex is on the Dirichlet boundary (a coarse open mesh): the discrete solution is
     // the interpolant of the boundary data, and the estimators still say where to refine.
     sol.solver = options.solver == SolverKind::automatic ? SolverKind::ldlt : options.solver;
@@ -485,118 +615,30 @@ Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptio
   SparseMatrix a = assemble(mesh, problem, share, index, nf, u, rhs, area);
   if (sol.zero_mean) {
     // The compatible load b - (∫f / |Γ|) ∫φi (its free rows; the fixed row is dropped).
-    const double shift = mean_load / total_of(area.sum());
+    const double shift = constraints.mean_load / total_over(share, area.sum());
     for (Eigen::Index i = 0; i < n; ++i) {
       if (index[i] >= 0) rhs[index[i]] -= shift * area[i];
     }
   }
   sol.assembly_seconds = seconds_since(t0);
 
-  // Automatic: sparse LDLT for small systems; from 20,000 unknowns CG with algebraic multigrid
-  // (faster than CHOLMOD from about 10,000 unknowns on, 0.57 x its time at 164,000, and
-  // linear in the size), else CHOLMOD; a direct solver takes over if the multigrid solve
-  // fails (PETSc cannot start, no convergence).
-  const auto direct = [&] {
-    if (cholmod_available()) return SolverKind::cholmod;
-    return nf <= 200000 ? SolverKind::ldlt : SolverKind::cg_ichol;
-  };
-  SolverKind kind = options.solver;
-  const bool automatic = kind == SolverKind::automatic;
-  if (automatic) kind = nf < 20000 ? SolverKind::ldlt : amg_available() ? SolverKind::amg : direct();
   t0 = std::chrono::steady_clock::now();
-  Eigen::VectorXd x;
-  double shared_residual = -1;  // a shared system's residual, as its solver measured it
-  // The initial guess on the free unknowns (empty without one).
-  const auto free_guess = [&] {
-    Eigen::VectorXd guess;
-    if (options.initial_guess != nullptr && options.initial_guess->size() == n) {
-      guess.resize(nf);
-      for (Eigen::Index i = 0; i < n; ++i) {
-        if (index[i] >= 0) guess[index[i]] = (*options.initial_guess)[i];
-      }
-    }
-    return guess;
-  };
-  if (shared) {
-    const Eigen::VectorXd guess = free_guess();
-    a.makeCompressed();
-    LinearSolution s = options.shared_solver(a, rhs, row_parts(mesh, share.part, index, nf), index,
-                                             guess.size() > 0 ? &guess : nullptr, options.cg_tolerance);
-    x = std::move(s.x);
-    sol.iterations = s.iterations;
-    shared_residual = s.relative_residual;
-  } else if (options.linear_solver) {
-    const Eigen::VectorXd guess = free_guess();
-    a.makeCompressed();
-    LinearSolution s = options.linear_solver(a, rhs, guess.size() > 0 ? &guess : nullptr, options.cg_tolerance);
-    x = std::move(s.x);
-    sol.iterations = s.iterations;
-  } else if (kind == SolverKind::amg) {
-    const Eigen::VectorXd guess = free_guess();
-    a.makeCompressed();
-    try {
-      detail::AmgSolution amg = detail::solve_amg(a, rhs, guess.size() > 0 ? &guess : nullptr, options.cg_tolerance);
-      x = std::move(amg.x);
-      sol.iterations = amg.iterations;
-    } catch (const std::runtime_error&) {
-      if (!automatic) throw;
-      kind = direct();
+  Eigen::VectorXd guess;  // the initial guess on the free unknowns
+  if (options.initial_guess != nullptr && options.initial_guess->size() == n) {
+    guess.resize(nf);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (index[i] >= 0) guess[index[i]] = (*options.initial_guess)[i];
     }
   }
-  const bool hook = shared || options.linear_solver;
-  sol.solver = hook ? SolverKind::amg : kind;  // the hooks are multigrid on all processes
-  switch (hook ? SolverKind::automatic : kind) {
-    case SolverKind::ldlt: {
-      Eigen::SimplicialLDLT<SparseMatrix> ldlt;
-      x = factor_and_solve(ldlt, a, rhs, "ldlt");
-      // A zero pivot means a singular system (a part without Dirichlet boundary and c = 0).
-      const Eigen::VectorXd d = ldlt.vectorD();
-      if (d.minCoeff() <= 1e-12 * d.cwiseAbs().maxCoeff())
-        throw std::runtime_error("problem '" + problem.name + "': the system is singular (a connected part of the mesh has no "
-                                 "Dirichlet boundary while c = 0)");
-      break;
-    }
-    case SolverKind::cholmod: {
-#if defined(RGBMESH_HAVE_CHOLMOD)
-      Eigen::CholmodSupernodalLLT<SparseMatrix> llt;
-      // One ordering, AMD: on surface meshes of a million vertices METIS's better ordering
-      // costs more to compute (6 s) than it saves in the factorization (3 s).
-      llt.cholmod().nmethods = 1;
-      llt.cholmod().method[0].ordering = CHOLMOD_AMD;
-      x = factor_and_solve(llt, a, rhs, "cholmod");
-#else
-      throw InputError("solver 'cholmod' is not available: rgbmesh was built without SuiteSparse");
-#endif
-      break;
-    }
-    case SolverKind::cg_ichol: {
-      Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>> cg;
-      cg.setTolerance(options.cg_tolerance);
-      cg.setMaxIterations(static_cast<Eigen::Index>(std::max<Eigen::Index>(1000, 10 * nf)));
-      cg.compute(a);
-      if (cg.info() != Eigen::Success)
-        throw std::runtime_error("cg: the incomplete Cholesky preconditioner failed (singular or indefinite system)");
-      const Eigen::VectorXd guess = free_guess();
-      x = guess.size() > 0 ? Eigen::VectorXd(cg.solveWithGuess(rhs, guess)) : Eigen::VectorXd(cg.solve(rhs));
-      sol.iterations = static_cast<int>(cg.iterations());
-      if (cg.info() != Eigen::Success)
-        throw std::runtime_error("cg: no convergence to " + std::to_string(options.cg_tolerance) + " in " +
-                                 std::to_string(cg.iterations()) + " iterations (error " + std::to_string(cg.error()) +
-                                 "); the system may be singular");
-      break;
-    }
-    case SolverKind::amg:  // solved above
-    case SolverKind::automatic:
-      break;
-  }
+  const std::vector<std::int32_t> shared_rows =
+      shared ? row_parts(mesh, share.part, index, nf) : std::vector<std::int32_t>();
+  const FreeSolution f =
+      solve_free_system(a, rhs, guess, options, shared ? &shared_rows : nullptr, index, problem.name);
+  sol.solver = f.kind;
+  sol.iterations = f.iterations;
   sol.solve_seconds = seconds_since(t0);
-  // (Each process holds only its part of a shared system: its solver measured the residual.)
-  const double relative = shared ? shared_residual : (a * x - rhs).norm() / std::max(rhs.norm(), 1e-300);
-  if (!x.allFinite() || !(relative <= 1e-6))
-    throw std::runtime_error("problem '" + problem.name + "': the system is singular (" + to_string(kind) +
-                             " left a relative residual of " + std::to_string(relative) + ")");
   for (Eigen::Index i = 0; i < n; ++i) {
-    if (index[i] >= 0) u[i] = x[index[i]];
+    if (index[i] >= 0) u[i] = f.x[index[i]];
   }
   if (sol.zero_mean) {
     double moments[2] = {area.dot(u), area.sum()};

@@ -4,7 +4,7 @@
 #include <tuple>
 #include <type_traits>
 
-#include "parallel.hpp"
+#include "for_each_index.hpp"
 
 namespace rgbmesh::fem::detail {
 

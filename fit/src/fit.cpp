@@ -275,6 +275,126 @@ LimitStencils limit_stencils(const TriangleMeshData& base, int level, const Stag
   return st;
 }
 
+namespace {
+
+// A noisy scan is a thick shell of points, inside which closest-point fitting keeps finding
+// closer surfaces by wrinkling: on CGAL's sphere_20k (noise 0.61 times the spacing) the
+// fitted surface's radius came to vary 6 times more than the sphere's, the RMS falling to half
+// the noise. The regularisation has to grow with the noise variance: above a noise-to-spacing
+// ratio r (clean scans and meshes measure at most 0.22 there: their "noise" is curvature) the
+// weight is multiplied by (ratio / (r/2))², 16.5 on that sphere, where 5 was not enough and
+// 10 was. Returns the factor; records the ratio (and a note when it applies) in res.
+double noise_smoothing(const std::vector<Vec3>& targets, const FitOptions& options, FitResult& res) {
+  double smooth_factor = 1;
+  if (options.noisy_above > 0) {
+    const detail::CloudScale cloud = detail::measure_scale(targets, 18);
+    const double ratio = cloud.spacing > 0 ? cloud.noise / cloud.spacing : 0;
+    res.noise_to_spacing = ratio;
+    res.noisy_targets = ratio > options.noisy_above;
+    if (ratio > options.noisy_above) {
+      smooth_factor = (ratio / (options.noisy_above / 2)) * (ratio / (options.noisy_above / 2));
+      char text[200];
+      std::snprintf(
+          text, sizeof text,
+          "the targets are noisy (%.2g, %.2g times their spacing): the smoothness weight is raised %.3g "
+          "times to keep the surface from wrinkling",
+          cloud.noise, ratio, smooth_factor);
+      res.notes.push_back(text);
+    }
+  }
+  return smooth_factor;
+}
+
+ceres::LossFunction* make_loss(Loss loss, double scale) {
+  if (loss == Loss::huber) return new ceres::HuberLoss(scale);
+  if (loss == Loss::cauchy) return new ceres::CauchyLoss(scale);
+  return nullptr;
+}
+
+// What one outer iteration fits: the targets to their footpoints on the limit surface, the
+// limit surface back to the target surface (where it is given), and the control net's
+// smoothness.
+struct IterationTerms {
+  const LimitStencils& st;
+  const std::vector<Vec3>& targets;
+  const std::vector<Footpoint>& fp;
+  const std::vector<TargetSurface::Closest>& back;
+  const std::vector<double>& area_share;
+  const std::vector<std::vector<std::int32_t>>& adj;
+};
+
+// One outer iteration's least-squares problem on the control points x (3 per point), solved.
+void solve_iteration(std::vector<double>& x, const IterationTerms& terms, const FitOptions& options, int it,
+                     double scale, double smooth) {
+  const LimitStencils& st = terms.st;
+  ceres::Problem::Options po;
+  po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  po.loss_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  const std::size_t points = x.size() / 3;
+  for (std::size_t j = 0; j < points; ++j) problem.AddParameterBlock(&x[3 * j], 3);
+  // The tangential part steadies the first iterations and fades out, so that the last ones
+  // are point-to-plane (which converges fast once the correspondences are right).
+  const double tangential = options.tangential_weight * std::pow(0.5, it - 1);
+  std::map<std::int32_t, double> coeff;
+  for (std::size_t i = 0; i < terms.targets.size(); ++i) {
+    const Footpoint& f = terms.fp[i];
+    coeff.clear();
+    const auto& t = st.triangles[static_cast<std::size_t>(f.triangle)];
+    for (int k = 0; k < 3; ++k) {
+      for (std::int32_t s = st.offset[t[k]]; s < st.offset[t[k] + 1]; ++s)
+        coeff[st.index[s]] += f.barycentric[k] * st.weight[s];
+    }
+    std::vector<double> c;
+    std::vector<double*> blocks;
+    for (const auto& [j, w] : coeff) {
+      c.push_back(w);
+      blocks.push_back(&x[3 * static_cast<std::size_t>(j)]);
+    }
+    problem.AddResidualBlock(new PointToPlane(std::move(c), f.normal, terms.targets[i], tangential),
+                             make_loss(options.loss, scale), blocks);
+  }
+  // Surface to target: each limit vertex pulled to its nearest point of the target (point to
+  // point: where the nearest point is an edge or a rim the plane alone would let the surface
+  // slide off), weighted by its share of the area so that the surface counts as much as the
+  // targets do. Without it, surface that no target's footpoint lands on is free: on a spool
+  // the fit stretched webs across its core, 10% of the diagonal from any target.
+  for (std::size_t v = 0; v < terms.back.size(); ++v) {
+    const double weight =
+        options.surface_weight * terms.area_share[v] * static_cast<double>(terms.targets.size());
+    if (!(weight > 0)) continue;
+    std::vector<double> c(st.weight.begin() + st.offset[v], st.weight.begin() + st.offset[v + 1]);
+    std::vector<double*> blocks;
+    for (std::int32_t s = st.offset[v]; s < st.offset[v + 1]; ++s)
+      blocks.push_back(&x[3 * static_cast<std::size_t>(st.index[s])]);
+    problem.AddResidualBlock(
+        new PointToPlane(std::move(c), terms.back[v].normal, terms.back[v].point, 1.0),
+        new ceres::ScaledLoss(make_loss(options.loss, scale), weight, ceres::TAKE_OWNERSHIP), blocks);
+  }
+  if (smooth > 0) {
+    for (std::size_t j = 0; j < points; ++j) {
+      if (terms.adj[j].empty()) continue;
+      std::vector<double*> blocks = {&x[3 * j]};
+      for (std::int32_t k : terms.adj[j]) blocks.push_back(&x[3 * static_cast<std::size_t>(k)]);
+      problem.AddResidualBlock(new Umbrella(static_cast<int>(terms.adj[j].size()), smooth), nullptr, blocks);
+    }
+  }
+  ceres::Solver::Options so;
+  // Conjugate gradients on the normal equations: the factorization's symbolic phase (forming
+  // the structure of JᵀJ for residuals that touch some twenty control points each) costs more
+  // than the solve, and would be redone every outer iteration.
+  so.linear_solver_type = ceres::CGNR;
+  so.preconditioner_type = ceres::JACOBI;
+  so.max_linear_solver_iterations = 50;
+  so.max_num_iterations = options.ceres_iterations;
+  so.num_threads = 2;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+}
+
+}  // namespace
+
 FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, const FitOptions& options,
               const std::function<void(const IterationReport&)>& on_iteration, const StageControl& control,
               const TargetSurface* target_surface) {
@@ -333,30 +453,7 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
     return r;
   };
 
-  // A noisy scan is a thick shell of points, inside which closest-point fitting keeps finding
-  // closer surfaces by wrinkling: on CGAL's sphere_20k (noise 0.61 times the spacing) the
-  // fitted surface's radius came to vary 6 times more than the sphere's, the RMS falling to half
-  // the noise. The regularisation has to grow with the noise variance: above a noise-to-spacing
-  // ratio r (clean scans and meshes measure at most 0.22 there: their "noise" is curvature) the
-  // weight is multiplied by (ratio / (r/2))², 16.5 on that sphere, where 5 was not enough and
-  // 10 was.
-  double smooth_factor = 1;
-  if (options.noisy_above > 0) {
-    const detail::CloudScale cloud = detail::measure_scale(targets, 18);
-    const double ratio = cloud.spacing > 0 ? cloud.noise / cloud.spacing : 0;
-    res.noise_to_spacing = ratio;
-    res.noisy_targets = ratio > options.noisy_above;
-    if (ratio > options.noisy_above) {
-      smooth_factor = (ratio / (options.noisy_above / 2)) * (ratio / (options.noisy_above / 2));
-      char text[200];
-      std::snprintf(
-          text, sizeof text,
-          "the targets are noisy (%.2g, %.2g times their spacing): the smoothness weight is raised %.3g "
-          "times to keep the surface from wrinkling",
-          cloud.noise, ratio, smooth_factor);
-      res.notes.push_back(text);
-    }
-  }
+  const double smooth_factor = noise_smoothing(targets, options, res);
   res.smooth = options.smooth * smooth_factor;
 
   auto t0 = std::chrono::steady_clock::now();
@@ -381,71 +478,7 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
   for (int it = 1; it <= options.max_iterations; ++it) {
     control.step(stage, static_cast<double>(it - 1) / options.max_iterations);
     t0 = std::chrono::steady_clock::now();
-    ceres::Problem::Options po;
-    po.cost_function_ownership = ceres::TAKE_OWNERSHIP;
-    po.loss_function_ownership = ceres::TAKE_OWNERSHIP;
-    ceres::Problem problem(po);
-    for (std::size_t j = 0; j < base.points.size(); ++j) problem.AddParameterBlock(&x[3 * j], 3);
-    // The tangential part steadies the first iterations and fades out, so that the last ones
-    // are point-to-plane (which converges fast once the correspondences are right).
-    const double tangential = options.tangential_weight * std::pow(0.5, it - 1);
-    std::map<std::int32_t, double> coeff;
-    for (std::size_t i = 0; i < targets.size(); ++i) {
-      const Footpoint& f = fp[i];
-      coeff.clear();
-      const auto& t = st.triangles[static_cast<std::size_t>(f.triangle)];
-      for (int k = 0; k < 3; ++k) {
-        for (std::int32_t s = st.offset[t[k]]; s < st.offset[t[k] + 1]; ++s) coeff[st.index[s]] += f.barycentric[k] * st.weight[s];
-      }
-      std::vector<double> c;
-      std::vector<double*> blocks;
-      for (const auto& [j, w] : coeff) {
-        c.push_back(w);
-        blocks.push_back(&x[3 * static_cast<std::size_t>(j)]);
-      }
-      ceres::LossFunction* loss = nullptr;
-      if (options.loss == Loss::huber) loss = new ceres::HuberLoss(scale);
-      if (options.loss == Loss::cauchy) loss = new ceres::CauchyLoss(scale);
-      problem.AddResidualBlock(new PointToPlane(std::move(c), f.normal, targets[i], tangential), loss, blocks);
-    }
-    // Surface to target: each limit vertex pulled to its nearest point of the target (point to
-    // point: where the nearest point is an edge or a rim the plane alone would let the surface
-    // slide off), weighted by its share of the area so that the surface counts as much as the
-    // targets do. Without it, surface that no target's footpoint lands on is free: on a spool
-    // the fit stretched webs across its core, 10% of the diagonal from any target.
-    for (std::size_t v = 0; v < back.size(); ++v) {
-      const double weight = options.surface_weight * area_share[v] * static_cast<double>(targets.size());
-      if (!(weight > 0)) continue;
-      std::vector<double> c(st.weight.begin() + st.offset[v], st.weight.begin() + st.offset[v + 1]);
-      std::vector<double*> blocks;
-      for (std::int32_t s = st.offset[v]; s < st.offset[v + 1]; ++s)
-        blocks.push_back(&x[3 * static_cast<std::size_t>(st.index[s])]);
-      ceres::LossFunction* loss = nullptr;
-      if (options.loss == Loss::huber) loss = new ceres::HuberLoss(scale);
-      if (options.loss == Loss::cauchy) loss = new ceres::CauchyLoss(scale);
-      problem.AddResidualBlock(new PointToPlane(std::move(c), back[v].normal, back[v].point, 1.0),
-                               new ceres::ScaledLoss(loss, weight, ceres::TAKE_OWNERSHIP), blocks);
-    }
-    if (smooth > 0) {
-      for (std::size_t j = 0; j < base.points.size(); ++j) {
-        if (adj[j].empty()) continue;
-        std::vector<double*> blocks = {&x[3 * j]};
-        for (std::int32_t k : adj[j]) blocks.push_back(&x[3 * static_cast<std::size_t>(k)]);
-        problem.AddResidualBlock(new Umbrella(static_cast<int>(adj[j].size()), smooth), nullptr, blocks);
-      }
-    }
-    ceres::Solver::Options so;
-    // Conjugate gradients on the normal equations: the factorization's symbolic phase (forming
-    // the structure of JᵀJ for residuals that touch some twenty control points each) costs more
-    // than the solve, and would be redone every outer iteration.
-    so.linear_solver_type = ceres::CGNR;
-    so.preconditioner_type = ceres::JACOBI;
-    so.max_linear_solver_iterations = 50;
-    so.max_num_iterations = options.ceres_iterations;
-    so.num_threads = 2;
-    so.logging_type = ceres::SILENT;
-    ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
+    solve_iteration(x, {st, targets, fp, back, area_share, adj}, options, it, scale, smooth);
     surface = st.evaluate(control_points());
     fp = footpoints(surface, st.triangles, targets);
     measure_back(surface);

@@ -6,14 +6,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
-#include <thread>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <type_traits>
 #include <vector>
 
+#include "rgbmesh/detail/parallel_for.hpp"
 #include "rgbmesh/fem/petsc_cg_amg.hpp"
-#include "rgbmesh/parallel.hpp"
 #include "rgbmesh/parallel/mpi.hpp"
 #include "rgbmesh/parallel/partition.hpp"
 

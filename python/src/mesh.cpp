@@ -1,6 +1,8 @@
 // rgbmesh.Mesh: an RgbMesh, built from numpy arrays and read back as numpy arrays (one copy
 // per array, no per-element Python), refined with the GIL released.
 
+#include "rgbmesh/mesh.hpp"
+
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -11,9 +13,8 @@
 #include <string>
 
 #include "bindings.hpp"
+#include "rgbmesh/detail/parallel_for.hpp"
 #include "rgbmesh/errors.hpp"
-#include "rgbmesh/mesh.hpp"
-#include "rgbmesh/parallel.hpp"
 #include "rgbmesh/refinement.hpp"
 
 namespace py = pybind11;

@@ -17,9 +17,9 @@
 #include <limits>
 #include <vector>
 
+#include "rgbmesh/detail/parallel_for.hpp"
 #include "rgbmesh/loop_rules.hpp"
 #include "rgbmesh/mesh.hpp"
-#include "rgbmesh/parallel.hpp"
 
 namespace rgbmesh {
 

@@ -12,8 +12,8 @@
 #include <new>
 #include <string>
 
+#include "rgbmesh/detail/parallel_for.hpp"
 #include "rgbmesh/mesh.hpp"
-#include "rgbmesh/parallel.hpp"
 
 namespace rgbmesh {
 

@@ -52,9 +52,62 @@ bool check_free_list(Checker& c, const char* kind, const Free& free_list, std::i
 
 }  // namespace
 
+// The live slots of each kind, and (from the edge pass) each vertex's number of edges. A
+// stored handle must name a live element and (checked handles) carry its slot's current
+// generation: the mesh never keeps a handle it could not hand out.
+struct RgbMesh::LiveSlots {
+  explicit LiveSlots(const RgbMesh& m)
+      : mesh(m), nv(m.vertex_slots()), ne(m.edge_slots()), nt(m.triangle_slots()) {}
+  const RgbMesh& mesh;
+  std::int32_t nv, ne, nt;
+  std::vector<bool> v_alive, e_alive, t_alive;
+  std::vector<int> degree;
+
+#if RGBMESH_CHECKED_HANDLES
+  template <class H>
+  static bool fresh(H h, const Generations& g) {
+    return h.generation == g[static_cast<std::size_t>(h.idx)];
+  }
+#else
+  template <class H>
+  static bool fresh(H, const Generations&) {
+    return true;
+  }
+#endif
+  bool v_ok(VertexHandle v) const {
+    return v.idx >= 0 && v.idx < nv && v_alive[v.idx] && fresh(v, mesh.v_generation_);
+  }
+  bool e_ok(EdgeHandle e) const {
+    return e.idx >= 0 && e.idx < ne && e_alive[e.idx] && fresh(e, mesh.e_generation_);
+  }
+  bool t_ok(TriangleHandle t) const {
+    return t.idx >= 0 && t.idx < nt && t_alive[t.idx] && fresh(t, mesh.t_generation_);
+  }
+};
+
 std::string RgbMesh::validate(bool require_stable) const {
+  LiveSlots live(*this);
+  std::string failure = validate_storage(live);
+  if (failure.empty()) failure = validate_edges(live);
+  if (failure.empty()) failure = validate_triangles(live);
+  if (failure.empty()) failure = validate_vertices(live);
+  if (!failure.empty()) return failure;
+  if (euler_characteristic() != base_euler_)
+    return "Euler characteristic changed from " + std::to_string(base_euler_) + " to " +
+           std::to_string(euler_characteristic());
+  if (require_stable && !is_stable()) {
+    for (EdgeHandle e : edges()) {
+      const auto& et = e_tri_[e.idx];
+      if (is_red(e) && et[1].valid() && color(et[0]) == Color::blue && color(et[1]) == Color::blue)
+        return "unstable: " + describe(e) + " is shared by two blue triangles";
+    }
+  }
+  return {};
+}
+
+std::string RgbMesh::validate_storage(LiveSlots& live) const {
   Checker c;
-  const std::int32_t nv = vertex_slots(), ne = edge_slots(), nt = triangle_slots();
+  const std::int32_t nv = live.nv, ne = live.ne, nt = live.nt;
   if (v_level_.size() != v_edge_.size() || v_parents_.size() != v_edge_.size() ||
       v_control_.size() != v_edge_.size() || v_limit_index_.size() != v_edge_.size() ||
       v_flags_.size() != v_edge_.size())
@@ -70,7 +123,12 @@ std::string RgbMesh::validate(bool require_stable) const {
   if (limits_free_.capacity() < limits_.size())
     return "the free list of limit positions has no room reserved";
 
-  std::vector<bool> v_alive(nv), e_alive(ne), t_alive(nt);
+  std::vector<bool>& v_alive = live.v_alive;
+  std::vector<bool>& e_alive = live.e_alive;
+  std::vector<bool>& t_alive = live.t_alive;
+  v_alive.resize(static_cast<std::size_t>(nv));
+  e_alive.resize(static_cast<std::size_t>(ne));
+  t_alive.resize(static_cast<std::size_t>(nt));
   for (std::int32_t i = 0; i < nv; ++i) v_alive[i] = v_edge_[i].valid();
   for (std::int32_t i = 0; i < ne; ++i) e_alive[i] = e_vert_[i][0].valid();
   for (std::int32_t i = 0; i < nt; ++i) t_alive[i] = t_edge_[i][0].valid();
@@ -78,34 +136,21 @@ std::string RgbMesh::validate(bool require_stable) const {
       !check_free_list(c, "edge", free_edge_slots(), ne, n_edges_, e_alive) ||
       !check_free_list(c, "triangle", free_triangle_slots(), nt, n_triangles_, t_alive))
     return c.message();
+  return {};
+}
 
-    // A stored handle names a live element, and (checked handles) carries its slot's current
-    // generation: the mesh never keeps a handle it could not hand out.
-#if RGBMESH_CHECKED_HANDLES
-  const auto fresh = [](auto h, const Generations& g) { return h.generation == g[h.idx]; };
-#else
-  const auto fresh = [](auto, const Generations&) { return true; };
-#endif
-  auto v_ok = [&](VertexHandle v) {
-    return v.idx >= 0 && v.idx < nv && v_alive[v.idx] && fresh(v, v_generation_);
-  };
-  auto e_ok = [&](EdgeHandle e) {
-    return e.idx >= 0 && e.idx < ne && e_alive[e.idx] && fresh(e, e_generation_);
-  };
-  auto t_ok = [&](TriangleHandle t) {
-    return t.idx >= 0 && t.idx < nt && t_alive[t.idx] && fresh(t, t_generation_);
-  };
-
+std::string RgbMesh::validate_edges(LiveSlots& live) const {
+  Checker c;
   // Edges: live endpoints, distinct; one or two triangles that list the edge (conformity: an
   // edge in a triangle is the whole side, no T-junction). That no two edges join one vertex
   // pair is checked with the vertices' stars below (a hash set of the pairs took about 40% of
   // validate() on a million vertices).
-  std::vector<int> degree(nv, 0);
-  for (std::int32_t i = 0; i < ne && c.ok(); ++i) {
-    if (!e_alive[i]) continue;
+  live.degree.assign(static_cast<std::size_t>(live.nv), 0);
+  for (std::int32_t i = 0; i < live.ne && c.ok(); ++i) {
+    if (!live.e_alive[i]) continue;
     const EdgeHandle e(i);
     const auto& ev = e_vert_[i];
-    if (!v_ok(ev[0]) || !v_ok(ev[1])) {
+    if (!live.v_ok(ev[0]) || !live.v_ok(ev[1])) {
       c.fail(describe(e), " has a dead endpoint (or a stale handle of one)");
       break;
     }
@@ -113,14 +158,14 @@ std::string RgbMesh::validate(bool require_stable) const {
       c.fail(describe(e), " is a loop");
       break;
     }
-    ++degree[ev[0].idx];
-    ++degree[ev[1].idx];
+    ++live.degree[ev[0].idx];
+    ++live.degree[ev[1].idx];
     const auto& et = e_tri_[i];
-    if (!t_ok(et[0])) {
+    if (!live.t_ok(et[0])) {
       c.fail(describe(e), " has no first triangle (or a stale handle of it)");
       break;
     }
-    if (et[1].valid() && !t_ok(et[1])) {
+    if (et[1].valid() && !live.t_ok(et[1])) {
       c.fail(describe(e), " has a dead second triangle (or a stale handle of it)");
       break;
     }
@@ -150,20 +195,23 @@ std::string RgbMesh::validate(bool require_stable) const {
       }
     }
   }
-  if (!c.ok()) return c.message();
+  return c.message();
+}
 
+std::string RgbMesh::validate_triangles(const LiveSlots& live) const {
+  Checker c;
   // Triangles: three distinct live edges chaining into a cycle; the cached color and level
   // match the edges; the edge colors fit the triangle color. Each edge lies in exactly the
   // triangles it lists (both loops check it), so recording the direction in which each of them
   // traverses it (bit 1: from edge_vertices[0] to [1], bit 2: back) finds two triangles that
   // traverse an edge the same way: inconsistent orientation.
-  std::vector<std::uint8_t> traversed(static_cast<std::size_t>(ne), 0);
-  for (std::int32_t i = 0; i < nt && c.ok(); ++i) {
-    if (!t_alive[i]) continue;
+  std::vector<std::uint8_t> traversed(static_cast<std::size_t>(live.ne), 0);
+  for (std::int32_t i = 0; i < live.nt && c.ok(); ++i) {
+    if (!live.t_alive[i]) continue;
     const TriangleHandle t(i);
     const auto& te = t_edge_[i];
     for (EdgeHandle e : te) {
-      if (!e_ok(e)) {
+      if (!live.e_ok(e)) {
         c.fail("triangle ", i, " has a dead edge ", e.idx, " (or a stale handle of it)");
         break;
       }
@@ -226,18 +274,21 @@ std::string RgbMesh::validate(bool require_stable) const {
     if (!edges_fit)
       c.fail("triangle ", i, " (", "GRB"[finer], ", level ", lo, ") has edges of the wrong colors");
   }
-  if (!c.ok()) return c.message();
+  return c.message();
+}
 
+std::string RgbMesh::validate_vertices(const LiveSlots& live) const {
+  Checker c;
   // Vertices: the stored edge is incident; the star is one fan covering every incident edge
   // (manifold) with a different neighbour at each (so no two edges join the same pair: both
   // would be incident at either end); levels and parents follow the split rule.
   VertexStar s;
   std::vector<VertexHandle> sorted_neighbors;
-  for (std::int32_t i = 0; i < nv && c.ok(); ++i) {
-    if (!v_alive[i]) continue;
+  for (std::int32_t i = 0; i < live.nv && c.ok(); ++i) {
+    if (!live.v_alive[i]) continue;
     const VertexHandle v(i);
     const EdgeHandle e = v_edge_[i];
-    if (!e_ok(e)) {
+    if (!live.e_ok(e)) {
       c.fail(describe(v), " stores a dead edge (or a stale handle of it)");
       break;
     }
@@ -246,8 +297,8 @@ std::string RgbMesh::validate(bool require_stable) const {
       break;
     }
     star(v, s);
-    if (static_cast<int>(s.edges.size()) != degree[i]) {
-      c.fail(describe(v), " is non-manifold: its fan has ", s.edges.size(), " of ", degree[i], " edges");
+    if (static_cast<int>(s.edges.size()) != live.degree[i]) {
+      c.fail(describe(v), " is non-manifold: its fan has ", s.edges.size(), " of ", live.degree[i], " edges");
       break;
     }
     {
@@ -273,7 +324,7 @@ std::string RgbMesh::validate(bool require_stable) const {
     if (v_level_[i] == 0) {
       if (p[0].valid() || p[1].valid()) c.fail(describe(v), " is a base vertex with parents");
     } else {
-      if (!v_ok(p[0]) || !v_ok(p[1])) {
+      if (!live.v_ok(p[0]) || !live.v_ok(p[1])) {
         c.fail(describe(v), " has a dead parent (or a stale handle of it)");
       } else if (std::max(v_level_[p[0].idx], v_level_[p[1].idx]) != v_level_[i] - 1) {
         c.fail(describe(v), ": its parents are not a green edge of level ", v_level_[i] - 1);
@@ -293,19 +344,7 @@ std::string RgbMesh::validate(bool require_stable) const {
     if (c.ok() && shown > v_level_[i] && !has_limit(v))
       c.fail(describe(v), " is shown at level ", shown, " but its limit position is unknown");
   }
-  if (!c.ok()) return c.message();
-
-  if (euler_characteristic() != base_euler_)
-    return "Euler characteristic changed from " + std::to_string(base_euler_) + " to " +
-           std::to_string(euler_characteristic());
-  if (require_stable && !is_stable()) {
-    for (EdgeHandle e : edges()) {
-      const auto& et = e_tri_[e.idx];
-      if (is_red(e) && et[1].valid() && color(et[0]) == Color::blue && color(et[1]) == Color::blue)
-        return "unstable: " + describe(e) + " is shared by two blue triangles";
-    }
-  }
-  return {};
+  return c.message();
 }
 
 }  // namespace rgbmesh

@@ -18,10 +18,6 @@ double LodCriterion::triangle_priority(const RgbMesh&, TriangleHandle) const { r
 double LodCriterion::vertex_priority(const RgbMesh&, VertexHandle) const { return 0; }
 bool LodCriterion::satisfied(const RgbMesh&) const { return false; }
 
-void edges_raising(const RgbMesh& mesh, TriangleHandle t, std::vector<EdgeHandle>& out) {
-  mesh.raising_edges(t, out);
-}
-
 namespace {
 
 // Queue entries pop by priority, then the newest first. "Newest" follows an order of pushes
@@ -275,7 +271,7 @@ class Refiner {
     if (mesh_.level(t) >= opt_.max_level) return;
     const double p = crit_.triangle_priority(mesh_, t);
     if (!(p > 0)) return;
-    edges_raising(mesh_, t, scratch_edges_);
+    mesh_.raising_edges(t, scratch_edges_);
     for (EdgeHandle e : scratch_edges_) push_edge(e, p);
   }
 

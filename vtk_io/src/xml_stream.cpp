@@ -33,7 +33,7 @@
 #include <exception>
 #include <stdexcept>
 
-#include "rgbmesh/parallel.hpp"
+#include "rgbmesh/detail/parallel_for.hpp"
 
 namespace rgbmesh::detail {
 namespace {

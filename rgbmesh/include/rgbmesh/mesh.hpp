@@ -592,6 +592,15 @@ class RgbMesh {
   static bool in_range(std::int32_t i, std::size_t n) { return i >= 0 && static_cast<std::size_t>(i) < n; }
 
   // ---- handle checks (mesh_storage.cpp) ----
+  // validate()'s passes (mesh_validate.cpp), each giving the first failure or an empty string:
+  // the arrays and free lists (which also finds the live slots), then the edges (which also
+  // count each vertex's edges), the triangles, the vertices.
+  struct LiveSlots;
+  std::string validate_storage(LiveSlots& live) const;
+  std::string validate_edges(LiveSlots& live) const;
+  std::string validate_triangles(const LiveSlots& live) const;
+  std::string validate_vertices(const LiveSlots& live) const;
+
   /// Each slot counts the elements freed in it (its generation, from 1); handles carry the
   /// count of their slot when the mesh made them. Only with checked handles (handles.hpp).
   using Generations = std::vector<std::uint32_t>;

@@ -86,10 +86,6 @@ MeshCounts uniform_level_counts(const RgbMesh& mesh, int level);
 RefinementResult selective_refinement(RgbMesh& mesh, const LodCriterion& criterion,
                                       const RefinementOptions& options = {});
 
-/// The green edges whose split raises triangle t's level (its lowest-level green edges; for a
-/// blue triangle, the lowest green edge of the red triangle across its red edge).
-void edges_raising(const RgbMesh& mesh, TriangleHandle t, std::vector<EdgeHandle>& out);
-
 // ---- built-in criteria --------------------------------------------------------------------
 
 /// Every part of the mesh at exactly `level`: splits green edges below it, removes vertices

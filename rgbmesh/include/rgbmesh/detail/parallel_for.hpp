@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// Work on every core, for the modules' inner loops (internal: not part of the API).
+/// parallel_for: work on every core, for the modules' inner loops. Internal (namespace
+/// detail): installed because the modules include it, not part of the API.
 
 #include <algorithm>
 #include <atomic>

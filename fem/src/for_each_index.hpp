@@ -7,7 +7,7 @@
 
 #include <cstddef>
 
-#include "rgbmesh/parallel.hpp"
+#include "rgbmesh/detail/parallel_for.hpp"
 
 namespace rgbmesh::fem::detail {
 
