@@ -657,7 +657,7 @@ class RunFiles {
     if (!resumed_.empty()) {
       std::string lines;
       for (const auto& line : resumed_) lines += (lines.empty() ? "" : ", ") + JsonObject::quote(line);
-      j.raw("resumed_", "[" + lines + "]");
+      j.raw("resumed", "[" + lines + "]");
     }
     j.raw("stopped", stopped.empty() ? "null" : JsonObject::quote(stopped));
     j.add("stop_message", message);

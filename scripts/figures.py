@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Draws the README's figures from real runs (standard library only).
+"""Draws the figures of the README and docs/ from real runs (standard library only).
 
   scripts/figures.py convergence UNIFORM.json ADAPTIVE.json OUT.svg
       error against unknowns, log-log, from two `rgbmesh adapt --report` files

@@ -4,7 +4,7 @@
 #   scripts/install-deps.sh test   the above plus the test and benchmark dependencies
 # python3-setuptools and python3-wheel are main: `pip install --no-build-isolation .` builds the
 # Python package with them (pip fetches nothing). python3-venv is test (Install.PythonPip makes a
-# venv, which brings its own pip), with python3-pip, the system's pip of the README's --user
+# venv, which brings its own pip), with python3-pip, the system's pip of docs/install.md's --user
 # route: neither is needed to build, and a user installs the one of the route taken.
 set -euo pipefail
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the README's figures from real runs of the command-line tool:
+# Regenerates the figures of the README and docs/ from real runs of the command-line tool:
 #   docs/convergence.svg   H1 and L2 errors against unknowns, adaptive and uniform (sphere-peak)
 #   docs/adapted-mesh.svg  the last adaptive mesh, colored by level
 #   docs/fit-before.svg, docs/fit-after.svg  the bunny fit: limit surfaces of the base before and after

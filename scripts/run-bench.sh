@@ -1,14 +1,30 @@
 #!/usr/bin/env bash
-# Builds rgbmesh (Release) and reports the figures of the README's performance section:
-# the Google Benchmark cases (insertions/s, removals/s, the time ratio to OpenSubdiv measured
-# in the same process), then the command-line tool's --stats on the Stanford bunny refined to
-# uniform level 5 (1.9 million vertices: peak memory per vertex) and coarsened back, and the
-# finite-element benchmark (assembly and solve, 10^4 to 10^6 unknowns, each solver), the fit,
-# the Python package's arrays against refining (bench/python_overhead.py), and the output formats on 1.9 million vertices (bench_write: seconds against PLY, memory);
-# against deal.II where it is installed (bench_vs_dealii); the adaptive loop on 1, 2 and 4 MPI
-# processes (mpi_cycles.sh) and the partition among them (bench_partition).
+# Builds rgbmesh (Release) and regenerates the tables of docs/performance.md. The first line it
+# prints is the stamp those tables carry: the date, the commit (with -dirty when tracked files
+# differ from it) and the machine (cores, CPU model, memory).
+# Then: the Google Benchmark cases (insertions/s, removals/s, the time ratio to OpenSubdiv
+# measured in the same process), the command-line tool's --stats on the Stanford bunny refined
+# to uniform level 5 (1.9 million vertices: peak memory per vertex) and coarsened back, the
+# finite-element benchmark (assembly and solve, 10^4 to 10^6 unknowns, each solver; the
+# adaptive cycle), the fit, the Python package's arrays against refining
+# (bench/python_overhead.py), and the output formats on 1.9 million vertices (bench_write:
+# seconds against PLY, memory); against deal.II where it is installed (bench_vs_dealii); the
+# adaptive loop on 1, 2 and 4 MPI processes (mpi_cycles.sh) and the partition among them
+# (bench_partition). Arguments are passed to bench_refinement.
+# Not run here (see docs/performance.md): bench_rgb_state, the moving peak's mpi_cycles.sh run,
+# bench/fit_survey.sh and bench/p2_cad_sweep.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+# The stamp: date, commit, machine.
+commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+if git rev-parse --git-dir >/dev/null 2>&1 && ! git diff --quiet HEAD -- 2>/dev/null; then
+  commit="$commit-dirty"
+fi
+cpu=$(awk -F': *' '/^model name/ {print $2; exit}' /proc/cpuinfo 2>/dev/null || true)
+memory=$(awk '/^MemTotal:/ {printf "%.1f GiB", $2 / 1048576; exit}' /proc/meminfo 2>/dev/null || true)
+os=$( (. /etc/os-release && echo "${PRETTY_NAME:-}") 2>/dev/null || true)
+echo "stamp: $(date +%Y-%m-%d), commit $commit, $(nproc) cores (${cpu:-unknown CPU}), ${memory:-unknown} memory${os:+, $os}"
 scripts/install-deps.sh test
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DRGBMESH_BUILD_TESTS=ON -DRGBMESH_BUILD_BENCH=ON
 cmake --build build --target bench_refinement bench_fem bench_fit bench_write rgbmesh_cli

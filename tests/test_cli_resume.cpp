@@ -85,7 +85,7 @@ TEST_F(Resume, AnIterativeSolverRunResumedMatchesToTheSolversTolerance) {
   // CG stops at a tolerance, from the previous cycle's solution. The resumed run solves its
   // last cycle again without that guess, so the solutions differ within the tolerance: the
   // same unknowns, meshes and estimates, and error_l2 (the most sensitive figure) within
-  // 1e-8 relative (3.3e-10 measured over 20 cycles, 2e-9 reported; README, Resuming a run).
+  // 1e-8 relative (3.3e-10 measured over 20 cycles, 2e-9 reported; docs/adaptation.md, Resuming a run).
   const std::string full = path("full"), part = path("part");
   ASSERT_EQ(run("adapt --solver cg --cycles 14 --out " + full).code, 0);
   ASSERT_EQ(run("adapt --solver cg --cycles 5 --out " + part).code, 0);

@@ -4,7 +4,7 @@
       the package as `cmake --install` put it into SITE_DIR (Install.Tree's prefix), imported
       with PYTHONPATH=SITE_DIR and nothing else of the environment
   python_package.py pip SOURCE_DIR WORK_DIR VERSION
-      README's route: a new virtual environment with the system's site packages, then
+      docs/install.md's route: a new virtual environment with the system's site packages, then
       `pip install --no-build-isolation --no-index SOURCE_DIR` (setup.py builds with CMake from
       scratch into WORK_DIR/build, which is deleted before the import), imported in a clean
       environment; exit code 77 (skipped) where python3-venv is not installed

@@ -56,7 +56,7 @@ PolygonSoup read_polygon_soup(const std::filesystem::path& path);
 TriangleMeshData read_mesh(const std::filesystem::path& path, const SoupOptions& options = {});
 
 /// A mesh file as an RgbMesh. VTK XML files that rgbmesh wrote (.vtp, .vtu) carry the complete
-/// RGB state (rgb_state.hpp; the arrays are listed in the README): the mesh is then restored as
+/// RGB state (rgb_state.hpp; docs/concepts.md lists the arrays): the mesh is then restored as
 /// it was written, with its levels, colours, control points and limit positions, ready to be
 /// refined or coarsened further (restored = true). Any other file, and a VTK XML file without
 /// the state, gives the base mesh of its triangles (read_mesh, then RgbMesh::from_triangles;

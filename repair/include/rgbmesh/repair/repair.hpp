@@ -32,7 +32,7 @@
 
 namespace rgbmesh::repair {
 
-/// The thresholds of the geometric repairs (the README says why these values).
+/// The thresholds of the geometric repairs (docs/command-line.md says why these values).
 struct RepairOptions {
   /// Bound on how far any point of the surface moves, relative to the bounding-box diagonal:
   /// needles are collapsed only along edges at most this long, caps flipped only when their apex
