@@ -153,6 +153,12 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   s.estimator = a.estimator;
   o.estimator = named_row(fem::estimator_table(), s.estimator, "--estimator").make();
   o.solve.solver = fem::parse_solver(a.solver);
+  // Several processes solve together with CG and BoomerAMG across them: another solver would be
+  // ignored without a word.
+  if (a.processes > 1 && a.given.count("--solver") && a.solver != "auto" && a.solver != "amg")
+    throw InputError("--solver " + a.solver + ": a run on " + std::to_string(a.processes) +
+                     " processes solves with amg (CG with BoomerAMG across the processes); give --solver amg or "
+                     "auto, or run on one process");
 
   // Geometry: the sphere problems' exact solutions hold on the unit sphere only.
   if (s.on_sphere && s.geometry == "loop")

@@ -206,6 +206,8 @@ std::string millions(double n) {
   char buf[48];
   if (n >= 1e12)
     std::snprintf(buf, sizeof buf, "%.2g", n);
+  else if (n >= 1e9)
+    std::snprintf(buf, sizeof buf, "%.3g billion", n / 1e9);
   else if (n >= 1e6)
     std::snprintf(buf, sizeof buf, "%.3g million", n / 1e6);
   else

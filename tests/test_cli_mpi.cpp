@@ -328,6 +328,12 @@ TEST_F(Mpi, AProcessFailingAloneEndsTheRunWithItsError) {
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("rgbmesh: error: " + path("nothing.obj")), std::string::npos) << bad.err;
   EXPECT_EQ(bad.err.find("MPI_ABORT"), std::string::npos) << bad.err;
+  // A solver that several processes cannot use is refused, not silently replaced by amg.
+  const RunResult ldlt = run_on(2, "adapt --cycles 2 --solver ldlt --out " + path("ldlt"));
+  EXPECT_EQ(ldlt.code, 2) << ldlt.err;
+  EXPECT_NE(ldlt.err.find("--solver ldlt: a run on 2 processes solves with amg"), std::string::npos) << ldlt.err;
+  EXPECT_FALSE(fs::exists(path("ldlt")));
+  EXPECT_EQ(run_on(2, "adapt --cycles 2 --solver amg --out " + path("amg")).code, 0);
 }
 
 TEST_F(Mpi, ARunOnFewerProcessesLeavesNoPiecesOfTheLastOne) {

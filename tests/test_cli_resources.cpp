@@ -43,7 +43,10 @@ TEST_F(Cli, PredictableWorkTooLargeForTheMemoryIsRefusedBeforeItStarts) {
     EXPECT_EQ(big.code, 3) << stage << ": " << big.err;
     EXPECT_NE(big.err.find("would have"), std::string::npos) << big.err;
     EXPECT_EQ(std::count(big.err.begin(), big.err.end(), '\n'), 1) << big.err;
+    EXPECT_EQ(big.err.find("e+05 million"), std::string::npos) << "counts in words: " << big.err;
   }
+  // (Half a trillion vertices read as such, not as "5.5e+05 million".)
+  EXPECT_NE(run("refine " + octa + " - --budget 1099511627776").err.find("550 billion vertices"), std::string::npos);
   // The estimate of a level is exact: a level that fits runs, and has the predicted size.
   const RunResult fits = run("refine " + octa + " - --uniform 6 --stats");
   EXPECT_EQ(fits.code, 0) << fits.err;
