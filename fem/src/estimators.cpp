@@ -299,6 +299,31 @@ CurvedEdgePoint curved_edge_point(const SurfaceMesh& mesh, const Eigen::VectorXd
   return {p.x, p.normal, norm(tangent), dot(grad, conormal) / norm(conormal)};
 }
 
+// The jumps across interior edges, as both residual estimators add them: each edge's terms on
+// every core (edge_term(n) gives ∫_e [∂u_h/∂μ]² ds in the estimator's weighting, and the
+// sagitta |e| θ_e / 8), then added to both sides' triangles in edge order, the numbers of one
+// thread: weight(triangle, local edge) times the first to η², and without a projection the
+// sagitta to δ (the projection's distance replaces it).
+template <class EdgeTerm, class Weight>
+void add_interior_jumps(const SurfaceMesh& mesh, const WorkShare& share,
+                        const std::vector<std::array<Side, 2>>& edges, const EdgeTerm& edge_term,
+                        const Weight& weight, std::vector<double>& eta2, std::vector<double>& delta) {
+  std::vector<std::array<double, 2>> terms(edges.size(), {0.0, 0.0});
+  detail::for_each_index(edges.size(), [&](std::size_t n) {
+    if (share.computes(static_cast<std::size_t>(edges[n][0].triangle)) ||
+        share.computes(static_cast<std::size_t>(edges[n][1].triangle)))
+      terms[n] = edge_term(n);
+  });
+  for (std::size_t n = 0; n < edges.size(); ++n) {
+    for (const Side& side : edges[n]) {
+      const auto t = static_cast<std::size_t>(side.triangle);
+      if (!share.computes(t)) continue;
+      eta2[t] += weight(t, side.edge) * terms[n][0];
+      if (!mesh.projection) delta[t] = std::max(delta[t], terms[n][1]);
+    }
+  }
+}
+
 // Three-point Gauss on [0, 1]: exact for quintics along the edge's parameter.
 constexpr double kGaussOffset = 0.3872983346207416885;  // ½ sqrt(3/5)
 constexpr std::array<std::array<double, 2>, 3> kEdgeGauss = {
@@ -344,32 +369,24 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
   // Per edge: ∫_e [∂u_h/∂μ]² ds, which each side weighs with ½ its width across the edge, and
   // the sagitta |e| θ_e / 8. The second side runs the other way along the edge, so its
   // parameter 1 - s meets the first side's s at the same point.
-  std::vector<std::array<double, 2>> edge_terms(edges.size());
-  detail::for_each_index(edges.size(), [&](std::size_t n) {
-    const auto& [a, b] = edges[n];
-    const auto ta = static_cast<std::size_t>(a.triangle), tb = static_cast<std::size_t>(b.triangle);
-    edge_terms[n] = {0.0, 0.0};
-    if (!share.computes(ta) && !share.computes(tb)) return;
-    double integral = 0, theta = 0;
-    for (const auto& [s, w] : kEdgeGauss) {
-      const CurvedEdgePoint pa = curved_edge_point(mesh, u, ta, a.edge, s);
-      const CurvedEdgePoint pb = curved_edge_point(mesh, u, tb, b.edge, 1 - s);
-      const double jump = pa.flux + pb.flux;
-      integral += w * pa.speed * jump * jump;
-      theta = std::max(theta, std::acos(std::clamp(dot(pa.normal, pb.normal), -1.0, 1.0)));
-    }
-    const auto& c = mesh.triangles[ta];
-    const double len = distance(mesh.points[c[a.edge]], mesh.points[c[(a.edge + 1) % 3]]);
-    edge_terms[n] = {integral, len * theta / 8.0};
-  });
-  for (std::size_t n = 0; n < edges.size(); ++n) {
-    for (const Side& side : edges[n]) {
-      const auto t = static_cast<std::size_t>(side.triangle);
-      if (!share.computes(t)) continue;
-      eta2[t] += 0.5 * scale[t].across[side.edge] * edge_terms[n][0];
-      if (!mesh.projection) delta[t] = std::max(delta[t], edge_terms[n][1]);
-    }
-  }
+  add_interior_jumps(
+      mesh, share, edges,
+      [&](std::size_t n) -> std::array<double, 2> {
+        const auto& [a, b] = edges[n];
+        const auto ta = static_cast<std::size_t>(a.triangle), tb = static_cast<std::size_t>(b.triangle);
+        double integral = 0, theta = 0;
+        for (const auto& [s, w] : kEdgeGauss) {
+          const CurvedEdgePoint pa = curved_edge_point(mesh, u, ta, a.edge, s);
+          const CurvedEdgePoint pb = curved_edge_point(mesh, u, tb, b.edge, 1 - s);
+          const double jump = pa.flux + pb.flux;
+          integral += w * pa.speed * jump * jump;
+          theta = std::max(theta, std::acos(std::clamp(dot(pa.normal, pb.normal), -1.0, 1.0)));
+        }
+        const auto& c = mesh.triangles[ta];
+        const double len = distance(mesh.points[c[a.edge]], mesh.points[c[(a.edge + 1) % 3]]);
+        return {integral, len * theta / 8.0};
+      },
+      [&](std::size_t t, int edge) { return 0.5 * scale[t].across[edge]; }, eta2, delta);
   // An edge node that build_surface_mesh moved to its chord's midpoint (a folded element made
   // straight) lies that far (the gap) from the surface point it stood for: the flat element
   // misses the surface by the gap at the edge and meets it at the opposite corner, so it is
@@ -446,33 +463,26 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
   // Jumps of the conormal derivative across interior edges: each edge's term on every core,
   // added to its triangles in edge order.
   const std::vector<std::array<Side, 2>> edges = interior_edges(mesh, needed);
-  std::vector<std::array<double, 2>> edge_terms(edges.size());  // ½ h_e ‖J‖²_e, sagitta
-  detail::for_each_index(edges.size(), [&](std::size_t n) {
-    const auto i = static_cast<std::size_t>(edges[n][1].triangle), j = static_cast<std::size_t>(edges[n][0].triangle);
-    edge_terms[n] = {0.0, 0.0};
-    if (!share.computes(i) && !share.computes(j)) return;
-    const int k = edges[n][1].edge;
-    const std::int32_t a = mesh.triangles[i][k], b = mesh.triangles[i][(k + 1) % 3];
-    const Vec3 pa = mesh.points[a], pb = mesh.points[b];
-    const double len = distance(pa, pb);
-    // Outward conormals: the edge direction turned in each triangle's plane.
-    const Vec3 dir = (pb - pa) * (1.0 / len);
-    const Vec3 ni = cross(dir, fields.geo(i).normal), nj = cross(dir * -1.0, fields.geo(j).normal);
-    const double jump = dot(fields.grad(i), ni) + dot(fields.grad(j), nj);
-    edge_terms[n][0] = 0.5 * len * len * jump * jump;  // J constant on e
-    // The sagitta of an arc through the edge whose ends turn by the normals' angle.
-    const double theta = std::acos(std::clamp(dot(fields.geo(i).normal, fields.geo(j).normal), -1.0, 1.0));
-    edge_terms[n][1] = len * theta / 8.0;
-  });
-  for (std::size_t n = 0; n < edges.size(); ++n) {
-    // The second side first, as before sides were skipped (the same sums bit for bit).
-    for (const Side& side : {edges[n][1], edges[n][0]}) {
-      const auto t = static_cast<std::size_t>(side.triangle);
-      if (!share.computes(t)) continue;
-      eta2[t] += edge_terms[n][0];
-      if (!mesh.projection) delta[t] = std::max(delta[t], edge_terms[n][1]);
-    }
-  }
+  add_interior_jumps(
+      mesh, share, edges,
+      [&](std::size_t n) -> std::array<double, 2> {  // ½ h_e ‖J‖²_e, sagitta
+        const auto i = static_cast<std::size_t>(edges[n][1].triangle),
+                   j = static_cast<std::size_t>(edges[n][0].triangle);
+        const int k = edges[n][1].edge;
+        const std::int32_t a = mesh.triangles[i][k], b = mesh.triangles[i][(k + 1) % 3];
+        const Vec3 pa = mesh.points[a], pb = mesh.points[b];
+        const double len = distance(pa, pb);
+        // Outward conormals: the edge direction turned in each triangle's plane.
+        const Vec3 dir = (pb - pa) * (1.0 / len);
+        const Vec3 ni = cross(dir, fields.geo(i).normal), nj = cross(dir * -1.0, fields.geo(j).normal);
+        const double jump = dot(fields.grad(i), ni) + dot(fields.grad(j), nj);
+        // J is constant on e. The sagitta of an arc through the edge whose ends turn by the
+        // normals' angle.
+        const double theta =
+            std::acos(std::clamp(dot(fields.geo(i).normal, fields.geo(j).normal), -1.0, 1.0));
+        return {0.5 * len * len * jump * jump, len * theta / 8.0};
+      },
+      [](std::size_t, int) { return 1.0; }, eta2, delta);
   // Neumann edges: the flux misfit.
   if (problem.is_neumann) {
     for (const auto& e : mesh.boundary_edges) {
