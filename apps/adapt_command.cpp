@@ -186,7 +186,15 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
 
   o.target_estimate = a.target_error;
   o.max_dofs = static_cast<std::size_t>(a.max_dofs);
-  o.coarsen_below = a.coarsen >= 0 ? a.coarsen : (s.moving && o.strategy == adapt::Strategy::adaptive ? 0.25 : 0.0);
+  // Coarsening by default only where marking keeps a steady size (equidistribution towards a
+  // target). Dörfler or fixed-fraction marking marks only the largest indicators, so a quarter of
+  // the smallest marked one lies above most of the mesh: coarsening to it took a moving peak's
+  // mesh down to 70 triangles and an H1 error of 0.9 within three steps.
+  o.coarsen_below =
+      a.coarsen >= 0
+          ? a.coarsen
+          : (s.moving && o.strategy == adapt::Strategy::adaptive && o.marking->marks_by_target() ? 0.25
+                                                                                                 : 0.0);
   const int cycles = a.cycles > 0 ? a.cycles : (s.moving ? 8 : 20);
   if (s.moving) {
     s.dynamic.steps = a.steps;
@@ -879,7 +887,7 @@ void AdaptCommand::add(CLI::App& tool, CompressionOption& compression) {
   app->add_option(
          "--coarsen", args.coarsen,
          "Remove vertices whose largest indicator over their star is below this times the refinement "
-         "threshold, in [0, 1) [default: 0.25 for moving-peak, else 0]")
+         "threshold, in [0, 1) [default: 0.25 for moving-peak with equidistribution marking, else 0]")
       ->check(number_in("a number in [0, 1)", [](double x) { return x >= 0 && x < 1; }));
   app->add_option("--min-level", args.min_level,
                   "A floor: the mesh is refined to this level first and never coarsened below it")

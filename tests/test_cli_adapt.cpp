@@ -125,6 +125,14 @@ TEST_F(Cli, MovingPeakObeysEveryOption) {
   const std::string dj = read_text(path("d.json"));
   EXPECT_NE(dj.find("\"stopped\": \"max-dofs\""), std::string::npos) << dj;
   EXPECT_NE(d.out.find("--max-dofs 2000"), std::string::npos) << d.out;
+  // (Without coarsening, which only equidistribution takes by default: the mesh grows at every
+  // step instead of losing the peak.)
+  EXPECT_EQ(json_number(dj, "coarsen"), 0.0) << dj;
+  std::vector<double> grown;
+  for (auto p = dj.find("\"cycles\": ["); (p = dj.find("\"triangles\": ", p + 1)) != std::string::npos;)
+    grown.push_back(std::strtod(dj.c_str() + p + 13, nullptr));
+  ASSERT_GE(grown.size(), 2u) << dj;
+  for (std::size_t i = 1; i < grown.size(); ++i) EXPECT_GE(grown[i], grown[i - 1]) << "step " << i;
   // The finest patch stays on the peak in the default run (checked in detail by test_adapt);
   // here: the default run keeps its size steady once the wake of intermediate levels behind
   // the peak has formed (five steps, about three widths of the peak).
