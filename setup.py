@@ -142,7 +142,10 @@ setup(
     name="rgbmesh",
     version=project_version(),
     description="Adaptive triangle meshes on subdivision surfaces (RGB subdivision), from Python",
-    license="BSD-3-Clause",
+    # What a built package may be distributed under: the default build links rgbmesh::fit and
+    # rgbmesh::repair, which compile CGAL's GPL-3.0-or-later packages (rgbmesh's own sources are
+    # BSD-3-Clause, LICENSE; docs/licensing.md).
+    license="GPL-3.0-or-later",
     python_requires=">=3.9",
     install_requires=["numpy"],
     # Nothing for setuptools to collect: the package's files come from CMake (build_ext). The
