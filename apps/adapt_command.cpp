@@ -83,17 +83,6 @@ std::string cycles_json(const std::vector<adapt::CycleReport>& reports, bool dyn
   return out + "]";
 }
 
-// The value of a named choice; InputError listing the names otherwise.
-template <class T>
-T choose(const char* option, const std::string& value, std::initializer_list<std::pair<const char*, T>> names) {
-  std::string known;
-  for (const auto& [name, v] : names) {
-    if (value == name) return v;
-    known += (known.empty() ? "" : ", ") + std::string(name);
-  }
-  throw InputError(std::string(option) + ": '" + value + "' is not one of " + known);
-}
-
 std::string number(double x, const char* format) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, x);
@@ -136,15 +125,15 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   s.options.control.memory_headroom = [ceiling = s.ceiling] { return ceiling.headroom(); };
   s.mesh_name = a.mesh.empty() ? "icosahedron (embedded)" : a.mesh;
   s.problem = !a.problem.empty() ? a.problem : (a.mesh.empty() ? "sphere-peak" : "gaussian");
-  choose<int>("--problem", s.problem,
-              {{"sphere-harmonic", 0}, {"sphere-peak", 0}, {"moving-peak", 0}, {"gaussian", 0}});
+  // What the problem is posed on: the unit sphere (with an exact solution) or the user's mesh.
+  static const std::vector<Named<bool>> problems = {
+      {"sphere-harmonic", true}, {"sphere-peak", true}, {"moving-peak", true}, {"gaussian", false}};
   s.moving = s.problem == "moving-peak";
-  s.on_sphere = s.problem != "gaussian";
+  s.on_sphere = named_row(problems, s.problem, "--problem").value;
   s.geometry = !a.geometry.empty() ? a.geometry : (s.on_sphere ? "sphere" : "loop");
-  choose<int>("--geometry", s.geometry, {{"sphere", 0}, {"loop", 0}});
+  const fem::Projection& projection = named_row(fem::geometry_table(), s.geometry, "--geometry").value;
   adapt::AdaptOptions& o = s.options;
-  o.strategy = choose<adapt::Strategy>("--strategy", a.strategy,
-                                       {{"adaptive", adapt::Strategy::adaptive}, {"uniform", adapt::Strategy::uniform}});
+  o.strategy = named_row(adapt::strategy_table(), a.strategy, "--strategy").value;
   s.marking = !a.marking.empty() ? a.marking : (s.moving ? "equidistribution" : "dorfler");
   o.marking = named_row(adapt::marking_table(), s.marking, "--marking").make(a.theta);
   if (a.order != 1 && a.order != 2) throw InputError("--order " + std::to_string(a.order) + ": 1 or 2");
@@ -170,7 +159,7 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
                         "--problem " + s.problem + ": its exact solution holds on the unit sphere (use --problem gaussian for any surface)");
   else if (s.geometry == "sphere")
     require_unit_sphere(base, s.mesh_name, "--geometry sphere projects the vertices onto the unit sphere");
-  if (s.geometry == "sphere") o.projection = fem::Projection(fem::project_to_unit_sphere);
+  if (projection) o.projection = projection;
 
   // Options that belong to one problem or strategy only.
   if (!s.moving) refuse(a, {"--steps"}, "to " + s.problem + " (only moving-peak has time steps)");

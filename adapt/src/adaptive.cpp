@@ -315,6 +315,12 @@ bool next_cycle_fits(const RgbMesh& mesh, const AdaptOptions& options, std::size
 
 }  // namespace
 
+const std::vector<Named<Strategy>>& strategy_table() {
+  static const std::vector<Named<Strategy>> table = {{"adaptive", Strategy::adaptive},
+                                                     {"uniform", Strategy::uniform}};
+  return table;
+}
+
 const char* to_string(StopReason reason) {
   switch (reason) {
     case StopReason::cycles: return "cycles";

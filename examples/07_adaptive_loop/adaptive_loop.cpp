@@ -18,6 +18,8 @@
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
+#include <exception>
+#include <new>
 #include <vector>
 
 #include "rgbmesh/adapt/adaptive.hpp"
@@ -43,7 +45,9 @@ RgbMesh start_mesh() {
   return mesh;
 }
 
-std::vector<Row> hand_written_loop(int cycles, double coarsen_below) {
+// Both loops stop after `cycles` solves, or once an adaptation leaves more than max_dofs
+// unknowns (that mesh is not solved): Dörfler marking grows the mesh about 1.5 times a cycle.
+std::vector<Row> hand_written_loop(int cycles, double coarsen_below, std::size_t max_dofs) {
   RgbMesh mesh = start_mesh();
   const fem::Problem problem = fem::sphere_peak();
   const fem::Projection sphere(fem::project_to_unit_sphere);
@@ -94,42 +98,50 @@ std::vector<Row> hand_written_loop(int cycles, double coarsen_below) {
     // run_cycles does: the mesh then depends on its vertices only, not on the order of the
     // splits.
     canonical_diagonals(mesh);
+    if (mesh.num_vertices() > max_dofs) {  // P1: one unknown per vertex
+      std::printf("  stopped: the next mesh has %zu unknowns, more than --max-dofs\n", mesh.num_vertices());
+      break;
+    }
   }
   return rows;
 }
 
-std::vector<Row> library_loop(int cycles, double coarsen_below) {
+std::vector<Row> library_loop(int cycles, double coarsen_below, std::size_t max_dofs) {
   RgbMesh mesh = start_mesh();
   adapt::AdaptOptions options;
   options.projection = fem::Projection(fem::project_to_unit_sphere);
   options.marking = std::make_shared<adapt::DorflerMarking>(0.5);
   options.coarsen_below = coarsen_below;
   options.max_cycles = cycles;
-  options.max_dofs = static_cast<std::size_t>(-1);
+  options.max_dofs = max_dofs;
   std::vector<Row> rows;
   for (const adapt::CycleReport& r : adapt::run_cycles(mesh, fem::sphere_peak(), options).cycles)
     rows.push_back({r.dofs, r.estimate, *r.error_l2, *r.error_h1});
   return rows;
 }
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{"Example 07: the adaptive loop written by hand from rgbmesh's primitives."};
   int cycles = 20;
   double coarsen = 0.1;
   bool check = false;
+  std::size_t max_dofs = 200000;
   app.add_option("--cycles", cycles, "Cycles to run")->capture_default_str()->check(CLI::Range(1, 40));
   app.add_option("--coarsen", coarsen,
                  "Remove vertices whose star's indicators are below this times the "
                  "smallest marked one, in [0, 1)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.999));
+  app.add_option("--max-dofs", max_dofs, "Stop once an adaptation leaves more unknowns than this")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{1}, std::size_t{5000000}));
   app.add_flag("--check", check, "Run adapt::run_cycles on the same problem and compare, cycle by cycle");
   CLI11_PARSE(app, argc, argv);
 
   std::printf("hand-written loop\n  cycle      dofs    error_L2    error_H1    estimate\n");
-  const std::vector<Row> mine = hand_written_loop(cycles, coarsen);
+  const std::vector<Row> mine = hand_written_loop(cycles, coarsen, max_dofs);
   if (!check) return 0;
-  const std::vector<Row> library = library_loop(cycles, coarsen);
+  const std::vector<Row> library = library_loop(cycles, coarsen, max_dofs);
   bool same = mine.size() == library.size();
   for (std::size_t i = 0; same && i < mine.size(); ++i)
     same = mine[i].dofs == library[i].dofs && mine[i].estimate == library[i].estimate &&
@@ -137,4 +149,17 @@ int main(int argc, char** argv) {
   std::printf("adapt::run_cycles on the same problem: %s\n",
               same ? "the same unknowns, estimates and errors in every cycle" : "DIFFERENT");
   return same ? 0 : 1;
+}
+
+int main(int argc, char** argv) {
+  // The library reports failures by exceptions; the tool's exit codes: 3 for exhausted
+  // resources or an internal failure.
+  try {
+    return run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "example_07_adaptive_loop: out of memory (lower --cycles or --max-dofs)\n");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "example_07_adaptive_loop: %s\n", e.what());
+  }
+  return 3;
 }

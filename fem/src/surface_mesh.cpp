@@ -13,6 +13,12 @@ namespace rgbmesh::fem {
 
 Vec3 project_to_unit_sphere(const Vec3& p) { return p * (1.0 / norm(p)); }
 
+const std::vector<Named<Projection>>& geometry_table() {
+  static const std::vector<Named<Projection>> table = {{"loop", Projection()},
+                                                       {"sphere", project_to_unit_sphere}};
+  return table;
+}
+
 double SurfaceMesh::total_area() const {
   double a = 0;
   for (const auto& t : triangles) a += triangle_geometry(points[t[0]], points[t[1]], points[t[2]]).area;

@@ -93,10 +93,6 @@ PyProblem python_problem(py::object source, double c, py::object dirichlet, cons
   return p;
 }
 
-std::string choice_error(const char* option, const std::string& value, const char* names) {
-  return std::string(option) + ": '" + value + "' is not one of " + names;
-}
-
 // What solve and adapt both settle: the geometry and the solver.
 struct Setup {
   std::optional<fem::Projection> projection;
@@ -107,7 +103,7 @@ Setup settle(const RgbMesh& mesh, const PyProblem& p, int order, const std::opti
              const std::string& solver) {
   if (order != 1 && order != 2) throw InputError("order " + std::to_string(order) + ": 1 or 2");
   const std::string geometry = geometry_option.value_or(p.on_unit_sphere ? "sphere" : "loop");
-  if (geometry != "loop" && geometry != "sphere") throw InputError(choice_error("geometry", geometry, "loop, sphere"));
+  const fem::Projection& projection = named_row(fem::geometry_table(), geometry, "geometry").value;
   // As the tool: an exact solution on the unit sphere is not one on a Loop limit surface, and
   // projecting a surface that is not the unit sphere onto it would change the user's problem.
   if (p.on_unit_sphere && geometry == "loop")
@@ -123,7 +119,7 @@ Setup settle(const RgbMesh& mesh, const PyProblem& p, int order, const std::opti
     }
   }
   Setup s;
-  if (geometry == "sphere") s.projection = fem::Projection(fem::project_to_unit_sphere);
+  if (projection) s.projection = projection;
   s.solver = fem::parse_solver(solver);
   return s;
 }
@@ -233,9 +229,7 @@ py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strateg
                    const std::string& solver, py::object callback, py::object stop) {
   const Setup setup = settle(mesh, p, order, geometry, solver);
   adapt::AdaptOptions o;
-  if (strategy == "adaptive") o.strategy = adapt::Strategy::adaptive;
-  else if (strategy == "uniform") o.strategy = adapt::Strategy::uniform;
-  else throw InputError(choice_error("strategy", strategy, "adaptive, uniform"));
+  o.strategy = named_row(adapt::strategy_table(), strategy, "strategy").value;
   const adapt::NamedMarking& marking_row = named_row(adapt::marking_table(), marking, "marking");
   if (!(theta > 0 && theta <= 1)) throw InputError("theta: must be in (0, 1], got " + std::to_string(theta));
   o.marking = marking_row.make(theta);

@@ -63,25 +63,14 @@ struct RgbMesh::LiveSlots {
   std::vector<bool> v_alive, e_alive, t_alive;
   std::vector<int> degree;
 
-#if RGBMESH_CHECKED_HANDLES
-  template <class H>
-  static bool fresh(H h, const Generations& g) {
-    return h.generation == g[static_cast<std::size_t>(h.idx)];
-  }
-#else
-  template <class H>
-  static bool fresh(H, const Generations&) {
-    return true;
-  }
-#endif
   bool v_ok(VertexHandle v) const {
-    return v.idx >= 0 && v.idx < nv && v_alive[v.idx] && fresh(v, mesh.v_generation_);
+    return v.idx >= 0 && v.idx < nv && v_alive[v.idx] && current(v, mesh.v_generation_, true);
   }
   bool e_ok(EdgeHandle e) const {
-    return e.idx >= 0 && e.idx < ne && e_alive[e.idx] && fresh(e, mesh.e_generation_);
+    return e.idx >= 0 && e.idx < ne && e_alive[e.idx] && current(e, mesh.e_generation_, true);
   }
   bool t_ok(TriangleHandle t) const {
-    return t.idx >= 0 && t.idx < nt && t_alive[t.idx] && fresh(t, mesh.t_generation_);
+    return t.idx >= 0 && t.idx < nt && t_alive[t.idx] && current(t, mesh.t_generation_, true);
   }
 };
 

@@ -55,6 +55,14 @@ class PreconditionError : public std::logic_error {
   using std::logic_error::logic_error;
 };
 
+/// A name and what it stands for: a row of a table of named choices with nothing more to say
+/// (adapt::strategy_table, the tool's --problem and --geometry).
+template <class T>
+struct Named {
+  const char* name;
+  T value;
+};
+
 /// The row whose `name` is `value` in a table of named choices (fem::estimator_table,
 /// adapt::marking_table: rows with a `name` member); InputError "option: 'value' is not one of
 /// a, b, c" otherwise. The command line and Python read the same tables through it.

@@ -603,11 +603,14 @@ class RgbMesh {
 
   /// Each slot counts the elements freed in it (its generation, from 1); handles carry the
   /// count of their slot when the mesh made them. Only with checked handles (handles.hpp).
+  /// current: whether h carries its slot's generation; a handle made from a bare index
+  /// (generation 0) passes too, unless `stamped_only` (validate: the mesh stores only handles
+  /// it stamped itself).
   using Generations = std::vector<std::uint32_t>;
 #if RGBMESH_CHECKED_HANDLES
   template <class H>
-  static bool current(H h, const Generations& g) {
-    return h.generation == 0 || h.generation == g[static_cast<std::size_t>(h.idx)];
+  static bool current(H h, const Generations& g, bool stamped_only = false) {
+    return (h.generation == 0 && !stamped_only) || h.generation == g[static_cast<std::size_t>(h.idx)];
   }
   template <class H>
   static H stamped(H h, const Generations& g) {
@@ -620,7 +623,7 @@ class RgbMesh {
   }
 #else
   template <class H>
-  static bool current(H, const Generations&) {
+  static bool current(H, const Generations&, bool = false) {
     return true;
   }
   template <class H>

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "rgbmesh/adapt/marking.hpp"
+#include "rgbmesh/errors.hpp"
 #include "rgbmesh/fem/estimators.hpp"
 #include "rgbmesh/fem/solver.hpp"
 #include "rgbmesh/mesh.hpp"
@@ -21,6 +22,8 @@
 namespace rgbmesh::adapt {
 
 enum class Strategy { adaptive, uniform };
+/// The strategies by name ("adaptive", "uniform"), for the tool and Python (named_row).
+const std::vector<Named<Strategy>>& strategy_table();
 
 struct CycleReport;
 

@@ -17,6 +17,7 @@
 #include <optional>
 #include <vector>
 
+#include "rgbmesh/errors.hpp"
 #include "rgbmesh/mesh.hpp"
 
 namespace rgbmesh::fem {
@@ -26,6 +27,11 @@ using Projection = std::function<Vec3(const Vec3&)>;
 
 /// p / |p|: the unit sphere centred at the origin.
 Vec3 project_to_unit_sphere(const Vec3& p);
+
+/// The geometries the tool and Python offer by name (named_row): "loop", the Loop limit
+/// surface itself (no projection: an empty function), and "sphere", its projection onto the
+/// unit sphere (project_to_unit_sphere).
+const std::vector<Named<Projection>>& geometry_table();
 
 struct SurfaceMesh {
   /// 1: linear elements on flat triangles (P1); 2: isoparametric quadratic elements (P2), six
