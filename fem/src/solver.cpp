@@ -570,6 +570,21 @@ FreeSolution solve_free_system(SparseMatrix& a, const Eigen::VectorXd& rhs, cons
 
 }  // namespace
 
+Solution solve_linear_system(SparseMatrix& a, const Eigen::VectorXd& b, const SolveOptions& options,
+                             const std::string& problem_name) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Eigen::VectorXd guess;
+  if (options.initial_guess != nullptr && options.initial_guess->size() == b.size())
+    guess = *options.initial_guess;
+  FreeSolution f = solve_free_system(a, b, guess, options, nullptr, {}, problem_name);
+  Solution sol;
+  sol.u = std::move(f.x);
+  sol.solver = f.kind;
+  sol.iterations = f.iterations;
+  sol.solve_seconds = seconds_since(t0);
+  return sol;
+}
+
 Solution solve(const SurfaceMesh& mesh, const Problem& problem, const SolveOptions& options) {
   if (!(problem.c >= 0) || !std::isfinite(problem.c))
     throw InputError("problem '" + problem.name + "': the coefficient c must be finite and >= 0, got " +

@@ -94,6 +94,14 @@ struct Solution {
   bool zero_mean = false;  ///< solved in the zero-mean space (closed or pure Neumann, c = 0)
 };
 
+/// Solves a x = b for a symmetric positive definite a (both triangles stored) with options'
+/// solver, as solve() solves its free unknowns (automatic: by size), from options'
+/// initial_guess when it has b's size; returns x as `u` with the solver used, its iterations
+/// and time. Throws std::runtime_error (naming `problem_name`) when the system is singular or
+/// the solver fails. Other discretizations (Loop elements) share the solvers through it.
+Solution solve_linear_system(SparseMatrix& a, const Eigen::VectorXd& b, const SolveOptions& options,
+                             const std::string& problem_name);
+
 /// Assembles and solves. Errors (std::runtime_error, with the reason): a singular system
 /// (no Dirichlet part and c = 0 is handled by the zero-mean condition; anything else singular
 /// is reported), a source without zero mean where one is required (InputError), c < 0,

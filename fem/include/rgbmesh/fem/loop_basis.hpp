@@ -1,0 +1,92 @@
+#pragma once
+/// \file
+/// Loop's limit functions on one triangle: the basis of Loop-basis (smooth) elements.
+///
+/// On a triangle of a closed triangle mesh, the limit of Loop subdivision depends only on the
+/// control values of the triangle's patch: the vertices of the triangles that touch its three
+/// corners (12 when all corners have valence 6, N0 + N1 + N2 - 6 in general). Where the
+/// corners are regular the limit is one quartic polynomial (the box spline of the regular
+/// lattice). Elsewhere it is piecewise polynomial on ever smaller triangles around the
+/// extraordinary corners: a point is evaluated by subdividing the patch until the point lies
+/// in a sub-triangle whose corners are regular (what Stam's eigenbasis does in closed form).
+///
+/// Parameters: a point of the triangle (c0, c1, c2) is c0 + u (c1 - c0) + v (c2 - c0), with u,
+/// v >= 0 and u + v <= 1, and the four triangles of one subdivision step split this domain at
+/// its edges' midpoints, as the triangles of the uniform refinement do.
+///
+/// Everything here is topology and linear weights: the weights of the patch's control values
+/// (the same for a coordinate of the surface and for a scalar field) at a point, and composite
+/// quadrature rules for a patch's triangle whose points carry those weights.
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace rgbmesh::fem {
+
+/// The patch of one triangle: its control vertices in a canonical order and its triangles.
+///
+/// The order is a function of the topology alone, so that every patch with the same
+/// connectivity numbers its vertices the same way and shares one table of weights: the
+/// corners c0, c1, c2 first, then the other neighbours of c0 counter-clockwise from c1, then
+/// those of c1 from c2, then those of c2 from c0, each vertex where it first appears.
+struct LoopPatch {
+  std::vector<std::int32_t> vertices;         ///< the caller's vertex ids, in canonical order
+  std::vector<std::array<int, 3>> triangles;  ///< local numbering, counter-clockwise, [0] = {0, 1, 2}
+  std::array<int, 3> valence{};               ///< of the corners
+  bool regular() const { return valence[0] == 6 && valence[1] == 6 && valence[2] == 6; }
+};
+
+/// The neighbours of a vertex of a closed mesh in cyclic order (either direction); `ring`
+/// returns false if the vertex is on a boundary.
+using RingOracle = std::function<bool(std::int32_t vertex, std::vector<std::int32_t>& ring)>;
+
+/// The patch of the counter-clockwise triangle (c0, c1, c2). Throws InputError if a corner is
+/// on a boundary (Loop elements are for closed surfaces), or if the patch folds onto itself
+/// (a vertex reached twice: meshes so coarse that two corners' rings overlap beyond the
+/// triangle; one uniform refinement removes that).
+LoopPatch gather_loop_patch(const std::array<std::int32_t, 3>& corners, const RingOracle& ring);
+
+/// Weights of the patch's control values at one point: the limit value and its first and
+/// second derivatives with respect to (u, v). At an extraordinary corner itself only the value
+/// is defined (the derivatives are NaN there: the parametrization is singular).
+struct LoopBasisAt {
+  Eigen::VectorXd value, du, dv, duu, duv, dvv;
+};
+LoopBasisAt evaluate_loop_basis(const LoopPatch& patch, double u, double v);
+
+/// The limit value at corner k of the patch's triangle: Loop's limit mask (loop_rules.hpp).
+Eigen::VectorXd loop_corner_limit(const LoopPatch& patch, int corner);
+
+/// A quadrature rule on the parameter triangle of a patch with the basis at every point:
+/// weights sum to 1/2 (the triangle's area in (u, v)). Rows are the patch's vertices, columns
+/// the points (a point's weights are contiguous).
+struct LoopQuadrature {
+  std::vector<std::array<int, 3>> triangles;  ///< the patch connectivity it is for (LoopPatch::triangles)
+  std::vector<double> u, v, weight;
+  Eigen::MatrixXd value, du, dv, duu, duv, dvv;
+  std::size_t size() const { return weight.size(); }
+};
+
+/// How a patch's triangle is integrated. A triangle whose corners are regular gets a collapsed
+/// Gauss rule with `points_per_direction`^2 points (exact for polynomials of degree
+/// 2 points_per_direction - 2). Around an extraordinary corner the limit is no polynomial:
+/// the triangle is split into its four children `extraordinary_depth` times towards that
+/// corner, each regular child with the same rule, the last corner child too (its points
+/// evaluated exactly).
+struct LoopQuadratureOptions {
+  int points_per_direction = 5;
+  int extraordinary_depth = 6;
+};
+
+/// The rule for a patch's connectivity, built once per connectivity and kept (thread-safe).
+std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
+                                                      const LoopQuadratureOptions& options = {});
+
+/// Gauss-Legendre points and weights on [0, 1] (weights sum to 1).
+void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w);
+
+}  // namespace rgbmesh::fem

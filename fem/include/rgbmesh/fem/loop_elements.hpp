@@ -1,0 +1,73 @@
+#pragma once
+/// \file
+/// Loop-basis (smooth) finite elements: the unknowns are the control values of a scalar field
+/// subdivided by Loop's rules together with the surface, so that the discrete functions live
+/// on the Loop limit surface itself and are C² there, except at extraordinary vertices (C¹).
+/// One unknown per vertex, as P1; each triangle's functions depend on the control values of
+/// its patch (loop_basis.hpp), 12 of them where its corners are regular.
+///
+/// This first space is that of a uniformly refined closed mesh: every triangle green at one
+/// level L, the unknowns the level-L control values of its vertices. (The adaptive space of an
+/// RGB mesh, where each inserted vertex carries a detail, builds on it.)
+
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "rgbmesh/fem/estimators.hpp"
+#include "rgbmesh/fem/loop_basis.hpp"
+#include "rgbmesh/fem/problem.hpp"
+#include "rgbmesh/fem/solver.hpp"
+#include "rgbmesh/fem/surface_mesh.hpp"
+#include "rgbmesh/mesh.hpp"
+
+namespace rgbmesh::fem {
+
+struct LoopSpace {
+  int level = 0;                            ///< the level of every triangle
+  std::vector<VertexHandle> vertex;         ///< DOF -> vertex
+  std::vector<std::int32_t> dof_of_vertex;  ///< vertex slot -> DOF
+  std::vector<Vec3> control;                ///< per DOF: the surface's control point at `level`
+  struct Element {
+    TriangleHandle triangle;
+    std::vector<std::int32_t> dofs;              ///< the patch's vertices, in the patch's canonical order
+    std::shared_ptr<const LoopQuadrature> rule;  ///< shared by the elements of one connectivity
+  };
+  std::vector<Element> elements;
+  std::optional<Projection> projection;  ///< the exact surface the limit surface is mapped onto, if any
+
+  std::size_t num_dofs() const { return vertex.size(); }
+};
+
+/// The Loop space of a closed mesh refined uniformly (every triangle green at one level).
+/// The limits are computed (RgbMesh::compute_limits leaves the mesh as it was). Throws
+/// InputError naming the triangle where the mesh is not uniform, where a triangle reaches a
+/// boundary, or where a triangle's patch folds onto itself (a mesh too coarse: refine once).
+LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection = std::nullopt,
+                           const LoopQuadratureOptions& quadrature = {});
+
+/// The limit surface (or its projection) at a point of an element, with the basis there:
+/// position, tangents y_u, y_v, the area density |y_u × y_v| and the surface gradient of each
+/// of the patch's basis functions.
+struct LoopPoint {
+  Vec3 x, xu, xv;
+  double density = 0;
+  std::vector<Vec3> gradient;
+};
+LoopPoint loop_point(const LoopSpace& space, std::size_t element, std::size_t point);
+
+/// -Δu + c u = f on the closed surface (c = 0: the zero-mean solution, for a source of zero
+/// mean), assembled with each element's rule and solved by options' solver (as fem::solve).
+Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveOptions& options = {});
+
+/// ‖u - u_h‖ and ‖∇_Γ(u - u_h)‖ over the surface, with the elements' rules. With a projection,
+/// the exact solution is evaluated at the projected points (exact geometry); without one, on
+/// the limit surface itself.
+ErrorNorms loop_error_norms(const LoopSpace& space, const Eigen::VectorXd& u, const ExactSolution& exact,
+                            bool subtract_mean = false);
+
+/// The discrete function at the limit positions of the vertices (per DOF): what ParaView shows.
+Eigen::VectorXd loop_vertex_values(const LoopSpace& space, const Eigen::VectorXd& u);
+
+}  // namespace rgbmesh::fem

@@ -1,0 +1,555 @@
+// Loop's limit functions on a triangle's patch, by local subdivision (see loop_basis.hpp).
+//
+// A patch is a small mesh: the triangles touching the three corners of its central triangle.
+// One Loop step of it yields correct control values at the corners (their one-rings are in
+// the patch) and at the midpoints of the edges at the corners (both triangles of such an edge
+// are in the patch), which are exactly the vertices of the four children's patches. So a
+// child's patch values are a fixed matrix times its parent's, and a point is evaluated by
+// descending until its sub-triangle has regular corners, where the limit is the quartic box
+// spline. That polynomial is not typed in: it is found once, by subdividing the regular patch
+// twice and interpolating the exact limit values (limit masks) at the 15 points of the
+// degree-4 grid of the triangle, which determine a quartic.
+
+#include "rgbmesh/fem/loop_basis.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#include "rgbmesh/errors.hpp"
+#include "rgbmesh/loop_rules.hpp"
+
+namespace rgbmesh::fem {
+
+namespace {
+
+using Triangles = std::vector<std::array<int, 3>>;
+
+// ---------------------------------------------------------------------------------------------
+// Gathering a patch in canonical order.
+
+// Rotates a cyclic ring so that it starts at `first` and runs counter-clockwise, which the
+// known triangle (centre, first, second) fixes. False if first and second are not adjacent in
+// the ring.
+bool orient_ring(std::vector<std::int32_t>& ring, std::int32_t first, std::int32_t second) {
+  const auto it = std::find(ring.begin(), ring.end(), first);
+  if (it == ring.end()) return false;
+  std::rotate(ring.begin(), it, ring.end());
+  if (ring.size() >= 2 && ring[1] == second) return true;
+  if (ring.size() >= 2 && ring.back() == second) {
+    std::reverse(ring.begin() + 1, ring.end());
+    return true;
+  }
+  return false;
+}
+
+[[noreturn]] void patch_error(const std::array<std::int32_t, 3>& c, const std::string& why) {
+  throw InputError("Loop elements: the patch of the triangle of vertices " + std::to_string(c[0]) + ", " +
+                   std::to_string(c[1]) + ", " + std::to_string(c[2]) + " " + why);
+}
+
+// The ring of every vertex of a small mesh, from its triangles (counter-clockwise).
+class NetRings {
+ public:
+  NetRings(int n, const Triangles& triangles) : next_(static_cast<std::size_t>(n)) {
+    for (const auto& t : triangles) {
+      for (int k = 0; k < 3; ++k)
+        next_[static_cast<std::size_t>(t[k])].push_back({t[(k + 1) % 3], t[(k + 2) % 3]});
+    }
+  }
+  // False for a vertex whose fan does not close.
+  bool ring(std::int32_t v, std::vector<std::int32_t>& out) const {
+    out.clear();
+    const auto& next = next_[static_cast<std::size_t>(v)];
+    if (next.empty()) return false;
+    std::int32_t x = next.front()[0];
+    for (std::size_t step = 0; step <= next.size(); ++step) {
+      out.push_back(x);
+      const auto it =
+          std::find_if(next.begin(), next.end(), [x](const std::array<int, 2>& p) { return p[0] == x; });
+      if (it == next.end()) return false;
+      x = (*it)[1];
+      if (x == out.front()) return out.size() == next.size();
+    }
+    return false;
+  }
+
+ private:
+  std::vector<std::vector<std::array<int, 2>>> next_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// One Loop step of a patch, and the patches of the four children of its central triangle.
+
+// Corner k of child c, as (vertex of the subdivided patch): corners 0-2 of the parent keep
+// their numbers; the midpoints of edges 01, 12, 20 are given by `mid`.
+std::array<int, 3> child_corners(int child, const std::array<int, 3>& mid) {
+  switch (child) {
+    case 0:
+      return {0, mid[0], mid[2]};
+    case 1:
+      return {mid[0], 1, mid[1]};
+    case 2:
+      return {mid[2], mid[1], 2};
+    default:
+      return {mid[1], mid[2], mid[0]};  // the middle child, turned half around
+  }
+}
+
+// Child parameters from the parent's, and back: children 0-2 are the parent's corner
+// triangles scaled by 1/2; child 3 is the middle one, reflected through (1/4, 1/4).
+void to_child(int child, double& u, double& v) {
+  switch (child) {
+    case 0:
+      u = 2 * u, v = 2 * v;
+      break;
+    case 1:
+      u = 2 * u - 1, v = 2 * v;
+      break;
+    case 2:
+      u = 2 * u, v = 2 * v - 1;
+      break;
+    default:
+      u = 1 - 2 * u, v = 1 - 2 * v;
+      break;
+  }
+}
+void to_parent(int child, double& u, double& v) {
+  switch (child) {
+    case 0:
+      u = u / 2, v = v / 2;
+      break;
+    case 1:
+      u = 0.5 + u / 2, v = v / 2;
+      break;
+    case 2:
+      u = u / 2, v = 0.5 + v / 2;
+      break;
+    default:
+      u = 0.5 - u / 2, v = 0.5 - v / 2;
+      break;
+  }
+}
+// d/du of the parent = this times d/du of the child (and the same for v).
+double child_derivative_factor(int child) { return child == 3 ? -2.0 : 2.0; }
+
+int child_containing(double u, double v) {
+  if (u >= 0.5) return 1;
+  if (v >= 0.5) return 2;
+  if (u + v <= 0.5) return 0;
+  return 3;
+}
+
+struct Child {
+  LoopPatch patch;
+  Eigen::MatrixXd from_parent;  ///< patch values = from_parent * parent patch values
+};
+
+// The patch of child `child` of a patch's central triangle.
+Child subdivide(const LoopPatch& parent, int child) {
+  const int n = static_cast<int>(parent.vertices.size());
+  // Edges of the patch: ends, opposite vertices.
+  struct Edge {
+    int a, b;
+    std::vector<int> opposite;
+  };
+  std::vector<Edge> edges;
+  std::map<std::pair<int, int>, int> edge_index;
+  const auto edge_of = [&](int a, int b, int opposite) {
+    const std::pair<int, int> key(std::min(a, b), std::max(a, b));
+    auto [it, inserted] = edge_index.emplace(key, static_cast<int>(edges.size()));
+    if (inserted) edges.push_back({key.first, key.second, {}});
+    edges[static_cast<std::size_t>(it->second)].opposite.push_back(opposite);
+    return n + it->second;
+  };
+  Triangles fine;
+  fine.reserve(4 * parent.triangles.size());
+  std::array<int, 3> mid{};
+  for (std::size_t i = 0; i < parent.triangles.size(); ++i) {
+    const auto [a, b, c] = parent.triangles[i];
+    const int ab = edge_of(a, b, c), bc = edge_of(b, c, a), ca = edge_of(c, a, b);
+    if (i == 0) mid = {ab, bc, ca};
+    fine.push_back({a, ab, ca});
+    fine.push_back({ab, b, bc});
+    fine.push_back({ca, bc, c});
+    fine.push_back({ab, bc, ca});
+  }
+  const int fine_n = n + static_cast<int>(edges.size());
+
+  // The child's patch in the subdivided mesh; only its vertices need values.
+  const NetRings fine_rings(fine_n, fine);
+  const auto fine_ring = [&fine_rings](std::int32_t v, std::vector<std::int32_t>& r) {
+    return fine_rings.ring(v, r);
+  };
+  const std::array<int, 3> corners = child_corners(child, mid);
+  Child out;
+  out.patch = gather_loop_patch({corners[0], corners[1], corners[2]}, fine_ring);
+
+  const NetRings rings(n, parent.triangles);
+  std::vector<std::int32_t> ring;
+  out.from_parent = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(out.patch.vertices.size()), n);
+  for (std::size_t row = 0; row < out.patch.vertices.size(); ++row) {
+    const int w = out.patch.vertices[row];
+    auto r = out.from_parent.row(static_cast<Eigen::Index>(row));
+    if (w < n) {  // even: Loop's vertex rule over the parent ring (Eq. 3)
+      if (!rings.ring(w, ring))
+        throw std::logic_error("subdivide: an even vertex of a child patch has no ring");
+      const int k = static_cast<int>(ring.size());
+      const double a = loop::even_neighbor_weight(k);
+      r(w) = 1.0 - k * a;
+      for (const std::int32_t x : ring) r(x) += a;
+    } else {  // odd: the edge rule (Eq. 1)
+      const Edge& e = edges[static_cast<std::size_t>(w - n)];
+      if (e.opposite.size() != 2)
+        throw std::logic_error("subdivide: an odd vertex of a child patch lacks a triangle");
+      r(e.a) += 0.375, r(e.b) += 0.375;
+      r(e.opposite[0]) += 0.125, r(e.opposite[1]) += 0.125;
+    }
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The regular patch: its quartic polynomials.
+
+constexpr int kMonomials = 15;  // u^i v^j, i + j <= 4
+
+std::array<std::array<int, 2>, kMonomials> monomial_powers() {
+  std::array<std::array<int, 2>, kMonomials> p{};
+  int m = 0;
+  for (int d = 0; d <= 4; ++d)
+    for (int j = 0; j <= d; ++j) p[static_cast<std::size_t>(m++)] = {d - j, j};
+  return p;
+}
+
+double power(double x, int k) { return k <= 0 ? 1.0 : std::pow(x, k); }
+
+// The monomials and their derivatives at (u, v): rows value, du, dv, duu, duv, dvv.
+Eigen::Matrix<double, 6, kMonomials> monomials(double u, double v) {
+  static const auto powers = monomial_powers();
+  Eigen::Matrix<double, 6, kMonomials> m;
+  for (int k = 0; k < kMonomials; ++k) {
+    const int i = powers[static_cast<std::size_t>(k)][0], j = powers[static_cast<std::size_t>(k)][1];
+    m(0, k) = power(u, i) * power(v, j);
+    m(1, k) = i * power(u, i - 1) * power(v, j);
+    m(2, k) = j * power(u, i) * power(v, j - 1);
+    m(3, k) = i * (i - 1) * power(u, i - 2) * power(v, j);
+    m(4, k) = i * j * power(u, i - 1) * power(v, j - 1);
+    m(5, k) = j * (j - 1) * power(u, i) * power(v, j - 2);
+  }
+  return m;
+}
+
+// The regular patch of the triangular lattice, in canonical order.
+LoopPatch regular_lattice_patch() {
+  // Lattice points within one step of the corners (0,0), (1,0), (0,1).
+  const std::array<std::array<int, 2>, 6> steps = {{{1, 0}, {0, 1}, {-1, 1}, {-1, 0}, {0, -1}, {1, -1}}};
+  std::vector<std::array<int, 2>> points = {{0, 0}, {1, 0}, {0, 1}};
+  for (int c = 0; c < 3; ++c) {
+    for (const auto& s : steps) {
+      const std::array<int, 2> p = {points[static_cast<std::size_t>(c)][0] + s[0],
+                                    points[static_cast<std::size_t>(c)][1] + s[1]};
+      if (std::find(points.begin(), points.end(), p) == points.end()) points.push_back(p);
+    }
+  }
+  const auto index = [&points](int i, int j) {
+    const auto it = std::find(points.begin(), points.end(), std::array<int, 2>{i, j});
+    return it == points.end() ? -1 : static_cast<int>(it - points.begin());
+  };
+  Triangles triangles;
+  for (int i = -2; i <= 2; ++i) {
+    for (int j = -2; j <= 2; ++j) {
+      const std::array<std::array<int, 3>, 2> candidates = {
+          {{index(i, j), index(i + 1, j), index(i, j + 1)},
+           {index(i + 1, j), index(i + 1, j + 1), index(i, j + 1)}}};
+      for (const auto& t : candidates) {
+        if (t[0] < 0 || t[1] < 0 || t[2] < 0) continue;
+        if (t[0] > 2 && t[1] > 2 && t[2] > 2) continue;  // touches no corner
+        triangles.push_back(t);
+      }
+    }
+  }
+  const NetRings rings(static_cast<int>(points.size()), triangles);
+  const LoopPatch gathered = gather_loop_patch(
+      {0, 1, 2}, [&rings](std::int32_t v, std::vector<std::int32_t>& r) { return rings.ring(v, r); });
+  // Its vertices are lattice indices; the patch of the patch itself numbers them canonically.
+  LoopPatch patch = gathered;
+  for (std::size_t i = 0; i < patch.vertices.size(); ++i) patch.vertices[i] = static_cast<std::int32_t>(i);
+  return patch;
+}
+
+// Coefficients (kMonomials x 12) of the 12 basis functions of the regular patch.
+const Eigen::Matrix<double, kMonomials, 12>& regular_polynomials() {
+  static const Eigen::Matrix<double, kMonomials, 12> coefficients = [] {
+    const LoopPatch root = regular_lattice_patch();
+    if (root.vertices.size() != 12)
+      throw std::logic_error("regular_polynomials: the lattice patch has not 12 vertices");
+    Eigen::Matrix<double, kMonomials, kMonomials> a;
+    Eigen::Matrix<double, kMonomials, 12> b;
+    std::vector<std::array<int, 2>> seen;  // grid points (4u, 4v) found
+    for (int c1 = 0; c1 < 4; ++c1) {
+      const Child child = subdivide(root, c1);
+      for (int c2 = 0; c2 < 4; ++c2) {
+        const Child grandchild = subdivide(child.patch, c2);
+        const Eigen::MatrixXd from_root = grandchild.from_parent * child.from_parent;
+        for (int corner = 0; corner < 3; ++corner) {
+          double u = corner == 1 ? 1 : 0, v = corner == 2 ? 1 : 0;
+          to_parent(c2, u, v);
+          to_parent(c1, u, v);
+          const std::array<int, 2> grid = {static_cast<int>(std::lround(4 * u)),
+                                           static_cast<int>(std::lround(4 * v))};
+          if (std::find(seen.begin(), seen.end(), grid) != seen.end()) continue;
+          const int row = static_cast<int>(seen.size());
+          seen.push_back(grid);
+          a.row(row) = monomials(grid[0] / 4.0, grid[1] / 4.0).row(0);
+          b.row(row) = (loop_corner_limit(grandchild.patch, corner).transpose() * from_root);
+        }
+      }
+    }
+    if (seen.size() != kMonomials) throw std::logic_error("regular_polynomials: the grid has not 15 points");
+    return Eigen::Matrix<double, kMonomials, 12>(a.fullPivLu().solve(b));
+  }();
+  return coefficients;
+}
+
+// Value and derivatives (rows) of the 12 regular basis functions at (u, v).
+Eigen::Matrix<double, 6, 12> regular_basis(double u, double v) {
+  return monomials(u, v) * regular_polynomials();
+}
+
+void set_from(LoopBasisAt& out, const Eigen::Matrix<double, 6, 12>& local, const Eigen::MatrixXd& to_local,
+              double factor) {
+  out.value = to_local.transpose() * local.row(0).transpose();
+  out.du = factor * (to_local.transpose() * local.row(1).transpose());
+  out.dv = factor * (to_local.transpose() * local.row(2).transpose());
+  out.duu = factor * factor * (to_local.transpose() * local.row(3).transpose());
+  out.duv = factor * factor * (to_local.transpose() * local.row(4).transpose());
+  out.dvv = factor * factor * (to_local.transpose() * local.row(5).transpose());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Quadrature.
+
+struct RuleBuilder {
+  const LoopQuadratureOptions& options;
+  std::vector<double> gauss_x, gauss_w;
+  std::vector<LoopBasisAt> basis;
+  std::vector<double> u, v, weight;
+
+  // The points of the collapsed Gauss rule on a sub-triangle `levels` steps down, given the map
+  // of its parameters to the root's (`to_root`).
+  template <class Place>
+  void add_points(int levels, const Place& place) {
+    const double area = std::ldexp(1.0, -2 * levels);
+    for (std::size_t a = 0; a < gauss_x.size(); ++a) {
+      for (std::size_t b = 0; b < gauss_x.size(); ++b) {
+        const double s = gauss_x[a], t = gauss_x[b] * (1 - gauss_x[a]);
+        double ru = s, rv = t;
+        basis.push_back(place(s, t, ru, rv));
+        u.push_back(ru);
+        v.push_back(rv);
+        weight.push_back(area * gauss_w[a] * gauss_w[b] * (1 - gauss_x[a]));
+      }
+    }
+  }
+
+  // path: the children taken from the root, to map points back.
+  void build(const LoopPatch& patch, const Eigen::MatrixXd& to_local, double factor, std::vector<int>& path) {
+    const int levels = static_cast<int>(path.size());
+    const auto root_params = [&path](double& s, double& t) {
+      for (auto it = path.rbegin(); it != path.rend(); ++it) to_parent(*it, s, t);
+    };
+    if (patch.regular()) {
+      add_points(levels, [&](double s, double t, double& ru, double& rv) {
+        LoopBasisAt at;
+        set_from(at, regular_basis(s, t), to_local, factor);
+        root_params(ru, rv);
+        return at;
+      });
+      return;
+    }
+    if (levels >= options.extraordinary_depth) {
+      add_points(levels, [&](double s, double t, double& ru, double& rv) {
+        const LoopBasisAt local = evaluate_loop_basis(patch, s, t);
+        LoopBasisAt at;
+        at.value = to_local.transpose() * local.value;
+        at.du = factor * (to_local.transpose() * local.du);
+        at.dv = factor * (to_local.transpose() * local.dv);
+        at.duu = factor * factor * (to_local.transpose() * local.duu);
+        at.duv = factor * factor * (to_local.transpose() * local.duv);
+        at.dvv = factor * factor * (to_local.transpose() * local.dvv);
+        root_params(ru, rv);
+        return at;
+      });
+      return;
+    }
+    for (int c = 0; c < 4; ++c) {
+      const Child child = subdivide(patch, c);
+      path.push_back(c);
+      build(child.patch, child.from_parent * to_local, factor * child_derivative_factor(c), path);
+      path.pop_back();
+    }
+  }
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+LoopPatch gather_loop_patch(const std::array<std::int32_t, 3>& corners, const RingOracle& ring_of) {
+  LoopPatch patch;
+  patch.vertices = {corners[0], corners[1], corners[2]};
+  std::array<std::vector<std::int32_t>, 3> rings;
+  for (int k = 0; k < 3; ++k) {
+    const std::int32_t next = corners[static_cast<std::size_t>((k + 1) % 3)],
+                       prev = corners[static_cast<std::size_t>((k + 2) % 3)];
+    std::vector<std::int32_t>& r = rings[static_cast<std::size_t>(k)];
+    if (!ring_of(corners[static_cast<std::size_t>(k)], r))
+      patch_error(corners, "reaches the boundary: Loop elements need a closed surface");
+    if (r.size() < 3 || !orient_ring(r, next, prev)) patch_error(corners, "is not a triangle fan");
+    patch.valence[static_cast<std::size_t>(k)] = static_cast<int>(r.size());
+    for (const std::int32_t w : r) {
+      if (std::find(patch.vertices.begin(), patch.vertices.end(), w) == patch.vertices.end())
+        patch.vertices.push_back(w);
+    }
+  }
+  const auto local = [&patch](std::int32_t w) {
+    return static_cast<int>(std::find(patch.vertices.begin(), patch.vertices.end(), w) -
+                            patch.vertices.begin());
+  };
+  for (int k = 0; k < 3; ++k) {
+    const std::vector<std::int32_t>& r = rings[static_cast<std::size_t>(k)];
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      std::array<int, 3> t = {k, local(r[i]), local(r[(i + 1) % r.size()])};
+      std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+      if (std::find(patch.triangles.begin(), patch.triangles.end(), t) == patch.triangles.end())
+        patch.triangles.push_back(t);
+    }
+  }
+  const int sum = patch.valence[0] + patch.valence[1] + patch.valence[2];
+  if (static_cast<int>(patch.vertices.size()) != sum - 6 ||
+      static_cast<int>(patch.triangles.size()) != sum - 5)
+    patch_error(corners, "overlaps itself (the mesh is too coarse there; refine it once)");
+  // The central triangle first, its corners as given.
+  const auto central = std::find(patch.triangles.begin(), patch.triangles.end(), std::array<int, 3>{0, 1, 2});
+  std::iter_swap(patch.triangles.begin(), central);
+  return patch;
+}
+
+Eigen::VectorXd loop_corner_limit(const LoopPatch& patch, int corner) {
+  const NetRings rings(static_cast<int>(patch.vertices.size()), patch.triangles);
+  std::vector<std::int32_t> ring;
+  if (!rings.ring(corner, ring))
+    throw std::logic_error("loop_corner_limit: the corner's ring is not in the patch");
+  const int k = static_cast<int>(ring.size());
+  const double b = loop::limit_neighbor_weight(k);
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(patch.vertices.size()));
+  w(corner) = 1.0 - k * b;
+  for (const std::int32_t x : ring) w(x) += b;
+  return w;
+}
+
+LoopBasisAt evaluate_loop_basis(const LoopPatch& patch, double u, double v) {
+  const Eigen::Index n = static_cast<Eigen::Index>(patch.vertices.size());
+  LoopBasisAt out;
+  // At an extraordinary corner itself: the limit mask; the derivatives do not exist there.
+  for (int k = 0; k < 3; ++k) {
+    const bool here =
+        (k == 0 && u == 0 && v == 0) || (k == 1 && u == 1 && v == 0) || (k == 2 && u == 0 && v == 1);
+    if (here && patch.valence[static_cast<std::size_t>(k)] != 6) {
+      out.value = loop_corner_limit(patch, k);
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      out.du = out.dv = out.duu = out.duv = out.dvv = Eigen::VectorXd::Constant(n, nan);
+      return out;
+    }
+  }
+  const double u0 = u, v0 = v;
+  LoopPatch current = patch;
+  Eigen::MatrixXd to_local = Eigen::MatrixXd::Identity(n, n);
+  double factor = 1;
+  // Each step halves the point's distance from an extraordinary corner: 60 steps reach below
+  // the resolution of doubles, where the point is that corner.
+  for (int depth = 0; !current.regular(); ++depth) {
+    if (depth == 60) return evaluate_loop_basis(patch, std::round(u0), std::round(v0));
+    const int c = child_containing(u, v);
+    Child child = subdivide(current, c);
+    to_child(c, u, v);
+    to_local = child.from_parent * to_local;
+    factor *= child_derivative_factor(c);
+    current = std::move(child.patch);
+  }
+  set_from(out, regular_basis(u, v), to_local, factor);
+  return out;
+}
+
+void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
+  x.assign(static_cast<std::size_t>(n), 0.0);
+  w.assign(static_cast<std::size_t>(n), 0.0);
+  for (int i = 0; i < n; ++i) {
+    // Newton's method on P_n from the Chebyshev-like first guess.
+    double t = std::cos(loop::kPi * (i + 0.75) / (n + 0.5)), dp = 1;
+    for (int iteration = 0; iteration < 100; ++iteration) {
+      double p0 = 1, p1 = t;
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2 * k - 1) * t * p1 - (k - 1) * p0) / k;
+        p0 = p1, p1 = p2;
+      }
+      dp = n * (t * p1 - p0) / (t * t - 1);
+      const double step = p1 / dp;
+      t -= step;
+      if (std::abs(step) < 1e-16) break;
+    }
+    x[static_cast<std::size_t>(i)] = 0.5 * (1 - t);
+    w[static_cast<std::size_t>(i)] = 1.0 / ((1 - t * t) * dp * dp);  // on [-1, 1] this is twice it
+  }
+}
+
+std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
+                                                      const LoopQuadratureOptions& options) {
+  if (options.points_per_direction < 1 || options.points_per_direction > 20 ||
+      options.extraordinary_depth < 0 || options.extraordinary_depth > 20)
+    throw std::invalid_argument("loop_quadrature: points per direction in [1, 20], depth in [0, 20]");
+  using Key = std::pair<std::array<int, 2>, Triangles>;
+  static std::mutex mutex;
+  static std::map<Key, std::shared_ptr<const LoopQuadrature>> cache;
+  const Key key{{options.points_per_direction, options.extraordinary_depth}, patch.triangles};
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    const auto it = cache.find(key);
+    if (it != cache.end()) return it->second;
+  }
+  RuleBuilder builder{options, {}, {}, {}, {}, {}, {}};
+  gauss_legendre(options.points_per_direction, builder.gauss_x, builder.gauss_w);
+  LoopPatch local = patch;
+  for (std::size_t i = 0; i < local.vertices.size(); ++i) local.vertices[i] = static_cast<std::int32_t>(i);
+  const Eigen::Index n = static_cast<Eigen::Index>(local.vertices.size());
+  std::vector<int> path;
+  builder.build(local, Eigen::MatrixXd::Identity(n, n), 1.0, path);
+
+  auto rule = std::make_shared<LoopQuadrature>();
+  rule->triangles = patch.triangles;
+  const Eigen::Index q = static_cast<Eigen::Index>(builder.basis.size());
+  rule->u = std::move(builder.u);
+  rule->v = std::move(builder.v);
+  rule->weight = std::move(builder.weight);
+  for (Eigen::MatrixXd* m : {&rule->value, &rule->du, &rule->dv, &rule->duu, &rule->duv, &rule->dvv})
+    m->resize(n, q);
+  for (Eigen::Index p = 0; p < q; ++p) {
+    const LoopBasisAt& at = builder.basis[static_cast<std::size_t>(p)];
+    rule->value.col(p) = at.value;
+    rule->du.col(p) = at.du;
+    rule->dv.col(p) = at.dv;
+    rule->duu.col(p) = at.duu;
+    rule->duv.col(p) = at.duv;
+    rule->dvv.col(p) = at.dvv;
+  }
+  const std::lock_guard<std::mutex> lock(mutex);
+  return cache.emplace(key, std::move(rule)).first->second;
+}
+
+}  // namespace rgbmesh::fem

@@ -1,0 +1,350 @@
+// Loop-basis elements on a uniformly refined closed mesh (see loop_elements.hpp).
+
+#include "rgbmesh/fem/loop_elements.hpp"
+
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "for_each_index.hpp"
+#include "rgbmesh/errors.hpp"
+#include "rgbmesh/timing.hpp"
+#include "source_samples.hpp"
+
+namespace rgbmesh::fem {
+
+namespace {
+
+Vec3 patch_sum(const Eigen::MatrixXd& weights, Eigen::Index point, const std::vector<std::int32_t>& dofs,
+               const std::vector<Vec3>& control) {
+  const double* w = weights.col(point).data();
+  Vec3 sum;
+  for (std::size_t i = 0; i < dofs.size(); ++i) sum += w[i] * control[static_cast<std::size_t>(dofs[i])];
+  return sum;
+}
+
+// dP a at x, by central differences with a step of 1e-4 of the tangent's length (the
+// projections are smooth on the scale of the surface; the error is then ~1e-8 relative).
+Vec3 projected_tangent(const Projection& p, const Vec3& x, const Vec3& a) {
+  const double h = 1e-4;
+  return (p(x + h * a) - p(x - h * a)) * (0.5 / h);
+}
+
+// The geometry at one quadrature point: the point on the surface, the metric's inverse and
+// the area density.
+struct Frame {
+  Vec3 y, yu, yv;
+  double g11 = 0, g12 = 0, g22 = 0;  // the inverse metric
+  double density = 0;
+};
+
+Frame frame_at(const LoopSpace& space, const LoopSpace::Element& e, Eigen::Index p) {
+  const LoopQuadrature& r = *e.rule;
+  Frame f;
+  const Vec3 x = patch_sum(r.value, p, e.dofs, space.control);
+  f.yu = patch_sum(r.du, p, e.dofs, space.control);
+  f.yv = patch_sum(r.dv, p, e.dofs, space.control);
+  f.y = x;
+  if (space.projection) {
+    const Projection& proj = *space.projection;
+    f.y = proj(x);
+    f.yu = projected_tangent(proj, x, f.yu);
+    f.yv = projected_tangent(proj, x, f.yv);
+  }
+  const double a = dot(f.yu, f.yu), b = dot(f.yu, f.yv), c = dot(f.yv, f.yv);
+  const double det = a * c - b * b;
+  f.density = std::sqrt(std::max(det, 0.0));
+  f.g11 = c / det, f.g12 = -b / det, f.g22 = a / det;
+  return f;
+}
+
+// The sparsity of the Loop space's matrices: i and j are coupled when one patch holds both.
+// Per DOF, the patches holding it (a CSR incidence), then each column's rows on every core.
+SparseMatrix pattern(const LoopSpace& space) {
+  const std::size_t n = space.num_dofs();
+  std::vector<std::size_t> start(n + 1, 0);
+  for (const LoopSpace::Element& e : space.elements)
+    for (const std::int32_t i : e.dofs) ++start[static_cast<std::size_t>(i) + 1];
+  for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+  std::vector<std::int32_t> holding(start.back());
+  {
+    std::vector<std::size_t> next(start.begin(), start.end() - 1);
+    for (std::size_t e = 0; e < space.elements.size(); ++e)
+      for (const std::int32_t i : space.elements[e].dofs)
+        holding[next[static_cast<std::size_t>(i)]++] = static_cast<std::int32_t>(e);
+  }
+  std::vector<std::vector<std::int32_t>> rows(n);
+  detail::for_each_index(n, [&](std::size_t j) {
+    std::vector<std::int32_t>& r = rows[j];
+    for (std::size_t k = start[j]; k < start[j + 1]; ++k) {
+      const auto& dofs = space.elements[static_cast<std::size_t>(holding[k])].dofs;
+      r.insert(r.end(), dofs.begin(), dofs.end());
+    }
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+  });
+  SparseMatrix m(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+  std::size_t nonzeros = 0;
+  for (const auto& r : rows) nonzeros += r.size();
+  m.resizeNonZeros(static_cast<Eigen::Index>(nonzeros));
+  std::size_t k = 0;
+  for (std::size_t j = 0; j < n; ++j) {
+    m.outerIndexPtr()[j] = static_cast<SparseMatrix::StorageIndex>(k);
+    for (const std::int32_t i : rows[j]) {
+      m.innerIndexPtr()[k] = i;
+      m.valuePtr()[k++] = 0.0;
+    }
+  }
+  m.outerIndexPtr()[n] = static_cast<SparseMatrix::StorageIndex>(k);
+  return m;
+}
+
+// Each element's part of K + c M, of the load, of ∫φ_i, and of ∫f and ∫|f|, for a block of
+// elements at a time on every core. The source comes from `f` (per point, a batch function's
+// values) when given, else from problem.source.
+struct LocalParts {
+  Eigen::MatrixXd matrix;
+  Eigen::VectorXd load, area;
+  double integral = 0, magnitude = 0;
+};
+
+// N: the patch's size when known at compile time (12, regular corners: most elements), so
+// that the small products run unrolled; Eigen::Dynamic otherwise.
+template <int N>
+void accumulate(const LoopSpace& space, const LoopSpace::Element& e, const Problem& problem, const double* f,
+                LocalParts& out) {
+  using Vector = Eigen::Matrix<double, N, 1>;
+  using Matrix = Eigen::Matrix<double, N, N>;
+  const LoopQuadrature& r = *e.rule;
+  const Eigen::Index n = static_cast<Eigen::Index>(e.dofs.size());
+  Matrix matrix = Matrix::Zero(n, n);
+  Vector load = Vector::Zero(n), area = Vector::Zero(n), a(n), b(n);
+  out.integral = out.magnitude = 0;
+  for (Eigen::Index p = 0; p < static_cast<Eigen::Index>(r.size()); ++p) {
+    const Frame fr = frame_at(space, e, p);
+    const double w = r.weight[static_cast<std::size_t>(p)] * fr.density;
+    const Eigen::Map<const Vector> du(r.du.col(p).data(), n), dv(r.dv.col(p).data(), n),
+        phi(r.value.col(p).data(), n);
+    // ∇φ_i·∇φ_j = (du_i, dv_i) g⁻¹ (du_j, dv_j)ᵀ: a rank-two update.
+    a.noalias() = (w * fr.g11) * du + (w * fr.g12) * dv;
+    b.noalias() = (w * fr.g12) * du + (w * fr.g22) * dv;
+    matrix.noalias() += a * du.transpose();
+    matrix.noalias() += b * dv.transpose();
+    if (problem.c != 0) matrix.noalias() += (w * problem.c) * (phi * phi.transpose());
+    const double source = f != nullptr ? f[p] : problem.source(fr.y);
+    load.noalias() += (w * source) * phi;
+    area.noalias() += w * phi;
+    out.integral += w * source;
+    out.magnitude += w * std::abs(source);
+  }
+  out.matrix = matrix;
+  out.load = load;
+  out.area = area;
+}
+
+void local_parts(const LoopSpace& space, std::size_t element, const Problem& problem, const double* f,
+                 LocalParts& out) {
+  const LoopSpace::Element& e = space.elements[element];
+  if (e.dofs.size() == 12)
+    accumulate<12>(space, e, problem, f, out);
+  else
+    accumulate<Eigen::Dynamic>(space, e, problem, f, out);
+}
+
+}  // namespace
+
+LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
+                           const LoopQuadratureOptions& quadrature) {
+  LoopSpace space;
+  space.projection = std::move(projection);
+  space.level = -1;
+  for (const TriangleHandle t : mesh.triangles()) {
+    if (space.level < 0) space.level = mesh.level(t);
+    if (mesh.color(t) != Color::green || mesh.level(t) != space.level)
+      throw InputError("Loop elements need a uniformly refined mesh for now, but triangle " +
+                       std::to_string(t.idx) + " is not a green triangle of level " +
+                       std::to_string(space.level));
+  }
+  mesh.compute_limits();
+  space.dof_of_vertex.assign(static_cast<std::size_t>(mesh.vertex_slots()), -1);
+  for (const VertexHandle v : mesh.vertices()) {
+    space.dof_of_vertex[static_cast<std::size_t>(v.idx)] = static_cast<std::int32_t>(space.vertex.size());
+    space.vertex.push_back(v);
+    space.control.push_back(mesh.control_point(v, space.level));
+  }
+  VertexStar star;
+  const RingOracle ring = [&](std::int32_t dof, std::vector<std::int32_t>& out) {
+    mesh.star(space.vertex[static_cast<std::size_t>(dof)], star);
+    out.clear();
+    for (const VertexHandle w : star.neighbors)
+      out.push_back(space.dof_of_vertex[static_cast<std::size_t>(w.idx)]);
+    return !star.boundary;
+  };
+  for (const TriangleHandle t : mesh.triangles()) {
+    const auto corners = mesh.triangle_vertices(t);
+    std::array<std::int32_t, 3> dofs{};
+    for (int k = 0; k < 3; ++k)
+      dofs[static_cast<std::size_t>(k)] =
+          space.dof_of_vertex[static_cast<std::size_t>(corners[static_cast<std::size_t>(k)].idx)];
+    LoopPatch patch;
+    try {
+      patch = gather_loop_patch(dofs, ring);
+    } catch (const InputError& e) {
+      throw InputError("triangle " + std::to_string(t.idx) + ": " + e.what());
+    }
+    space.elements.push_back({t, patch.vertices, loop_quadrature(patch, quadrature)});
+  }
+  return space;
+}
+
+LoopPoint loop_point(const LoopSpace& space, std::size_t element, std::size_t point) {
+  const LoopSpace::Element& e = space.elements[element];
+  const Eigen::Index p = static_cast<Eigen::Index>(point);
+  const Frame f = frame_at(space, e, p);
+  LoopPoint out{f.y, f.yu, f.yv, f.density, {}};
+  for (std::size_t i = 0; i < e.dofs.size(); ++i) {
+    const double du = e.rule->du(static_cast<Eigen::Index>(i), p),
+                 dv = e.rule->dv(static_cast<Eigen::Index>(i), p);
+    out.gradient.push_back((f.g11 * du + f.g12 * dv) * f.yu + (f.g12 * du + f.g22 * dv) * f.yv);
+  }
+  return out;
+}
+
+Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveOptions& options) {
+  if (!(problem.c >= 0) || !std::isfinite(problem.c))
+    throw InputError("problem '" + problem.name + "': the coefficient c must be finite and >= 0");
+  if (!problem.source && !problem.source_values)
+    throw InputError("problem '" + problem.name + "' has no source");
+  const auto t0 = std::chrono::steady_clock::now();
+  // A batch function gets every quadrature point in one call.
+  std::vector<std::size_t> first(space.elements.size() + 1, 0);
+  std::vector<double> f;
+  if (problem.source_values) {
+    for (std::size_t e = 0; e < space.elements.size(); ++e)
+      first[e + 1] = first[e] + space.elements[e].rule->size();
+    std::vector<Vec3> points(first.back());
+    detail::for_each_index(space.elements.size(), [&](std::size_t e) {
+      for (std::size_t p = 0; p < space.elements[e].rule->size(); ++p)
+        points[first[e] + p] = frame_at(space, space.elements[e], static_cast<Eigen::Index>(p)).y;
+    });
+    f = detail::point_values(problem.source_values, points);
+  }
+
+  const Eigen::Index n = static_cast<Eigen::Index>(space.num_dofs());
+  SparseMatrix a = pattern(space);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(n), area = Eigen::VectorXd::Zero(n);
+  double integral = 0, magnitude = 0;  // ∫f and ∫|f|
+  bool finite = true;
+  constexpr std::size_t kBlock = 2048;
+  std::vector<LocalParts> parts(kBlock);
+  for (std::size_t begin = 0; begin < space.elements.size(); begin += kBlock) {
+    const std::size_t count = std::min(kBlock, space.elements.size() - begin);
+    detail::for_each_index(count, [&](std::size_t i) {
+      local_parts(space, begin + i, problem, f.empty() ? nullptr : f.data() + first[begin + i], parts[i]);
+    });
+    for (std::size_t i = 0; i < count; ++i) {  // in element order: the same sums on any number of cores
+      const LoopSpace::Element& e = space.elements[begin + i];
+      const LocalParts& lp = parts[i];
+      finite = finite && std::isfinite(lp.integral) && std::isfinite(lp.magnitude);
+      integral += lp.integral;
+      magnitude += lp.magnitude;
+      for (std::size_t jl = 0; jl < e.dofs.size(); ++jl) {
+        const Eigen::Index j = e.dofs[jl];
+        b(j) += lp.load(static_cast<Eigen::Index>(jl));
+        area(j) += lp.area(static_cast<Eigen::Index>(jl));
+        for (std::size_t il = 0; il < e.dofs.size(); ++il)
+          a.coeffRef(e.dofs[il], j) +=
+              lp.matrix(static_cast<Eigen::Index>(il), static_cast<Eigen::Index>(jl));
+      }
+    }
+  }
+  if (!finite)
+    throw InputError("problem '" + problem.name + "': the source is not finite somewhere on the surface");
+  const double assembly_seconds = seconds_since(t0);
+
+  const bool zero_mean = problem.c == 0;
+  if (zero_mean) {
+    // A closed surface with c = 0: solutions differ by constants (which the Loop space holds:
+    // its functions sum to one) and exist only for a source of zero mean; the discrete load is
+    // then made exactly compatible, one value fixed, the result shifted to zero mean.
+    if (std::abs(integral) > problem.mean_tolerance * magnitude)
+      throw InputError("problem '" + problem.name +
+                       "': on a closed surface with c = 0 the source must have zero mean, but ∫f = " +
+                       std::to_string(integral) + "; use c > 0, or subtract the mean");
+    b -= (b.sum() / area.sum()) * area;
+    for (SparseMatrix::InnerIterator it(a, 0); it; ++it) it.valueRef() = it.row() == 0 ? 1.0 : 0.0;
+    for (Eigen::Index j = 1; j < n; ++j)
+      for (SparseMatrix::InnerIterator it(a, j); it; ++it)
+        if (it.row() == 0) it.valueRef() = 0.0;
+    b(0) = 0;
+  }
+  Solution sol = solve_linear_system(a, b, options, problem.name);
+  sol.assembly_seconds = assembly_seconds;
+  sol.zero_mean = zero_mean;
+  if (zero_mean) sol.u.array() -= area.dot(sol.u) / area.sum();
+  return sol;
+}
+
+ErrorNorms loop_error_norms(const LoopSpace& space, const Eigen::VectorXd& u, const ExactSolution& exact,
+                            bool subtract_mean) {
+  const std::size_t m = space.elements.size();
+  std::vector<std::array<double, 4>> sums(m);  // ∫(u - u_h)², ∫|∇(u - u_h)|², ∫u, area
+  detail::for_each_index(m, [&](std::size_t e) {
+    const LoopSpace::Element& el = space.elements[e];
+    std::array<double, 4> s{};
+    for (std::size_t p = 0; p < el.rule->size(); ++p) {
+      const LoopPoint q = loop_point(space, e, p);
+      double uh = 0;
+      Vec3 grad_uh;
+      for (std::size_t i = 0; i < el.dofs.size(); ++i) {
+        const double ui = u(el.dofs[i]);
+        uh += el.rule->value(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(p)) * ui;
+        grad_uh += ui * q.gradient[i];
+      }
+      const double w = el.rule->weight[p] * q.density;
+      const double ue = exact.value(q.x);
+      const Vec3 grad_error = exact.surface_gradient(q.x) - grad_uh;
+      s[0] += w * (ue - uh) * (ue - uh);
+      s[1] += w * dot(grad_error, grad_error);
+      s[2] += w * (ue - uh);
+      s[3] += w;
+    }
+    sums[e] = s;
+  });
+  std::array<double, 4> total{};
+  for (const auto& s : sums)
+    for (int k = 0; k < 4; ++k) total[static_cast<std::size_t>(k)] += s[static_cast<std::size_t>(k)];
+  ErrorNorms out;
+  // With the mean removed: ‖e - ē‖² = ‖e‖² - |Γ| ē².
+  const double mean = subtract_mean ? total[2] / total[3] : 0.0;
+  out.l2 = std::sqrt(std::max(0.0, total[0] - total[3] * mean * mean));
+  out.h1 = std::sqrt(total[1]);
+  return out;
+}
+
+Eigen::VectorXd loop_vertex_values(const LoopSpace& space, const Eigen::VectorXd& u) {
+  Eigen::VectorXd out = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(space.num_dofs()), 0.0);
+  std::vector<char> done(space.num_dofs(), 0);
+  for (const LoopSpace::Element& e : space.elements) {
+    for (int corner = 0; corner < 3; ++corner) {
+      const std::int32_t dof = e.dofs[static_cast<std::size_t>(corner)];
+      if (done[static_cast<std::size_t>(dof)]) continue;
+      // The patch's connectivity gives the corner's ring (its canonical order is that of the
+      // element's dofs).
+      LoopPatch local;
+      local.vertices.resize(e.dofs.size());
+      for (std::size_t i = 0; i < e.dofs.size(); ++i) local.vertices[i] = static_cast<std::int32_t>(i);
+      local.triangles = e.rule->triangles;
+      const Eigen::VectorXd w = loop_corner_limit(local, corner);
+      double value = 0;
+      for (std::size_t i = 0; i < e.dofs.size(); ++i) value += w(static_cast<Eigen::Index>(i)) * u(e.dofs[i]);
+      out(dof) = value;
+      done[static_cast<std::size_t>(dof)] = 1;
+    }
+  }
+  return out;
+}
+
+}  // namespace rgbmesh::fem

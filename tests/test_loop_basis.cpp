@@ -1,0 +1,270 @@
+// Loop's limit functions on a triangle (fem::evaluate_loop_basis, loop_quadrature) against
+// OpenSubdiv's, an independent implementation: Far::PatchTable built by adaptive isolation of
+// the extraordinary vertices evaluates the limit exactly on its regular (LOOP) patches, with
+// derivatives, in the base face's parameters; PrimvarRefinerReal::Limit gives the exact limit
+// at every vertex, extraordinary ones included.
+
+#include <gtest/gtest.h>
+#include <opensubdiv/far/patchMap.h>
+#include <opensubdiv/far/patchTable.h>
+#include <opensubdiv/far/patchTableFactory.h>
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+
+#include "rgbmesh/errors.hpp"
+#include "rgbmesh/fem/loop_basis.hpp"
+#include "test_meshes.hpp"
+
+namespace rgbmesh {
+namespace {
+
+using namespace OpenSubdiv;
+
+struct Scalar {
+  double x = 0;
+  void Clear() { x = 0; }
+  void AddWithWeight(const Scalar& o, double w) { x += w * o.x; }
+};
+
+std::unique_ptr<Far::TopologyRefiner> refiner_for(const testing::BaseMesh& base) {
+  static std::vector<int> counts, indices;  // kept alive while the factory reads them
+  counts.assign(base.triangles.size(), 3);
+  indices.clear();
+  for (const auto& t : base.triangles) indices.insert(indices.end(), t.begin(), t.end());
+  Far::TopologyDescriptor desc;
+  desc.numVertices = static_cast<int>(base.points.size());
+  desc.numFaces = static_cast<int>(base.triangles.size());
+  desc.numVertsPerFace = counts.data();
+  desc.vertIndicesPerFace = indices.data();
+  Sdc::Options options;
+  options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  return std::unique_ptr<Far::TopologyRefiner>(
+      Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
+}
+
+// The patch of each base triangle, from the mesh's rings.
+fem::LoopPatch patch_of(const RgbMesh& mesh, const std::array<std::int32_t, 3>& t) {
+  return fem::gather_loop_patch(t, [&mesh](std::int32_t v, std::vector<std::int32_t>& ring) {
+    const VertexStar s = mesh.star(VertexHandle(v));
+    ring.clear();
+    for (const VertexHandle w : s.neighbors) ring.push_back(w.idx);
+    return !s.boundary;
+  });
+}
+
+double dot(const Eigen::VectorXd& w, const fem::LoopPatch& patch, const std::vector<double>& values) {
+  double sum = 0;
+  for (std::size_t i = 0; i < patch.vertices.size(); ++i)
+    sum += w(static_cast<Eigen::Index>(i)) * values[static_cast<std::size_t>(patch.vertices[i])];
+  return sum;
+}
+
+class LoopBasisVsOpenSubdiv : public ::testing::TestWithParam<testing::BaseMesh> {};
+
+// Values, first and second derivatives at random points of every base triangle, wherever
+// OpenSubdiv's patch there is a regular Loop patch (everywhere but the last isolation level's
+// triangles at extraordinary vertices, which it only approximates).
+TEST_P(LoopBasisVsOpenSubdiv, LimitAndDerivativesOnRegularPatches) {
+  const testing::BaseMesh& base = GetParam();
+  const RgbMesh mesh = base.build();
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::vector<double> values(base.points.size());
+  for (double& x : values) x = unit(random) - 0.5;
+
+  const int isolation = 6;
+  auto refiner = refiner_for(base);
+  Far::PatchTableFactory::Options patch_options(isolation);
+  patch_options.SetPatchPrecision<double>();
+  refiner->RefineAdaptive(patch_options.GetRefineAdaptiveOptions());
+  std::unique_ptr<const Far::PatchTable> table(Far::PatchTableFactory::Create(*refiner, patch_options));
+  std::vector<Scalar> all(
+      static_cast<std::size_t>(refiner->GetNumVerticesTotal() + table->GetNumLocalPoints()));
+  for (std::size_t i = 0; i < values.size(); ++i) all[i].x = values[i];
+  Far::PrimvarRefinerReal<double> primvar(*refiner);
+  Scalar* src = all.data();
+  for (int level = 1; level <= refiner->GetMaxLevel(); ++level) {
+    Scalar* dst = src + refiner->GetLevel(level - 1).GetNumVertices();
+    primvar.Interpolate(level, src, dst);
+    src = dst;
+  }
+  if (table->GetNumLocalPoints() > 0)
+    table->ComputeLocalPointValues(all.data(), all.data() + refiner->GetNumVerticesTotal());
+  const Far::PatchMap map(*table);
+
+  int compared = 0;
+  double worst[6] = {0, 0, 0, 0, 0, 0};
+  for (std::size_t f = 0; f < base.triangles.size(); ++f) {
+    const fem::LoopPatch patch = patch_of(mesh, base.triangles[f]);
+    for (int sample = 0; sample < 40; ++sample) {
+      // Half the points anywhere, half within 1/16 of a corner (where extraordinary corners
+      // make the patch deepest).
+      double u = unit(random), v = unit(random);
+      if (u + v > 1) u = 1 - u, v = 1 - v;
+      if (sample % 2) {
+        u /= 16, v /= 16;
+        if (sample % 3 == 1) std::swap(u, v), u = 1 - u - v;  // near corner 1 as well
+      }
+      const Far::PatchTable::PatchHandle* handle = map.FindPatch(static_cast<int>(f), u, v);
+      ASSERT_NE(handle, nullptr);
+      if (table->GetPatchDescriptor(*handle).GetType() != Far::PatchDescriptor::LOOP) continue;
+      double w[6][12];
+      table->EvaluateBasis(*handle, u, v, w[0], w[1], w[2], w[3], w[4], w[5]);
+      const Far::ConstIndexArray cvs = table->GetPatchVertices(*handle);
+      double reference[6] = {0, 0, 0, 0, 0, 0};
+      for (int k = 0; k < 6; ++k)
+        for (int i = 0; i < cvs.size(); ++i)
+          reference[k] += w[k][i] * all[static_cast<std::size_t>(cvs[i])].x;
+      // OpenSubdiv 3.5 returns the second derivatives of a sub-triangle turned half around
+      // (the middle child of a split) with the wrong sign: the turn negates the first
+      // derivatives (d/du = -2^depth d/du') but leaves the second ones positive (4^depth).
+      // The central differences of its own first derivatives below confirm the sign used here.
+      if (table->GetPatchParam(*handle).IsTriangleRotated())
+        for (int k = 3; k < 6; ++k) reference[k] = -reference[k];
+      if (sample % 5 == 0) {
+        // d/du and d/dv of OpenSubdiv's first derivatives, by central differences.
+        const double h = 1e-6;
+        const auto first_derivatives = [&](double pu, double pv) {
+          const Far::PatchTable::PatchHandle* at = map.FindPatch(static_cast<int>(f), pu, pv);
+          double d[6][12], du = 0, dv = 0;
+          table->EvaluateBasis(*at, pu, pv, d[0], d[1], d[2], d[3], d[4], d[5]);
+          const Far::ConstIndexArray points = table->GetPatchVertices(*at);
+          for (int i = 0; i < points.size(); ++i) {
+            du += d[1][i] * all[static_cast<std::size_t>(points[i])].x;
+            dv += d[2][i] * all[static_cast<std::size_t>(points[i])].x;
+          }
+          return std::array<double, 2>{du, dv};
+        };
+        if (u > h && v > h && u + v < 1 - h) {
+          const auto up = first_derivatives(u + h, v), um = first_derivatives(u - h, v);
+          const auto vp = first_derivatives(u, v + h), vm = first_derivatives(u, v - h);
+          const double scale =
+              1e-5 * (1 + std::abs(reference[3]) + std::abs(reference[4]) + std::abs(reference[5]));
+          EXPECT_NEAR((up[0] - um[0]) / (2 * h), reference[3], scale)
+              << base.name << " duu at " << u << ", " << v;
+          EXPECT_NEAR((vp[0] - vm[0]) / (2 * h), reference[4], scale)
+              << base.name << " duv at " << u << ", " << v;
+          EXPECT_NEAR((vp[1] - vm[1]) / (2 * h), reference[5], scale)
+              << base.name << " dvv at " << u << ", " << v;
+        }
+      }
+      const fem::LoopBasisAt at = fem::evaluate_loop_basis(patch, u, v);
+      const Eigen::VectorXd* ours[6] = {&at.value, &at.du, &at.dv, &at.duu, &at.duv, &at.dvv};
+      for (int k = 0; k < 6; ++k) {
+        const double error = std::abs(dot(*ours[k], patch, values) - reference[k]);
+        worst[k] = std::max(worst[k], error);
+        ASSERT_LT(error, 1e-9) << base.name << " face " << f << " (u, v) = (" << u << ", " << v
+                               << "), quantity " << k << " (value, du, dv, duu, duv, dvv)";
+      }
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, static_cast<int>(base.triangles.size()) * 20) << base.name;
+  std::printf(
+      "  %s: %d points; largest differences value %.1e, du %.1e, dv %.1e, duu %.1e, duv %.1e, dvv %.1e\n",
+      base.name.c_str(), compared, worst[0], worst[1], worst[2], worst[3], worst[4], worst[5]);
+}
+
+// The limit at the corners, extraordinary ones included, is OpenSubdiv's limit of the vertex.
+TEST_P(LoopBasisVsOpenSubdiv, CornerLimitsAreTheLimitPositions) {
+  const testing::BaseMesh& base = GetParam();
+  const RgbMesh mesh = base.build();
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::vector<double> values(base.points.size());
+  for (double& x : values) x = unit(random);
+  auto refiner = refiner_for(base);
+  Far::TopologyRefiner::UniformOptions uniform(1);
+  uniform.fullTopologyInLastLevel = true;
+  refiner->RefineUniform(uniform);
+  std::vector<Scalar> level0(values.size()),
+      level1(static_cast<std::size_t>(refiner->GetLevel(1).GetNumVertices())), limit(level1.size());
+  for (std::size_t i = 0; i < values.size(); ++i) level0[i].x = values[i];
+  Far::PrimvarRefinerReal<double> primvar(*refiner);
+  primvar.Interpolate(1, level0, level1);
+  primvar.Limit(level1, limit);
+  for (std::size_t f = 0; f < base.triangles.size(); ++f) {
+    const fem::LoopPatch patch = patch_of(mesh, base.triangles[f]);
+    for (int corner = 0; corner < 3; ++corner) {
+      const int child =
+          refiner->GetLevel(0).GetVertexChildVertex(base.triangles[f][static_cast<std::size_t>(corner)]);
+      const double reference = limit[static_cast<std::size_t>(child)].x;
+      EXPECT_NEAR(dot(fem::loop_corner_limit(patch, corner), patch, values), reference, 1e-12) << base.name;
+      const double u = corner == 1 ? 1 : 0, v = corner == 2 ? 1 : 0;
+      EXPECT_NEAR(dot(fem::evaluate_loop_basis(patch, u, v).value, patch, values), reference, 1e-12)
+          << base.name;
+    }
+  }
+}
+
+std::vector<testing::BaseMesh> closed_meshes() {
+  return {testing::octahedron(), testing::icosahedron(), testing::cube(),
+          testing::bipyramid(7), testing::torus(6, 8),   testing::double_torus()};
+}
+
+INSTANTIATE_TEST_SUITE_P(Closed, LoopBasisVsOpenSubdiv, ::testing::ValuesIn(closed_meshes()),
+                         [](const ::testing::TestParamInfo<testing::BaseMesh>& param) {
+                           std::string name = param.param.name;
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return name;
+                         });
+
+// A patch whose corners' rings overlap beyond the triangle (the tetrahedron: every vertex is
+// in every ring) is refused with the triangle named, as is a corner on a boundary.
+TEST(LoopBasis, RefusesFoldedPatchesAndBoundaries) {
+  const testing::BaseMesh tetra = testing::tetrahedron();
+  const RgbMesh mesh = tetra.build();
+  EXPECT_THROW(patch_of(mesh, tetra.triangles[0]), InputError);
+  const testing::BaseMesh disk = testing::fan_disk(6);
+  const RgbMesh open = disk.build();
+  try {
+    patch_of(open, disk.triangles[0]);
+    FAIL() << "a boundary patch was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("closed surface"), std::string::npos) << e.what();
+  }
+}
+
+// The quadrature rules: their weights sum to the parameter triangle's area, they integrate
+// polynomials of their degree exactly on regular patches, and on a patch with an extraordinary
+// corner the basis at their points is the pointwise evaluation's.
+TEST(LoopBasis, QuadratureRules) {
+  std::vector<double> x, w;
+  fem::gauss_legendre(5, x, w);
+  double moment = 0, sum = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) sum += w[i], moment += w[i] * std::pow(x[i], 9);
+  EXPECT_NEAR(sum, 1.0, 1e-15);
+  EXPECT_NEAR(moment, 0.1, 1e-15);  // degree 9 = 2 n - 1
+
+  const testing::BaseMesh ico = testing::icosahedron();
+  const RgbMesh mesh = ico.build();
+  const fem::LoopPatch patch = patch_of(mesh, ico.triangles[0]);  // three corners of valence 5
+  fem::LoopQuadratureOptions options;
+  options.extraordinary_depth = 3;
+  const auto rule = fem::loop_quadrature(patch, options);
+  double area = 0, u3v2 = 0;
+  for (std::size_t p = 0; p < rule->size(); ++p) {
+    area += rule->weight[p];
+    u3v2 += rule->weight[p] * std::pow(rule->u[p], 3) * std::pow(rule->v[p], 2);
+    if (p % 37 == 0) {
+      const fem::LoopBasisAt at = fem::evaluate_loop_basis(patch, rule->u[p], rule->v[p]);
+      EXPECT_LT((rule->value.col(static_cast<Eigen::Index>(p)) - at.value).norm(), 1e-13);
+      EXPECT_LT((rule->du.col(static_cast<Eigen::Index>(p)) - at.du).norm(), 1e-11);
+      EXPECT_LT((rule->dvv.col(static_cast<Eigen::Index>(p)) - at.dvv).norm(), 1e-9);
+    }
+  }
+  EXPECT_NEAR(area, 0.5, 1e-14);
+  EXPECT_NEAR(u3v2, 3.0 * 2.0 / (7.0 * 6.0 * 5.0 * 4.0 * 3.0), 1e-15);  // 3! 2! / 7!
+  // Built once per connectivity: the same rule again.
+  EXPECT_EQ(fem::loop_quadrature(patch, options).get(), rule.get());
+}
+
+}  // namespace
+}  // namespace rgbmesh

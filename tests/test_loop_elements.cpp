@@ -1,0 +1,142 @@
+// Loop-basis elements (fem::build_loop_space, solve_loop) against exact solutions on the unit
+// sphere, and against what the space must hold exactly (constants).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "rgbmesh/errors.hpp"
+#include "rgbmesh/fem/loop_elements.hpp"
+#include "rgbmesh/refinement.hpp"
+#include "test_meshes.hpp"
+
+namespace rgbmesh {
+namespace {
+
+RgbMesh uniform(const testing::BaseMesh& base, int level) {
+  RgbMesh mesh = base.build();
+  selective_refinement(mesh, UniformLevel(level));
+  return mesh;
+}
+
+const fem::Projection kSphere(fem::project_to_unit_sphere);
+
+// -Δu + u = 1 has the solution u = 1 on any closed surface, and the Loop space holds the
+// constants (its functions sum to one), so the discrete solution is 1 too, on the limit
+// surface itself and on its projection, at extraordinary vertices as elsewhere.
+TEST(LoopElements, ReproduceConstants) {
+  fem::Problem one;
+  one.name = "one";
+  one.c = 1;
+  one.source = [](const Vec3&) { return 1.0; };
+  for (const testing::BaseMesh& base : {testing::icosahedron(), testing::cube(), testing::torus(6, 8)}) {
+    RgbMesh mesh = uniform(base, 1);
+    for (const bool projected : {false, true}) {
+      if (projected && base.name != "icosahedron") continue;
+      const fem::LoopSpace space =
+          fem::build_loop_space(mesh, projected ? std::optional(kSphere) : std::nullopt);
+      const fem::Solution s = fem::solve_loop(space, one);
+      EXPECT_LT((s.u.array() - 1.0).abs().maxCoeff(), 1e-11) << base.name;
+      EXPECT_LT((fem::loop_vertex_values(space, s.u).array() - 1.0).abs().maxCoeff(), 1e-11) << base.name;
+    }
+  }
+}
+
+struct SphereRun {
+  std::size_t dofs;
+  fem::ErrorNorms errors;
+  int iterations;
+};
+
+SphereRun solve_on_sphere(int level, const fem::Problem& problem,
+                          const fem::LoopQuadratureOptions& quadrature = {},
+                          fem::SolverKind solver = fem::SolverKind::automatic) {
+  RgbMesh mesh = uniform(testing::icosahedron(), level);
+  const fem::LoopSpace space = fem::build_loop_space(mesh, kSphere, quadrature);
+  fem::SolveOptions options;
+  options.solver = solver;
+  const fem::Solution s = fem::solve_loop(space, problem, options);
+  return {space.num_dofs(), fem::loop_error_norms(space, s.u, *problem.exact, s.zero_mean), s.iterations};
+}
+
+// u = xyz on the unit sphere (c = 0, zero mean). Loop's functions reproduce cubics where the
+// corners are regular (H1 error O(h³), L2 O(h⁴)) but only linear functions at the 12
+// extraordinary vertices of valence 5, whose neighbourhoods of area O(h²) bound the rates at
+// O(h²) in H1 and O(h³) in L2. Measured: H1 rates 3.18, 2.93, 2.61, 2.44 per halving of h,
+// L2 rates 4.33, 4.07, 3.74, 3.58.
+TEST(LoopElements, SphereHarmonicConvergesAtTheRatesExtraordinaryVerticesAllow) {
+  const fem::Problem problem = fem::sphere_harmonic();
+  std::vector<SphereRun> runs;
+  for (int level = 1; level <= 5; ++level) runs.push_back(solve_on_sphere(level, problem));
+  for (std::size_t i = 1; i < runs.size(); ++i) {
+    const double h1_rate = std::log2(runs[i - 1].errors.h1 / runs[i].errors.h1);
+    const double l2_rate = std::log2(runs[i - 1].errors.l2 / runs[i].errors.l2);
+    std::printf("  level %zu, %zu unknowns: L2 %.3e (rate %.2f), H1 %.3e (rate %.2f)\n", i + 1, runs[i].dofs,
+                runs[i].errors.l2, l2_rate, runs[i].errors.h1, h1_rate);
+    EXPECT_GT(h1_rate, 2.0 - 0.1) << "level " << i + 1;
+    EXPECT_GT(l2_rate, 3.0 - 0.1) << "level " << i + 1;
+  }
+  // P2 on the same number of unknowns (the mesh one level coarser): the smooth space is far
+  // more accurate per unknown (measured: 45 times in H1, 69 times in L2).
+  RgbMesh coarser = uniform(testing::icosahedron(), 4);
+  const fem::SurfaceMesh p2 = fem::build_surface_mesh(coarser, kSphere, 2);
+  ASSERT_EQ(p2.num_dofs(), runs.back().dofs);
+  const fem::Solution s2 = fem::solve(p2, problem);
+  const fem::ErrorNorms e2 = fem::error_norms(p2, s2.u, *problem.exact, true);
+  std::printf("  P2 with as many unknowns: L2 %.3e, H1 %.3e\n", e2.l2, e2.h1);
+  EXPECT_LT(runs.back().errors.h1, e2.h1 / 10);
+  EXPECT_LT(runs.back().errors.l2, e2.l2 / 10);
+}
+
+// The quadrature around extraordinary vertices: the rule's depth there changes the errors by
+// less than their own last digits.
+TEST(LoopElements, QuadratureAtExtraordinaryVerticesIsConverged) {
+  const fem::Problem problem = fem::sphere_peak();
+  fem::LoopQuadratureOptions shallow, deep;
+  shallow.extraordinary_depth = 3;
+  deep.extraordinary_depth = 10;
+  deep.points_per_direction = 7;
+  const SphereRun a = solve_on_sphere(4, problem, shallow), b = solve_on_sphere(4, problem, deep);
+  std::printf("  H1 %.6e (depth 3) %.6e (depth 10, 7x7 points)\n", a.errors.h1, b.errors.h1);
+  EXPECT_NEAR(a.errors.h1, b.errors.h1, 1e-4 * b.errors.h1);
+  EXPECT_NEAR(a.errors.l2, b.errors.l2, 1e-3 * b.errors.l2);
+}
+
+// BoomerAMG on the Loop stiffness matrix (wider stencil than P1: 37 unknowns a row where the
+// corners are regular) converges in few iterations, to the direct solver's solution.
+TEST(LoopElements, AmgSolvesTheLoopSystem) {
+  if (!fem::amg_available()) GTEST_SKIP() << "built without PETSc";
+  const fem::Problem problem = fem::sphere_peak();
+  const SphereRun direct = solve_on_sphere(5, problem, {}, fem::SolverKind::ldlt);
+  const SphereRun amg = solve_on_sphere(5, problem, {}, fem::SolverKind::amg);
+  std::printf("  AMG: %d iterations on %zu unknowns\n", amg.iterations, amg.dofs);
+  EXPECT_LE(amg.iterations, 30);
+  EXPECT_NEAR(amg.errors.h1, direct.errors.h1, 1e-6 * direct.errors.h1);
+}
+
+TEST(LoopElements, RefusesMeshesItCannotHandleYet) {
+  // A mesh with triangles of two levels.
+  RgbMesh mixed = testing::icosahedron().build();
+  const EdgeHandle e = *mixed.edges().begin();
+  mixed.split_edge(e);
+  try {
+    fem::build_loop_space(mixed);
+    FAIL() << "a mesh that is not uniform was accepted";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("uniformly refined"), std::string::npos) << error.what();
+  }
+  RgbMesh open = uniform(testing::fan_disk(6), 1);
+  try {
+    fem::build_loop_space(open);
+    FAIL() << "an open mesh was accepted";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("closed surface"), std::string::npos) << error.what();
+  }
+  // The tetrahedron: every ring holds every vertex, the patch folds onto itself.
+  RgbMesh tetra = testing::tetrahedron().build();
+  EXPECT_THROW(fem::build_loop_space(tetra), InputError);
+}
+
+}  // namespace
+}  // namespace rgbmesh
