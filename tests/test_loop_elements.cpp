@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -113,6 +114,61 @@ TEST(LoopElements, AmgSolvesTheLoopSystem) {
   std::printf("  AMG: %d iterations on %zu unknowns\n", amg.iterations, amg.dofs);
   EXPECT_LE(amg.iterations, 30);
   EXPECT_NEAR(amg.errors.h1, direct.errors.h1, 1e-6 * direct.errors.h1);
+}
+
+// The Laplace-Beltrami operator of the coordinate functions of a surface is its mean curvature
+// vector, normal to the surface: on the Loop limit surface, whose coordinates are functions of
+// the space (the control points' coordinates as coefficients), loop_laplacian's vector must be
+// normal at every quadrature point, extraordinary corners included.
+TEST(LoopElements, LaplacianOfTheCoordinatesIsNormal) {
+  RgbMesh mesh = uniform(testing::icosahedron(), 2);
+  const fem::LoopSpace space = fem::build_loop_space(mesh);
+  std::array<Eigen::VectorXd, 3> coordinate;
+  for (int k = 0; k < 3; ++k) {
+    coordinate[static_cast<std::size_t>(k)].resize(static_cast<Eigen::Index>(space.num_dofs()));
+    for (std::size_t i = 0; i < space.num_dofs(); ++i)
+      coordinate[static_cast<std::size_t>(k)][static_cast<Eigen::Index>(i)] = space.control[i][k];
+  }
+  double worst = 0, smallest = 1e300;
+  for (std::size_t e = 0; e < space.elements.size(); e += 7) {
+    for (std::size_t p = 0; p < space.elements[e].rule->size(); p += 3) {
+      const Vec3 curvature(fem::loop_laplacian(space, e, p, coordinate[0]),
+                           fem::loop_laplacian(space, e, p, coordinate[1]),
+                           fem::loop_laplacian(space, e, p, coordinate[2]));
+      const fem::LoopPoint q = fem::loop_point(space, e, p);
+      const Vec3 n = cross(q.xu, q.xv) * (1.0 / norm(cross(q.xu, q.xv)));
+      worst = std::max(worst, norm(curvature - dot(curvature, n) * n) / norm(curvature));
+      smallest = std::min(smallest, -dot(curvature, n));  // 2H > 0 on this convex surface (outward n)
+    }
+  }
+  std::printf("  largest tangential part %.1e of |Δx|; smallest 2H %.3f\n", worst, smallest);
+  EXPECT_LT(worst, 1e-10);
+  EXPECT_GT(smallest, 0);
+}
+
+// The residual estimator follows the H1 error at its rate: the ratio of the two stays within
+// a small band as the mesh is refined (the estimator is reliable and efficient up to
+// constants), on the sphere through the projection.
+TEST(LoopElements, ResidualEstimatorFollowsTheError) {
+  const fem::Problem problem = fem::sphere_harmonic();
+  std::vector<double> ratio;
+  for (int level = 2; level <= 5; ++level) {
+    RgbMesh mesh = uniform(testing::icosahedron(), level);
+    const fem::LoopSpace space = fem::build_loop_space(mesh, kSphere);
+    const fem::Solution s = fem::solve_loop(space, problem);
+    const fem::ErrorNorms e = fem::loop_error_norms(space, s.u, *problem.exact, true);
+    const fem::Estimate eta = fem::loop_residual_estimate(space, problem, s.u);
+    ASSERT_EQ(eta.eta.size(), space.elements.size());
+    ratio.push_back(eta.total / e.h1);
+    std::printf("  level %d: estimate %.3e, H1 error %.3e, ratio %.2f\n", level, eta.total, e.h1,
+                ratio.back());
+  }
+  for (const double r : ratio) {
+    EXPECT_GT(r, 0.5);
+    EXPECT_LT(r, 20);
+  }
+  EXPECT_LT(*std::max_element(ratio.begin(), ratio.end()) / *std::min_element(ratio.begin(), ratio.end()),
+            2.0);
 }
 
 TEST(LoopElements, RefusesMeshesItCannotHandleYet) {

@@ -35,7 +35,8 @@ Vec3 projected_tangent(const Projection& p, const Vec3& x, const Vec3& a) {
 // The geometry at one quadrature point: the point on the surface, the metric's inverse and
 // the area density.
 struct Frame {
-  Vec3 y, yu, yv;
+  Vec3 x, xu, xv;                    // on the limit surface
+  Vec3 y, yu, yv;                    // on the surface computed on (the projection's image, or the same)
   double g11 = 0, g12 = 0, g22 = 0;  // the inverse metric
   double density = 0;
 };
@@ -43,15 +44,15 @@ struct Frame {
 Frame frame_at(const LoopSpace& space, const LoopSpace::Element& e, Eigen::Index p) {
   const LoopQuadrature& r = *e.rule;
   Frame f;
-  const Vec3 x = patch_sum(r.value, p, e.dofs, space.control);
-  f.yu = patch_sum(r.du, p, e.dofs, space.control);
-  f.yv = patch_sum(r.dv, p, e.dofs, space.control);
-  f.y = x;
+  f.x = patch_sum(r.value, p, e.dofs, space.control);
+  f.xu = patch_sum(r.du, p, e.dofs, space.control);
+  f.xv = patch_sum(r.dv, p, e.dofs, space.control);
+  f.y = f.x, f.yu = f.xu, f.yv = f.xv;
   if (space.projection) {
     const Projection& proj = *space.projection;
-    f.y = proj(x);
-    f.yu = projected_tangent(proj, x, f.yu);
-    f.yv = projected_tangent(proj, x, f.yv);
+    f.y = proj(f.x);
+    f.yu = projected_tangent(proj, f.x, f.xu);
+    f.yv = projected_tangent(proj, f.x, f.xv);
   }
   const double a = dot(f.yu, f.yu), b = dot(f.yu, f.yv), c = dot(f.yv, f.yv);
   const double det = a * c - b * b;
@@ -153,6 +154,39 @@ void local_parts(const LoopSpace& space, std::size_t element, const Problem& pro
     accumulate<Eigen::Dynamic>(space, e, problem, f, out);
 }
 
+// The source at every quadrature point when it is a batch function (one call with all the
+// points); empty otherwise (problem.source is then called point by point).
+struct PointSource {
+  std::vector<std::size_t> first;  // per element, its first point's index
+  std::vector<double> values;
+  const double* of(std::size_t element) const {
+    return values.empty() ? nullptr : values.data() + first[element];
+  }
+};
+
+PointSource point_source(const LoopSpace& space, const Problem& problem) {
+  PointSource s;
+  if (!problem.source_values) return s;
+  s.first.assign(space.elements.size() + 1, 0);
+  for (std::size_t e = 0; e < space.elements.size(); ++e)
+    s.first[e + 1] = s.first[e] + space.elements[e].rule->size();
+  std::vector<Vec3> points(s.first.back());
+  detail::for_each_index(space.elements.size(), [&](std::size_t e) {
+    for (std::size_t p = 0; p < space.elements[e].rule->size(); ++p)
+      points[s.first[e] + p] = frame_at(space, space.elements[e], static_cast<Eigen::Index>(p)).y;
+  });
+  s.values = detail::point_values(problem.source_values, points);
+  return s;
+}
+
+// D²P[a, b] at x by central differences, with steps of 1e-4 of |x| in space (the projections
+// are onto surfaces of that scale: the error is then ~1e-8 relative).
+Vec3 projection_hessian(const Projection& p, const Vec3& x, const Vec3& a, const Vec3& b) {
+  const double s = 1e-4 * std::max(norm(x), 1e-3) / std::max({norm(a), norm(b), 1e-300});
+  return (p(x + s * a + s * b) - p(x + s * a - s * b) - p(x - s * a + s * b) + p(x - s * a - s * b)) *
+         (0.25 / (s * s));
+}
+
 }  // namespace
 
 LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
@@ -218,20 +252,7 @@ Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveO
   if (!problem.source && !problem.source_values)
     throw InputError("problem '" + problem.name + "' has no source");
   const auto t0 = std::chrono::steady_clock::now();
-  // A batch function gets every quadrature point in one call.
-  std::vector<std::size_t> first(space.elements.size() + 1, 0);
-  std::vector<double> f;
-  if (problem.source_values) {
-    for (std::size_t e = 0; e < space.elements.size(); ++e)
-      first[e + 1] = first[e] + space.elements[e].rule->size();
-    std::vector<Vec3> points(first.back());
-    detail::for_each_index(space.elements.size(), [&](std::size_t e) {
-      for (std::size_t p = 0; p < space.elements[e].rule->size(); ++p)
-        points[first[e] + p] = frame_at(space, space.elements[e], static_cast<Eigen::Index>(p)).y;
-    });
-    f = detail::point_values(problem.source_values, points);
-  }
-
+  const PointSource f = point_source(space, problem);
   const Eigen::Index n = static_cast<Eigen::Index>(space.num_dofs());
   SparseMatrix a = pattern(space);
   Eigen::VectorXd b = Eigen::VectorXd::Zero(n), area = Eigen::VectorXd::Zero(n);
@@ -241,9 +262,8 @@ Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveO
   std::vector<LocalParts> parts(kBlock);
   for (std::size_t begin = 0; begin < space.elements.size(); begin += kBlock) {
     const std::size_t count = std::min(kBlock, space.elements.size() - begin);
-    detail::for_each_index(count, [&](std::size_t i) {
-      local_parts(space, begin + i, problem, f.empty() ? nullptr : f.data() + first[begin + i], parts[i]);
-    });
+    detail::for_each_index(
+        count, [&](std::size_t i) { local_parts(space, begin + i, problem, f.of(begin + i), parts[i]); });
     for (std::size_t i = 0; i < count; ++i) {  // in element order: the same sums on any number of cores
       const LoopSpace::Element& e = space.elements[begin + i];
       const LocalParts& lp = parts[i];
@@ -321,6 +341,64 @@ ErrorNorms loop_error_norms(const LoopSpace& space, const Eigen::VectorXd& u, co
   const double mean = subtract_mean ? total[2] / total[3] : 0.0;
   out.l2 = std::sqrt(std::max(0.0, total[0] - total[3] * mean * mean));
   out.h1 = std::sqrt(total[1]);
+  return out;
+}
+
+double loop_laplacian(const LoopSpace& space, std::size_t element, std::size_t point,
+                      const Eigen::VectorXd& u) {
+  const LoopSpace::Element& e = space.elements[element];
+  const LoopQuadrature& r = *e.rule;
+  const Eigen::Index p = static_cast<Eigen::Index>(point);
+  const Frame f = frame_at(space, e, p);
+  // Second derivatives of the surface: those of the limit surface, and through the projection
+  // y = P(x): y_ab = D²P[x_a, x_b] + DP x_ab.
+  Vec3 yuu = patch_sum(r.duu, p, e.dofs, space.control), yuv = patch_sum(r.duv, p, e.dofs, space.control),
+       yvv = patch_sum(r.dvv, p, e.dofs, space.control);
+  if (space.projection) {
+    const Projection& proj = *space.projection;
+    yuu = projection_hessian(proj, f.x, f.xu, f.xu) + projected_tangent(proj, f.x, yuu);
+    yuv = projection_hessian(proj, f.x, f.xu, f.xv) + projected_tangent(proj, f.x, yuv);
+    yvv = projection_hessian(proj, f.x, f.xv, f.xv) + projected_tangent(proj, f.x, yvv);
+  }
+  double uu = 0, uv = 0, vv = 0, du = 0, dv = 0;
+  for (std::size_t i = 0; i < e.dofs.size(); ++i) {
+    const Eigen::Index k = static_cast<Eigen::Index>(i);
+    const double ui = u(e.dofs[i]);
+    du += r.du(k, p) * ui, dv += r.dv(k, p) * ui;
+    uu += r.duu(k, p) * ui, uv += r.duv(k, p) * ui, vv += r.dvv(k, p) * ui;
+  }
+  // The gradient's coordinates in the tangent basis, g^{cd} u_d: the Christoffel term
+  // g^{ab} Γ^c_ab u_c is then g^{ab} (y_ab · ∇u) with ∇u = (g^{cd} u_d) y_c.
+  const Vec3 grad = (f.g11 * du + f.g12 * dv) * f.yu + (f.g12 * du + f.g22 * dv) * f.yv;
+  return f.g11 * (uu - dot(yuu, grad)) + 2 * f.g12 * (uv - dot(yuv, grad)) + f.g22 * (vv - dot(yvv, grad));
+}
+
+Estimate loop_residual_estimate(const LoopSpace& space, const Problem& problem, const Eigen::VectorXd& u) {
+  const PointSource f = point_source(space, problem);
+  Estimate out;
+  out.eta.assign(space.elements.size(), 0.0);
+  out.geometric.assign(space.elements.size(), 0.0);
+  detail::for_each_index(space.elements.size(), [&](std::size_t e) {
+    const LoopSpace::Element& el = space.elements[e];
+    const double* source = f.of(e);
+    double residual = 0, area = 0;
+    for (std::size_t p = 0; p < el.rule->size(); ++p) {
+      const Frame fr = frame_at(space, el, static_cast<Eigen::Index>(p));
+      double uh = 0;
+      for (std::size_t i = 0; i < el.dofs.size(); ++i)
+        uh += el.rule->value(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(p)) * u(el.dofs[i]);
+      const double fp = source != nullptr ? source[p] : problem.source(fr.y);
+      const double r = fp - problem.c * uh + loop_laplacian(space, e, p, u);
+      const double w = el.rule->weight[p] * fr.density;
+      residual += w * r * r;
+      area += w;
+    }
+    const double h2 = 4 * area / std::sqrt(3.0);  // the squared side of the equilateral triangle of this area
+    out.eta[e] = std::sqrt(h2 * residual);
+  });
+  double sum = 0;
+  for (const double x : out.eta) sum += x * x;
+  out.total = std::sqrt(sum);
   return out;
 }
 

@@ -19,6 +19,7 @@
 #include "rgbmesh/adapt/adaptive.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/fem/estimators.hpp"
+#include "rgbmesh/fem/loop_elements.hpp"
 #include "rgbmesh/fem/problem.hpp"
 #include "rgbmesh/fem/solver.hpp"
 #include "rgbmesh/vtk_io.hpp"
@@ -135,6 +136,7 @@ struct Solution {
   adapt::SolvedMesh solved;
   adapt::CycleReport report;
   bool is_cycle = false;
+  std::string element = "p1";  // "p1", "p2" or "loop"
 
   adapt::CycleState state() const {
     static const RgbMesh no_mesh;  // (snapshot() reads the levels from `solved`, not the mesh)
@@ -175,13 +177,74 @@ adapt::SolvedMesh levels_of(const RgbMesh& mesh, const fem::SurfaceMesh& fe) {
   return s;
 }
 
-std::shared_ptr<Solution> solve(RgbMesh& mesh, const PyProblem& p, int order, const std::optional<std::string>& geometry,
-                                const std::string& solver, const std::string& estimator) {
+// Loop-basis elements: the unknowns are control values; the Solution keeps what the other
+// elements' have, on the P1 mesh of the limit positions: the values there, one indicator per
+// triangle.
+std::shared_ptr<Solution> solve_loop_elements(RgbMesh& mesh, const PyProblem& p, const Setup& setup,
+                                              const std::string& estimator) {
+  if (estimator != "residual")
+    throw InputError("estimator '" + estimator + "': Loop elements have the residual estimator only");
+  auto s = std::make_shared<Solution>();
+  s->problem = std::make_shared<const fem::Problem>(p.problem);
+  s->element = "loop";
+  py::gil_scoped_release release;
+  const fem::LoopSpace space = fem::build_loop_space(mesh, setup.projection);
+  check_signals();
+  fem::SolveOptions o;
+  o.solver = setup.solver;
+  const fem::Solution solution = fem::solve_loop(space, p.problem, o);
+  check_signals();
+  s->fe = fem::build_surface_mesh(mesh, setup.projection, 1, fem::DofOrder::mesh);
+  const Eigen::VectorXd at_vertices = fem::loop_vertex_values(space, solution.u);
+  s->u.resize(static_cast<Eigen::Index>(s->fe.num_dofs()));
+  for (std::size_t d = 0; d < space.num_dofs(); ++d)
+    s->u(s->fe.dof_of_vertex[static_cast<std::size_t>(space.vertex[d].idx)]) =
+        at_vertices(static_cast<Eigen::Index>(d));
+  const fem::Estimate estimate = fem::loop_residual_estimate(space, p.problem, solution.u);
+  std::vector<double> eta_of_slot(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
+  for (std::size_t e = 0; e < space.elements.size(); ++e)
+    eta_of_slot[static_cast<std::size_t>(space.elements[e].triangle.idx)] = estimate.eta[e];
+  s->estimate.total = estimate.total;
+  for (const TriangleHandle t : s->fe.triangle)
+    s->estimate.eta.push_back(eta_of_slot[static_cast<std::size_t>(t.idx)]);
+  s->estimate.geometric.assign(s->estimate.eta.size(), 0.0);
+  s->report.triangles = s->fe.triangles.size();
+  s->report.dofs = space.num_dofs();
+  s->report.estimate = estimate.total;
+  s->report.solver = fem::to_string(solution.solver);
+  s->report.solver_iterations = solution.iterations;
+  s->report.solve_seconds = solution.assembly_seconds + solution.solve_seconds;
+  if (p.problem.exact) {
+    const fem::ErrorNorms e = fem::loop_error_norms(space, solution.u, *p.problem.exact, solution.zero_mean);
+    s->report.error_l2 = e.l2;
+    s->report.error_h1 = e.h1;
+  }
+  s->solved = levels_of(mesh, s->fe);
+  s->marked.assign(s->fe.triangles.size(), 0);
+  return s;
+}
+
+std::shared_ptr<Solution> solve(RgbMesh& mesh, const PyProblem& p, int order,
+                                const std::optional<std::string>& element,
+                                const std::optional<std::string>& geometry, const std::string& solver,
+                                const std::string& estimator) {
+  // element names the space; order (1, 2) stays for the Lagrange elements.
+  static const std::vector<Named<int>> elements = {{"p1", 1}, {"p2", 2}, {"loop", 0}};
+  if (element) {
+    const int element_order = named_row(elements, *element, "element").value;
+    if (order != 1 && order != element_order)
+      throw InputError("order " + std::to_string(order) + " and element '" + *element +
+                       "' disagree (give one)");
+    if (element_order == 0)
+      return solve_loop_elements(mesh, p, settle(mesh, p, 1, geometry, solver), estimator);
+    order = element_order;
+  }
   const Setup setup = settle(mesh, p, order, geometry, solver);
   const std::shared_ptr<const fem::ErrorEstimator> estimate =
       named_row(fem::estimator_table(), estimator, "estimator").make();
   auto s = std::make_shared<Solution>();
   s->problem = std::make_shared<const fem::Problem>(p.problem);
+  s->element = order == 2 ? "p2" : "p1";
   {
     py::gil_scoped_release release;
     s->fe = fem::build_surface_mesh(mesh, setup.projection, order, fem::DofOrder::mesh);  // rows as the mesh's arrays
@@ -335,47 +398,84 @@ void bind_fem(py::module_& m) {
       .def_property_readonly("c", [](const PyProblem& p) { return p.problem.c; })
       .def_property_readonly("has_exact_solution", [](const PyProblem& p) { return p.problem.exact.has_value(); });
 
-  py::class_<Solution, std::shared_ptr<Solution>>(m, "Solution",
-                                                 "A solved mesh: the finite-element nodes, the solution there, the "
-                                                 "error indicators per triangle; for a cycle of adapt() also its report and marks.")
-      .def_property_readonly("u", [](const Solution& s) { return array_of<double>(static_cast<std::size_t>(s.u.size()), 1, s.u.data()); },
-                             "The solution at the nodes: the vertices in the order of the mesh's point arrays at the "
-                             "time of the solve (P2: then one node per edge).")
-      .def_property_readonly("points", [](const Solution& s) { return array_of<double>(s.fe.points.size(), 3, &s.fe.points.data()->x); },
-                             "The nodes' positions, (n, 3): on the Loop limit surface (or projected with geometry 'sphere').")
-      .def_property_readonly("triangles", [](const Solution& s) {
-        return array_of<std::int32_t>(s.fe.triangles.size(), 3, s.fe.triangles.empty() ? nullptr : s.fe.triangles[0].data());
-      }, "The triangles, (m, 3) rows of points.")
-      .def_property_readonly("edge_nodes", [](const Solution& s) -> py::object {
-        if (s.fe.order != 2) return py::none();
-        return array_of<std::int32_t>(s.fe.edge_nodes.size(), 3, s.fe.edge_nodes.empty() ? nullptr : s.fe.edge_nodes[0].data());
-      }, "P2: per triangle, the node of edge k (corner k to k + 1); None for P1.")
+  py::class_<Solution, std::shared_ptr<Solution>>(
+      m, "Solution",
+      "A solved mesh: the finite-element nodes, the solution there, the "
+      "error indicators per triangle; for a cycle of adapt() also its report and marks.")
+      .def_property_readonly(
+          "u",
+          [](const Solution& s) {
+            return array_of<double>(static_cast<std::size_t>(s.u.size()), 1, s.u.data());
+          },
+          "The solution at the nodes: the vertices in the order of the mesh's point arrays at the "
+          "time of the solve (P2: then one node per edge).")
+      .def_property_readonly(
+          "points",
+          [](const Solution& s) { return array_of<double>(s.fe.points.size(), 3, &s.fe.points.data()->x); },
+          "The nodes' positions, (n, 3): on the Loop limit surface (or projected with geometry 'sphere').")
+      .def_property_readonly(
+          "triangles",
+          [](const Solution& s) {
+            return array_of<std::int32_t>(s.fe.triangles.size(), 3,
+                                          s.fe.triangles.empty() ? nullptr : s.fe.triangles[0].data());
+          },
+          "The triangles, (m, 3) rows of points.")
+      .def_property_readonly(
+          "edge_nodes",
+          [](const Solution& s) -> py::object {
+            if (s.fe.order != 2) return py::none();
+            return array_of<std::int32_t>(s.fe.edge_nodes.size(), 3,
+                                          s.fe.edge_nodes.empty() ? nullptr : s.fe.edge_nodes[0].data());
+          },
+          "P2: per triangle, the node of edge k (corner k to k + 1); None for P1.")
       .def_property_readonly("order", [](const Solution& s) { return s.fe.order; })
-      .def_property_readonly("estimate", [](const Solution& s) { return array_of<double>(s.estimate.eta.size(), 1, s.estimate.eta.data()); },
-                             "The error indicator η_T of each triangle.")
-      .def_property_readonly("total_estimate", [](const Solution& s) { return s.estimate.total; }, "sqrt(Σ η_T²).")
-      .def_property_readonly("marked", [](const Solution& s) -> py::object {
-        if (!s.is_cycle) return py::none();
-        return array_of<bool>(s.marked.size(), 1, s.marked.data());
-      }, "A cycle's triangles marked for refinement (None for solve()).")
-      .def_property_readonly("vertex_levels", [](const Solution& s) {
-        return array_of<std::uint8_t>(s.solved.vertex_level.size(), 1, s.solved.vertex_level.data());
-      })
-      .def_property_readonly("triangle_levels", [](const Solution& s) {
-        return array_of<std::uint8_t>(s.solved.triangle_level.size(), 1, s.solved.triangle_level.data());
-      })
-      .def_property_readonly("report", [](const Solution& s) { return report_dict(s.report); },
-                             "Counts, estimate, errors (where the exact solution is known), solver and timings.")
+      .def_property_readonly(
+          "element", [](const Solution& s) { return s.element; },
+          "'p1', 'p2' or 'loop' (Loop-basis elements: u holds the smooth solution's values at the "
+          "vertices' limit positions, not its coefficients).")
+      .def_property_readonly(
+          "estimate",
+          [](const Solution& s) { return array_of<double>(s.estimate.eta.size(), 1, s.estimate.eta.data()); },
+          "The error indicator η_T of each triangle.")
+      .def_property_readonly(
+          "total_estimate", [](const Solution& s) { return s.estimate.total; }, "sqrt(Σ η_T²).")
+      .def_property_readonly(
+          "marked",
+          [](const Solution& s) -> py::object {
+            if (!s.is_cycle) return py::none();
+            return array_of<bool>(s.marked.size(), 1, s.marked.data());
+          },
+          "A cycle's triangles marked for refinement (None for solve()).")
+      .def_property_readonly("vertex_levels",
+                             [](const Solution& s) {
+                               return array_of<std::uint8_t>(s.solved.vertex_level.size(), 1,
+                                                             s.solved.vertex_level.data());
+                             })
+      .def_property_readonly("triangle_levels",
+                             [](const Solution& s) {
+                               return array_of<std::uint8_t>(s.solved.triangle_level.size(), 1,
+                                                             s.solved.triangle_level.data());
+                             })
+      .def_property_readonly(
+          "report", [](const Solution& s) { return report_dict(s.report); },
+          "Counts, estimate, errors (where the exact solution is known), solver and timings.")
       .def("write", &write_solution, py::arg("path"), py::kw_only(), py::arg("compression") = "lz4",
-           "Writes the solved mesh as the tool's cycle files: .vtp (or any mesh format) with point data solution "
-           "(exact_solution, error) and cell data error_indicator, marked, level, color; a P2 solution to .vtu as "
+           "Writes the solved mesh as the tool's cycle files: .vtp (or any mesh format) with point data "
+           "solution "
+           "(exact_solution, error) and cell data error_indicator, marked, level, color; a P2 solution to "
+           ".vtu as "
            "quadratic triangles with every node. Atomic; OSError when the path cannot be written.");
 
   m.def("solve", &solve, py::arg("mesh"), py::arg("problem"), py::kw_only(), py::arg("order") = 1,
-        py::arg("geometry") = py::none(), py::arg("solver") = "auto", py::arg("estimator") = "residual",
-        "Solves the problem on the mesh as it is (P1 or P2 elements, vertices on the Loop limit surface, or projected "
-        "onto the unit sphere with geometry='sphere', the default for built-in problems) and estimates the error per "
-        "triangle ('residual' or 'zz'). Returns a Solution.");
+        py::arg("element") = py::none(), py::arg("geometry") = py::none(), py::arg("solver") = "auto",
+        py::arg("estimator") = "residual",
+        "Solves the problem on the mesh as it is (P1 or P2 elements, vertices on the Loop limit surface, or "
+        "projected "
+        "onto the unit sphere with geometry='sphere', the default for built-in problems) and estimates the "
+        "error per "
+        "triangle ('residual' or 'zz'). element='loop': Loop-basis (smooth) elements, one unknown per "
+        "vertex, on a "
+        "closed mesh refined uniformly (residual estimator). Returns a Solution.");
   m.def("adapt", &run_adapt, py::arg("mesh"), py::arg("problem"), py::kw_only(), py::arg("strategy") = "adaptive",
         py::arg("marking") = "dorfler", py::arg("theta") = 0.5, py::arg("estimator") = "residual", py::arg("order") = 1,
         py::arg("coarsen") = 0.0, py::arg("min_level") = 0, py::arg("max_level") = kMaxLevel, py::arg("cycles") = 20,

@@ -67,6 +67,19 @@ Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveO
 ErrorNorms loop_error_norms(const LoopSpace& space, const Eigen::VectorXd& u, const ExactSolution& exact,
                             bool subtract_mean = false);
 
+/// The Laplace-Beltrami operator of a discrete function at quadrature point `point` of an
+/// element, Δ_Γ u_h = g^{ab} (∂_ab u_h - Γ^c_ab ∂_c u_h), with the Christoffel symbols of the
+/// limit surface, or of its projection (whose second derivatives are taken by central
+/// differences of the projection).
+double loop_laplacian(const LoopSpace& space, std::size_t element, std::size_t point,
+                      const Eigen::VectorXd& u);
+
+/// The residual estimator of the smooth space: η_T² = h_T² ‖f - c u_h + Δ_Γ u_h‖²_T with h_T
+/// the side of the equilateral triangle of T's area. Loop's functions are C¹, so the jumps of
+/// the normal derivative across edges that P1 and P2 estimators add vanish here. One
+/// indicator per element (LoopSpace::elements).
+Estimate loop_residual_estimate(const LoopSpace& space, const Problem& problem, const Eigen::VectorXd& u);
+
 /// The discrete function at the limit positions of the vertices (per DOF): what ParaView shows.
 Eigen::VectorXd loop_vertex_values(const LoopSpace& space, const Eigen::VectorXd& u);
 
