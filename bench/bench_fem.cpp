@@ -11,9 +11,11 @@
 #include <memory>
 
 #include "rgbmesh/adapt/adaptive.hpp"
+#include "rgbmesh/fem/loop_elements.hpp"
 #include "rgbmesh/fem/solver.hpp"
-#include "rgbmesh/shapes.hpp"
 #include "rgbmesh/refinement.hpp"
+#include "rgbmesh/shapes.hpp"
+#include "rgbmesh/timing.hpp"
 
 namespace {
 
@@ -74,6 +76,44 @@ void Sizes(benchmark::internal::Benchmark* b) {
   }
 }
 BENCHMARK(BM_AssembleAndSolve)->Apply(Sizes)->Unit(benchmark::kSecond)->Iterations(1);
+
+// Loop-basis elements against P2 with as many unknowns (P2 one level coarser), sphere-peak on
+// the icosahedron's uniform levels: each side's whole solve (space or FE mesh, assembly,
+// solve, estimate), in one process, and their H1 errors.
+void BM_UniformLoopAgainstP2(benchmark::State& state) {
+  const int level = static_cast<int>(state.range(0));
+  const Problem problem = sphere_peak();
+  const TriangleMeshData ico = icosahedron();
+  const Projection sphere(project_to_unit_sphere);
+  double loop_seconds = 0, p2_seconds = 0, loop_h1 = 0, p2_h1 = 0, dofs = 0;
+  for (auto _ : state) {
+    RgbMesh fine = RgbMesh::from_triangles(ico.points, ico.triangles), coarse = fine;
+    selective_refinement(fine, UniformLevel(level));
+    selective_refinement(coarse, UniformLevel(level - 1));
+    auto t0 = std::chrono::steady_clock::now();
+    const LoopSpace space = build_loop_space(fine, sphere);
+    const Solution loop = solve_loop(space, problem);
+    const Estimate loop_estimate = loop_residual_estimate(space, problem, loop.u);
+    loop_seconds += seconds_since(t0);
+    t0 = std::chrono::steady_clock::now();
+    const SurfaceMesh p2 = build_surface_mesh(coarse, sphere, 2);
+    const Solution quadratic = solve(p2, problem);
+    const Estimate p2_estimate = ResidualEstimator().estimate(p2, problem, quadratic.u, {});
+    p2_seconds += seconds_since(t0);
+    benchmark::DoNotOptimize(loop_estimate.total + p2_estimate.total);
+    loop_h1 = loop_error_norms(space, loop.u, *problem.exact).h1;
+    p2_h1 = error_norms(p2, quadratic.u, *problem.exact).h1;
+    dofs = static_cast<double>(space.num_dofs());
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["dofs"] = dofs;
+  state.counters["loop_s"] = loop_seconds / n;
+  state.counters["p2_s"] = p2_seconds / n;
+  state.counters["time_loop_over_p2"] = loop_seconds / p2_seconds;
+  state.counters["loop_h1"] = loop_h1;
+  state.counters["p2_h1"] = p2_h1;
+}
+BENCHMARK(BM_UniformLoopAgainstP2)->DenseRange(4, 7)->Unit(benchmark::kSecond)->Iterations(1);
 
 // Adaptive sphere-peak from the icosahedron on the unit sphere, until about `target` unknowns.
 adapt::AdaptRun sphere_peak_run(std::size_t target, bool resumable) {

@@ -76,9 +76,10 @@ struct LoopQuadrature {
 /// 2 points_per_direction - 2). Around an extraordinary corner the limit is no polynomial:
 /// the triangle is split into its four children `extraordinary_depth` times towards that
 /// corner, each regular child with the same rule, the last corner child too (its points
-/// evaluated exactly).
+/// evaluated exactly). The defaults change sphere-peak's errors by less than 1e-4 relative
+/// against 7 points per direction and depth 10 (tests/test_loop_elements.cpp).
 struct LoopQuadratureOptions {
-  int points_per_direction = 5;
+  int points_per_direction = 4;
   int extraordinary_depth = 6;
 };
 
