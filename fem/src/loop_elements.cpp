@@ -61,6 +61,39 @@ Frame frame_at(const LoopSpace& space, const LoopSpace::Element& e, Eigen::Index
   return f;
 }
 
+// D²P[a, b] at x by central differences, with steps of 1e-4 of |x| in space (the projections
+// are onto surfaces of that scale: the error is then ~1e-8 relative).
+Vec3 projection_hessian(const Projection& p, const Vec3& x, const Vec3& a, const Vec3& b) {
+  const double s = 1e-4 * std::max(norm(x), 1e-3) / std::max({norm(a), norm(b), 1e-300});
+  return (p(x + s * a + s * b) - p(x + s * a - s * b) - p(x - s * a + s * b) + p(x - s * a - s * b)) *
+         (0.25 / (s * s));
+}
+
+// The Laplace-Beltrami operator at a point as weights of a function's derivatives:
+// Δ_Γ u = A u_uu + B u_uv + C u_vv + D u_u + E u_v, from g^{ab} (u_ab - Γ^c_ab u_c) with
+// Γ^c_ab u_c = y_ab · ∇u and ∇u = u_u t_u + u_v t_v, t_u = g^{1c} y_c, t_v = g^{2c} y_c.
+struct LaplacianWeights {
+  double a = 0, b = 0, c = 0, d = 0, e = 0;
+};
+
+LaplacianWeights laplacian_weights(const LoopSpace& space, const LoopSpace::Element& el, Eigen::Index p,
+                                   const Frame& f) {
+  const LoopQuadrature& r = *el.rule;
+  // Second derivatives of the surface: those of the limit surface, and through the projection
+  // y = P(x): y_ab = D²P[x_a, x_b] + DP x_ab.
+  Vec3 yuu = patch_sum(r.duu, p, el.dofs, space.control), yuv = patch_sum(r.duv, p, el.dofs, space.control),
+       yvv = patch_sum(r.dvv, p, el.dofs, space.control);
+  if (space.projection) {
+    const Projection& proj = *space.projection;
+    yuu = projection_hessian(proj, f.x, f.xu, f.xu) + projected_tangent(proj, f.x, yuu);
+    yuv = projection_hessian(proj, f.x, f.xu, f.xv) + projected_tangent(proj, f.x, yuv);
+    yvv = projection_hessian(proj, f.x, f.xv, f.xv) + projected_tangent(proj, f.x, yvv);
+  }
+  const Vec3 tu = f.g11 * f.yu + f.g12 * f.yv, tv = f.g12 * f.yu + f.g22 * f.yv;
+  const Vec3 christoffel = f.g11 * yuu + (2 * f.g12) * yuv + f.g22 * yvv;  // g^{ab} y_ab
+  return {f.g11, 2 * f.g12, f.g22, -dot(christoffel, tu), -dot(christoffel, tv)};
+}
+
 // The sparsity of the Loop space's matrices: i and j are coupled when one patch holds both.
 // Per DOF, the patches holding it (a CSR incidence), then each column's rows on every core.
 SparseMatrix pattern(const LoopSpace& space) {
@@ -118,8 +151,16 @@ struct LocalParts {
 
 // N: the patch's size when known at compile time (12, regular corners: most elements), so
 // that the small products run unrolled; Eigen::Dynamic otherwise.
+// The bilinear form and the source: ∫ ∇u·∇v + c u v (second order) or ∫ Δu Δv + c u v
+// (fourth order), and ∫ f v.
+struct Form {
+  bool fourth_order = false;
+  double c = 0;
+  ScalarField source;  // where no batch values are given
+};
+
 template <int N>
-void accumulate(const LoopSpace& space, const LoopSpace::Element& e, const Problem& problem, const double* f,
+void accumulate(const LoopSpace& space, const LoopSpace::Element& e, const Form& form, const double* f,
                 LocalParts& out) {
   using Vector = Eigen::Matrix<double, N, 1>;
   using Matrix = Eigen::Matrix<double, N, N>;
@@ -133,13 +174,22 @@ void accumulate(const LoopSpace& space, const LoopSpace::Element& e, const Probl
     const double w = r.weight[static_cast<std::size_t>(p)] * fr.density;
     const Eigen::Map<const Vector> du(r.du.col(p).data(), n), dv(r.dv.col(p).data(), n),
         phi(r.value.col(p).data(), n);
-    // ∇φ_i·∇φ_j = (du_i, dv_i) g⁻¹ (du_j, dv_j)ᵀ: a rank-two update.
-    a.noalias() = (w * fr.g11) * du + (w * fr.g12) * dv;
-    b.noalias() = (w * fr.g12) * du + (w * fr.g22) * dv;
-    matrix.noalias() += a * du.transpose();
-    matrix.noalias() += b * dv.transpose();
-    if (problem.c != 0) matrix.noalias() += (w * problem.c) * (phi * phi.transpose());
-    const double source = f != nullptr ? f[p] : problem.source(fr.y);
+    if (form.fourth_order) {
+      // Δφ_i Δφ_j: a rank-one update with the basis's Laplacians.
+      const LaplacianWeights lw = laplacian_weights(space, e, p, fr);
+      const Eigen::Map<const Vector> duu(r.duu.col(p).data(), n), duv(r.duv.col(p).data(), n),
+          dvv(r.dvv.col(p).data(), n);
+      a.noalias() = lw.a * duu + lw.b * duv + lw.c * dvv + lw.d * du + lw.e * dv;
+      matrix.noalias() += (w * a) * a.transpose();
+    } else {
+      // ∇φ_i·∇φ_j = (du_i, dv_i) g⁻¹ (du_j, dv_j)ᵀ: a rank-two update.
+      a.noalias() = (w * fr.g11) * du + (w * fr.g12) * dv;
+      b.noalias() = (w * fr.g12) * du + (w * fr.g22) * dv;
+      matrix.noalias() += a * du.transpose();
+      matrix.noalias() += b * dv.transpose();
+    }
+    if (form.c != 0) matrix.noalias() += (w * form.c) * (phi * phi.transpose());
+    const double source = f != nullptr ? f[p] : form.source(fr.y);
     load.noalias() += (w * source) * phi;
     area.noalias() += w * phi;
     out.integral += w * source;
@@ -150,13 +200,13 @@ void accumulate(const LoopSpace& space, const LoopSpace::Element& e, const Probl
   out.area = area;
 }
 
-void local_parts(const LoopSpace& space, std::size_t element, const Problem& problem, const double* f,
+void local_parts(const LoopSpace& space, std::size_t element, const Form& form, const double* f,
                  const SparseMatrix& pattern, LocalParts& out) {
   const LoopSpace::Element& e = space.elements[element];
   if (e.dofs.size() == 12)
-    accumulate<12>(space, e, problem, f, out);
+    accumulate<12>(space, e, form, f, out);
   else
-    accumulate<Eigen::Dynamic>(space, e, problem, f, out);
+    accumulate<Eigen::Dynamic>(space, e, form, f, out);
   // Where each entry goes (searched here, on every core, so that the sums afterwards only add).
   out.position.clear();
   for (const std::int32_t j : e.dofs) {
@@ -177,9 +227,9 @@ struct PointSource {
   }
 };
 
-PointSource point_source(const LoopSpace& space, const Problem& problem) {
+PointSource point_source(const LoopSpace& space, const PointValues& batch) {
   PointSource s;
-  if (!problem.source_values) return s;
+  if (!batch) return s;
   s.first.assign(space.elements.size() + 1, 0);
   for (std::size_t e = 0; e < space.elements.size(); ++e)
     s.first[e + 1] = s.first[e] + space.elements[e].rule->size();
@@ -188,16 +238,8 @@ PointSource point_source(const LoopSpace& space, const Problem& problem) {
     for (std::size_t p = 0; p < space.elements[e].rule->size(); ++p)
       points[s.first[e] + p] = frame_at(space, space.elements[e], static_cast<Eigen::Index>(p)).y;
   });
-  s.values = detail::point_values(problem.source_values, points);
+  s.values = detail::point_values(batch, points);
   return s;
-}
-
-// D²P[a, b] at x by central differences, with steps of 1e-4 of |x| in space (the projections
-// are onto surfaces of that scale: the error is then ~1e-8 relative).
-Vec3 projection_hessian(const Projection& p, const Vec3& x, const Vec3& a, const Vec3& b) {
-  const double s = 1e-4 * std::max(norm(x), 1e-3) / std::max({norm(a), norm(b), 1e-300});
-  return (p(x + s * a + s * b) - p(x + s * a - s * b) - p(x - s * a + s * b) + p(x - s * a - s * b)) *
-         (0.25 / (s * s));
 }
 
 }  // namespace
@@ -259,64 +301,56 @@ LoopPoint loop_point(const LoopSpace& space, std::size_t element, std::size_t po
   return out;
 }
 
-Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveOptions& options) {
-  if (!(problem.c >= 0) || !std::isfinite(problem.c))
-    throw InputError("problem '" + problem.name + "': the coefficient c must be finite and >= 0");
-  if (!problem.source && !problem.source_values)
-    throw InputError("problem '" + problem.name + "' has no source");
+namespace {
+
+// The assembled system of a form, with ∫φ_i (the mean condition) and ∫f, ∫|f|.
+struct Assembled {
+  SparseMatrix a;
+  Eigen::VectorXd b, area;
+  double integral = 0, magnitude = 0, seconds = 0;
+};
+
+Assembled assemble_loop(const LoopSpace& space, const Form& form, const PointSource& f,
+                        const std::string& name) {
   const auto t0 = std::chrono::steady_clock::now();
-  const PointSource f = point_source(space, problem);
   const Eigen::Index n = static_cast<Eigen::Index>(space.num_dofs());
-  SparseMatrix a = pattern(space);
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(n), area = Eigen::VectorXd::Zero(n);
-  double integral = 0, magnitude = 0;  // ∫f and ∫|f|
+  Assembled out;
+  out.a = pattern(space);
+  out.b = Eigen::VectorXd::Zero(n);
+  out.area = Eigen::VectorXd::Zero(n);
   bool finite = true;
   constexpr std::size_t kBlock = 2048;
   std::vector<LocalParts> parts(kBlock);
   for (std::size_t begin = 0; begin < space.elements.size(); begin += kBlock) {
     const std::size_t count = std::min(kBlock, space.elements.size() - begin);
     detail::for_each_index(
-        count, [&](std::size_t i) { local_parts(space, begin + i, problem, f.of(begin + i), a, parts[i]); });
+        count, [&](std::size_t i) { local_parts(space, begin + i, form, f.of(begin + i), out.a, parts[i]); });
     for (std::size_t i = 0; i < count; ++i) {  // in element order: the same sums on any number of cores
       const LoopSpace::Element& e = space.elements[begin + i];
       const LocalParts& lp = parts[i];
       finite = finite && std::isfinite(lp.integral) && std::isfinite(lp.magnitude);
-      integral += lp.integral;
-      magnitude += lp.magnitude;
+      out.integral += lp.integral;
+      out.magnitude += lp.magnitude;
       for (std::size_t jl = 0; jl < e.dofs.size(); ++jl) {
         const Eigen::Index j = e.dofs[jl];
-        b(j) += lp.load(static_cast<Eigen::Index>(jl));
-        area(j) += lp.area(static_cast<Eigen::Index>(jl));
+        out.b(j) += lp.load(static_cast<Eigen::Index>(jl));
+        out.area(j) += lp.area(static_cast<Eigen::Index>(jl));
       }
-      double* values = a.valuePtr();
+      double* values = out.a.valuePtr();
       const double* local = lp.matrix.data();  // column by column, as the positions
       for (std::size_t k = 0; k < lp.position.size(); ++k) values[lp.position[k]] += local[k];
     }
   }
-  if (!finite)
-    throw InputError("problem '" + problem.name + "': the source is not finite somewhere on the surface");
-  const double assembly_seconds = seconds_since(t0);
+  if (!finite) throw InputError("problem '" + name + "': the source is not finite somewhere on the surface");
+  out.seconds = seconds_since(t0);
+  return out;
+}
 
-  const bool zero_mean = problem.c == 0;
-  if (zero_mean) {
-    // A closed surface with c = 0: solutions differ by constants (which the Loop space holds:
-    // its functions sum to one) and exist only for a source of zero mean; the discrete load is
-    // then made exactly compatible, one value fixed, the result shifted to zero mean.
-    if (std::abs(integral) > problem.mean_tolerance * magnitude)
-      throw InputError("problem '" + problem.name +
-                       "': on a closed surface with c = 0 the source must have zero mean, but ∫f = " +
-                       std::to_string(integral) + "; use c > 0, or subtract the mean");
-    b -= (b.sum() / area.sum()) * area;
-    for (SparseMatrix::InnerIterator it(a, 0); it; ++it) it.valueRef() = it.row() == 0 ? 1.0 : 0.0;
-    for (Eigen::Index j = 1; j < n; ++j)
-      for (SparseMatrix::InnerIterator it(a, j); it; ++it)
-        if (it.row() == 0) it.valueRef() = 0.0;
-    b(0) = 0;
-  }
-  // The automatic choice differs from P1's and P2's: the wider stencil (37 entries a row)
-  // fills a simplicial LDLT factor far more (10,242 unknowns: 0.52 s against CHOLMOD's
-  // supernodal 0.16 s), and BoomerAMG pays off later (40,962 unknowns: CHOLMOD 0.8 s, AMG
-  // 1.05 s; 163,842: CHOLMOD 6.4 s, AMG 5.2 s).
+// The automatic choice differs from P1's and P2's: the wider stencil (37 entries a row) fills
+// a simplicial LDLT factor far more (10,242 unknowns: 0.52 s against CHOLMOD's supernodal
+// 0.16 s), and BoomerAMG pays off later (40,962 unknowns: CHOLMOD 0.8 s, AMG 1.05 s; 163,842:
+// CHOLMOD 6.4 s, AMG 5.2 s).
+SolveOptions loop_solver(const SolveOptions& options, Eigen::Index n) {
   SolveOptions chosen = options;
   if (chosen.solver == SolverKind::automatic && !chosen.linear_solver) {
     if (cholmod_available() && n < 100000)
@@ -324,11 +358,71 @@ Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveO
     else if (amg_available() && n >= 20000)
       chosen.solver = SolverKind::amg;
   }
-  Solution sol = solve_linear_system(a, b, chosen, problem.name);
-  sol.assembly_seconds = assembly_seconds;
+  return chosen;
+}
+
+}  // namespace
+
+Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveOptions& options) {
+  if (!(problem.c >= 0) || !std::isfinite(problem.c))
+    throw InputError("problem '" + problem.name + "': the coefficient c must be finite and >= 0");
+  if (!problem.source && !problem.source_values)
+    throw InputError("problem '" + problem.name + "' has no source");
+  Assembled s = assemble_loop(space, {false, problem.c, problem.source},
+                              point_source(space, problem.source_values), problem.name);
+  const bool zero_mean = problem.c == 0;
+  if (zero_mean) {
+    // A closed surface with c = 0: solutions differ by constants (which the Loop space holds:
+    // its functions sum to one) and exist only for a source of zero mean; the discrete load is
+    // then made exactly compatible, one value fixed, the result shifted to zero mean.
+    if (std::abs(s.integral) > problem.mean_tolerance * s.magnitude)
+      throw InputError("problem '" + problem.name +
+                       "': on a closed surface with c = 0 the source must have zero mean, but ∫f = " +
+                       std::to_string(s.integral) + "; use c > 0, or subtract the mean");
+    s.b -= (s.b.sum() / s.area.sum()) * s.area;
+    for (SparseMatrix::InnerIterator it(s.a, 0); it; ++it) it.valueRef() = it.row() == 0 ? 1.0 : 0.0;
+    for (Eigen::Index j = 1; j < s.a.outerSize(); ++j)
+      for (SparseMatrix::InnerIterator it(s.a, j); it; ++it)
+        if (it.row() == 0) it.valueRef() = 0.0;
+    s.b(0) = 0;
+  }
+  Solution sol = solve_linear_system(s.a, s.b, loop_solver(options, s.a.rows()), problem.name);
+  sol.assembly_seconds = s.seconds;
   sol.zero_mean = zero_mean;
-  if (zero_mean) sol.u.array() -= area.dot(sol.u) / area.sum();
+  if (zero_mean) sol.u.array() -= s.area.dot(sol.u) / s.area.sum();
   return sol;
+}
+
+Solution solve_loop_biharmonic(const LoopSpace& space, const BiharmonicProblem& problem,
+                               const SolveOptions& options) {
+  if (!(problem.c > 0) || !std::isfinite(problem.c))
+    throw InputError("problem '" + problem.name +
+                     "': the coefficient c must be finite and > 0 (with c = 0 the "
+                     "solution on a closed surface is defined up to a constant)");
+  if (!problem.source) throw InputError("problem '" + problem.name + "' has no source");
+  Assembled s = assemble_loop(space, {true, problem.c, problem.source}, PointSource(), problem.name);
+  Solution sol = solve_linear_system(s.a, s.b, loop_solver(options, s.a.rows()), problem.name);
+  sol.assembly_seconds = s.seconds;
+  return sol;
+}
+
+BiharmonicErrors loop_biharmonic_errors(const LoopSpace& space, const Eigen::VectorXd& u,
+                                        const BiharmonicProblem& problem) {
+  if (!problem.exact || !problem.exact_laplacian)
+    throw InputError("problem '" + problem.name + "' has no exact solution");
+  const ErrorNorms norms = loop_error_norms(space, u, *problem.exact);
+  std::vector<double> squares(space.elements.size(), 0.0);
+  detail::for_each_index(space.elements.size(), [&](std::size_t e) {
+    const LoopSpace::Element& el = space.elements[e];
+    for (std::size_t p = 0; p < el.rule->size(); ++p) {
+      const Frame fr = frame_at(space, el, static_cast<Eigen::Index>(p));
+      const double difference = problem.exact_laplacian(fr.y) - loop_laplacian(space, e, p, u);
+      squares[e] += el.rule->weight[p] * fr.density * difference * difference;
+    }
+  });
+  double sum = 0;
+  for (const double x : squares) sum += x;
+  return {norms.l2, norms.h1, std::sqrt(sum)};
 }
 
 ErrorNorms loop_error_norms(const LoopSpace& space, const Eigen::VectorXd& u, const ExactSolution& exact,
@@ -373,32 +467,18 @@ double loop_laplacian(const LoopSpace& space, std::size_t element, std::size_t p
   const LoopSpace::Element& e = space.elements[element];
   const LoopQuadrature& r = *e.rule;
   const Eigen::Index p = static_cast<Eigen::Index>(point);
-  const Frame f = frame_at(space, e, p);
-  // Second derivatives of the surface: those of the limit surface, and through the projection
-  // y = P(x): y_ab = D²P[x_a, x_b] + DP x_ab.
-  Vec3 yuu = patch_sum(r.duu, p, e.dofs, space.control), yuv = patch_sum(r.duv, p, e.dofs, space.control),
-       yvv = patch_sum(r.dvv, p, e.dofs, space.control);
-  if (space.projection) {
-    const Projection& proj = *space.projection;
-    yuu = projection_hessian(proj, f.x, f.xu, f.xu) + projected_tangent(proj, f.x, yuu);
-    yuv = projection_hessian(proj, f.x, f.xu, f.xv) + projected_tangent(proj, f.x, yuv);
-    yvv = projection_hessian(proj, f.x, f.xv, f.xv) + projected_tangent(proj, f.x, yvv);
-  }
-  double uu = 0, uv = 0, vv = 0, du = 0, dv = 0;
+  const LaplacianWeights w = laplacian_weights(space, e, p, frame_at(space, e, p));
+  double sum = 0;
   for (std::size_t i = 0; i < e.dofs.size(); ++i) {
     const Eigen::Index k = static_cast<Eigen::Index>(i);
-    const double ui = u(e.dofs[i]);
-    du += r.du(k, p) * ui, dv += r.dv(k, p) * ui;
-    uu += r.duu(k, p) * ui, uv += r.duv(k, p) * ui, vv += r.dvv(k, p) * ui;
+    sum += u(e.dofs[i]) *
+           (w.a * r.duu(k, p) + w.b * r.duv(k, p) + w.c * r.dvv(k, p) + w.d * r.du(k, p) + w.e * r.dv(k, p));
   }
-  // The gradient's coordinates in the tangent basis, g^{cd} u_d: the Christoffel term
-  // g^{ab} Γ^c_ab u_c is then g^{ab} (y_ab · ∇u) with ∇u = (g^{cd} u_d) y_c.
-  const Vec3 grad = (f.g11 * du + f.g12 * dv) * f.yu + (f.g12 * du + f.g22 * dv) * f.yv;
-  return f.g11 * (uu - dot(yuu, grad)) + 2 * f.g12 * (uv - dot(yuv, grad)) + f.g22 * (vv - dot(yvv, grad));
+  return sum;
 }
 
 Estimate loop_residual_estimate(const LoopSpace& space, const Problem& problem, const Eigen::VectorXd& u) {
-  const PointSource f = point_source(space, problem);
+  const PointSource f = point_source(space, problem.source_values);
   Estimate out;
   out.eta.assign(space.elements.size(), 0.0);
   out.geometric.assign(space.elements.size(), 0.0);

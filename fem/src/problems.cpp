@@ -27,6 +27,40 @@ Problem sphere_harmonic() {
   return p;
 }
 
+BiharmonicProblem sphere_biharmonic() {
+  const Problem harmonic = sphere_harmonic();
+  BiharmonicProblem p;
+  p.name = "sphere-biharmonic";
+  p.c = 1;
+  p.source = [](const Vec3& x) { return 145.0 * x.x * x.y * x.z; };
+  p.exact = harmonic.exact;
+  p.exact_laplacian = [](const Vec3& x) { return -12.0 * x.x * x.y * x.z; };
+  return p;
+}
+
+BiharmonicProblem sphere_biharmonic_peak(const Vec3& d_in, double kappa) {
+  const Vec3 d = d_in * (1.0 / norm(d_in));
+  const Problem peak = sphere_peak(d, kappa);
+  BiharmonicProblem p;
+  p.name = "sphere-biharmonic-peak";
+  p.c = 1;
+  // For u = h(t), t = x·d, on the unit sphere Δu = (1 - t²) h'' - 2 t h'. With g = exp(κ (t - 1)):
+  // Δg = g (κ² (1 - t²) - 2 κ t) =: h1, h1' = g (κ³ (1 - t²) - 4 κ² t - 2 κ),
+  // h1'' = g (κ⁴ (1 - t²) - 6 κ³ t - 6 κ²), and Δ²g = (1 - t²) h1'' - 2 t h1'.
+  p.exact_laplacian = [d, kappa](const Vec3& x) {
+    const double t = dot(x, d), g = std::exp(kappa * (t - 1.0));
+    return g * (kappa * kappa * (1 - t * t) - 2 * kappa * t);
+  };
+  p.source = [d, kappa](const Vec3& x) {
+    const double t = dot(x, d), g = std::exp(kappa * (t - 1.0)), s = 1 - t * t, k2 = kappa * kappa;
+    const double h1p = g * (k2 * kappa * s - 4 * k2 * t - 2 * kappa);
+    const double h1pp = g * (k2 * k2 * s - 6 * k2 * kappa * t - 6 * k2);
+    return s * h1pp - 2 * t * h1p + g;
+  };
+  p.exact = peak.exact;
+  return p;
+}
+
 Problem sphere_peak(const Vec3& d_in, double kappa, double c) {
   const Vec3 d = d_in * (1.0 / norm(d_in));
   Problem p;

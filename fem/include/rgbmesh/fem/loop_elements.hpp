@@ -61,6 +61,19 @@ LoopPoint loop_point(const LoopSpace& space, std::size_t element, std::size_t po
 /// mean), assembled with each element's rule and solved by options' solver (as fem::solve).
 Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveOptions& options = {});
 
+/// Δ²u + c u = f on the closed surface (c > 0): the weak form ∫ Δ_Γu Δ_Γv + c u v = ∫ f v
+/// needs functions in H², which Loop's C¹ space is (P1 and P2 are not). Solved as solve_loop.
+Solution solve_loop_biharmonic(const LoopSpace& space, const BiharmonicProblem& problem,
+                               const SolveOptions& options = {});
+
+/// The biharmonic errors: ‖u - u_h‖, ‖∇_Γ(u - u_h)‖ and ‖Δ_Γ(u - u_h)‖ (the energy norm's
+/// leading part), with the elements' rules.
+struct BiharmonicErrors {
+  double l2 = 0, h1 = 0, laplacian = 0;
+};
+BiharmonicErrors loop_biharmonic_errors(const LoopSpace& space, const Eigen::VectorXd& u,
+                                        const BiharmonicProblem& problem);
+
 /// ‖u - u_h‖ and ‖∇_Γ(u - u_h)‖ over the surface, with the elements' rules. With a projection,
 /// the exact solution is evaluated at the projected points (exact geometry); without one, on
 /// the limit surface itself.

@@ -71,6 +71,22 @@ Problem sphere_peak(const Vec3& d = Vec3(0.48, 0.6, 0.64), double kappa = 100.0,
 /// solution): the problem the main job solves on its default mesh.
 Problem gaussian_source(const Vec3& x0, double sigma);
 
+/// Δ²_Γ u + c u = f on a closed surface (c > 0): a fourth-order problem, for elements whose
+/// functions are in H² (Loop elements, loop_elements.hpp).
+struct BiharmonicProblem {
+  std::string name;
+  double c = 1;
+  ScalarField source;
+  std::optional<ExactSolution> exact;
+  ScalarField exact_laplacian;  ///< Δ_Γ u of the exact solution, for the error ‖Δ_Γ(u - u_h)‖
+};
+
+/// u = xyz on the unit sphere: a spherical harmonic of degree 3, Δu = -12 u, Δ²u = 144 u; with
+/// c = 1 the source is 145 xyz.
+BiharmonicProblem sphere_biharmonic();
+/// u = exp(κ (x·d - 1)) on the unit sphere (sphere_peak's solution) with c = 1.
+BiharmonicProblem sphere_biharmonic_peak(const Vec3& d = Vec3(0.48, 0.6, 0.64), double kappa = 20.0);
+
 /// The built-in problems by name ("sphere-harmonic", "sphere-peak"); throws InputError listing
 /// the names otherwise. The third, "gaussian", needs a centre: gaussian_source().
 Problem builtin_problem(const std::string& name);
