@@ -138,6 +138,17 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   o.marking = named_row(adapt::marking_table(), s.marking, "--marking").make(a.theta);
   if (a.order != 1 && a.order != 2) throw InputError("--order " + std::to_string(a.order) + ": 1 or 2");
   o.order = a.order;
+  if (a.element == "loop") {
+    // Loop-basis elements: so far on uniformly refined closed meshes, on one process.
+    o.element = adapt::AdaptOptions::Element::loop;
+    if (o.strategy != adapt::Strategy::uniform)
+      throw InputError(
+          "--element loop: only with --strategy uniform for now (adaptive refinement of the Loop space "
+          "is not implemented yet)");
+    if (a.processes > 1) throw InputError("--element loop: runs on one process for now");
+    if (a.given.count("--estimator") && a.estimator != "residual")
+      throw InputError("--estimator " + a.estimator + ": Loop elements have the residual estimator only");
+  }
   o.min_level = a.min_level;
   s.estimator = a.estimator;
   o.estimator = named_row(fem::estimator_table(), s.estimator, "--estimator").make();
@@ -337,6 +348,7 @@ PriorRun read_prior_run(const std::string& folder) {
   a.marking = text(root, "marking", file);
   a.estimator = text(root, "estimator", file);
   a.order = root.find("order") ? static_cast<int>(count(root, "order", file)) : 1;  // reports before --order: P1
+  a.element = root.find("element") ? text(root, "element", file) : (a.order == 2 ? "p2" : "p1");
   a.solver = text(root, "solver", file);
   a.geometry = text(root, "geometry", file);
   a.theta = real(root, "theta", file);
@@ -430,14 +442,16 @@ AdaptArgs resumed_args(const AdaptArgs& given, const PriorRun& p) {
     throw InputError(std::string(option) + " " + value + ": conflicts with the resumed run's " + saved +
                      " (a resumed run keeps its settings; --cycles, --max-dofs and --target-error may change)");
   };
-  for (const auto& [option, value, saved] : {std::tuple{"--problem", given.problem, r.problem},
-                                             {"--strategy", given.strategy, r.strategy},
-                                             {"--marking", given.marking, r.marking},
-                                             {"--estimator", given.estimator, r.estimator},
-                                             {"--order", std::to_string(given.order), std::to_string(r.order)},
-                                             {"--min-level", std::to_string(given.min_level), std::to_string(r.min_level)},
-                                             {"--solver", given.solver, r.solver},
-                                             {"--geometry", given.geometry, r.geometry}})
+  for (const auto& [option, value, saved] :
+       {std::tuple{"--problem", given.problem, r.problem},
+        {"--strategy", given.strategy, r.strategy},
+        {"--marking", given.marking, r.marking},
+        {"--estimator", given.estimator, r.estimator},
+        {"--order", std::to_string(given.order), std::to_string(r.order)},
+        {"--element", given.element, r.element},
+        {"--min-level", std::to_string(given.min_level), std::to_string(r.min_level)},
+        {"--solver", given.solver, r.solver},
+        {"--geometry", given.geometry, r.geometry}})
     if (has(option) && value != saved) conflict(option, value, saved);
   for (const auto& [option, value, saved] : {std::tuple{"--theta", given.theta, r.theta},
                                              {"--coarsen", given.coarsen, r.coarsen},
@@ -671,6 +685,7 @@ class RunFiles {
     j.raw("theta", exact(a_.theta))
         .add("estimator", s_.estimator)
         .add("order", a_.order)
+        .add("element", a_.element)
         .add("solver", a_.solver)
         .add("geometry", s_.geometry);
     j.raw("coarsen", exact(s_.options.coarsen_below))
@@ -790,8 +805,13 @@ int run_adapt(const AdaptArgs& args) {
               << prior->done.cycles.back().cycle << "\n";
   std::cout << "rgbmesh adapt: problem " << s.problem << ", " << a.strategy
             << (s.options.strategy == adapt::Strategy::adaptive ? " (" + s.marking + ")" : std::string())
-            << ", geometry " << s.geometry << (a.order == 2 ? ", P2 elements" : "") << ", mesh " << s.mesh_name
-            << (a.processes > 1 ? ", on " + std::to_string(a.processes) + " processes" : std::string()) << "\n"
+            << ", geometry " << s.geometry
+            << (a.element == "loop" ? ", Loop elements"
+                : a.order == 2      ? ", P2 elements"
+                                    : "")
+            << ", mesh " << s.mesh_name
+            << (a.processes > 1 ? ", on " + std::to_string(a.processes) + " processes" : std::string())
+            << "\n"
             << (s.moving ? " step   time" : "cycle")
             << "  triangles      dofs    estimate    error_L2    error_H1  seconds\n";
   const auto on_cycle = [&files](const adapt::CycleState& c) { files.write_cycle(c); };
@@ -874,6 +894,11 @@ void AdaptCommand::add(CLI::App& tool, CompressionOption& compression) {
                   "finite elements: 1 (linear) or 2 (quadratic, isoparametric on the surface)")
       ->capture_default_str();
   app->add_option(
+         "--element", args.element,
+         "finite elements: p1, p2 (as --order 1, 2) or loop (Loop-basis: smooth, one unknown per vertex, on "
+         "the Loop limit surface; closed meshes with --strategy uniform for now)")
+      ->check(CLI::IsMember({"p1", "p2", "loop"}));
+  app->add_option(
          "--coarsen", args.coarsen,
          "Remove vertices whose largest indicator over their star is below this times the refinement "
          "threshold, in [0, 1) [default: 0.25 for moving-peak with equidistribution marking, else 0]")
@@ -926,14 +951,25 @@ void AdaptCommand::add(CLI::App& tool, CompressionOption& compression) {
 
 void AdaptCommand::settle_given() {
   for (const char* name :
-       {"--mesh",    "--problem",   "--strategy", "--marking", "--theta",        "--estimator", "--order",
-        "--coarsen", "--min-level", "--cycles",   "--steps",   "--target-error", "--max-dofs",  "--geometry",
-        "--center",  "--width",     "--solver",   "--out",     "--triangulate",  "--repair"}) {
+       {"--mesh",     "--problem", "--strategy",  "--marking", "--theta", "--estimator",    "--order",
+        "--element",  "--coarsen", "--min-level", "--cycles",  "--steps", "--target-error", "--max-dofs",
+        "--geometry", "--center",  "--width",     "--solver",  "--out",   "--triangulate",  "--repair"}) {
     if (app->count(name) > 0) args.given.insert(name);
   }
   if (app->parsed() && !args.resume.empty() && args.repair)
     throw InputError(
         "--repair: does not apply with --resume (the mesh is the run's last cycle, restored exactly)");
+  // --element p1 or p2 is --order 1 or 2 (loop has one unknown per vertex, as order 1); given
+  // both, they must agree.
+  if (!args.element.empty()) {
+    const int order = args.element == "p2" ? 2 : 1;
+    if (args.given.count("--order") && args.order != order)
+      throw InputError("--order " + std::to_string(args.order) + ": disagrees with --element " +
+                       args.element + " (give one)");
+    args.order = order;
+  } else if (args.resume.empty()) {
+    args.element = args.order == 2 ? "p2" : "p1";
+  }
 }
 
 }  // namespace rgbmesh::cli

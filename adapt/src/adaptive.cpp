@@ -12,6 +12,7 @@
 #include "rgbmesh/adapt/solution_transfer.hpp"
 #include "rgbmesh/canonical.hpp"
 #include "rgbmesh/errors.hpp"
+#include "rgbmesh/fem/loop_elements.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/rgb_state.hpp"
 #include "rgbmesh/timing.hpp"
@@ -73,8 +74,52 @@ void count_over_parts(SolvedCycle& c, const RgbMesh& mesh, const AdaptOptions& o
   c.report.dofs = options.order == 2 ? c.vertices + c.edges : c.vertices;
 }
 
+// A cycle with Loop elements: the solve on the Loop space; what the cycle keeps (the P1 mesh
+// of the limit positions, the values there, the indicators per triangle) as for P1.
+SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options) {
+  SolvedCycle c;
+  const auto t_mesh = std::chrono::steady_clock::now();
+  c.fe = fem::build_surface_mesh(mesh, options.projection, 1);
+  const fem::LoopSpace space = fem::build_loop_space(mesh, options.projection);
+  c.report.mesh_seconds = seconds_since(t_mesh);
+  if (options.control.interruption_point) options.control.interruption_point();
+  const fem::Solution loop = fem::solve_loop(space, problem, options.solve);
+  if (options.control.interruption_point) options.control.interruption_point();
+  c.solution = loop;
+  const Eigen::VectorXd at_vertices = fem::loop_vertex_values(space, loop.u);
+  for (std::size_t d = 0; d < space.num_dofs(); ++d)
+    c.solution.u(c.fe.dof_of_vertex[static_cast<std::size_t>(space.vertex[d].idx)]) =
+        at_vertices(static_cast<Eigen::Index>(d));
+  const auto t_estimate = std::chrono::steady_clock::now();
+  const fem::Estimate estimate = fem::loop_residual_estimate(space, problem, loop.u);
+  std::vector<double> by_slot(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
+  for (std::size_t e = 0; e < space.elements.size(); ++e)
+    by_slot[static_cast<std::size_t>(space.elements[e].triangle.idx)] = estimate.eta[e];
+  c.estimate.total = estimate.total;
+  for (const TriangleHandle t : c.fe.triangle)
+    c.estimate.eta.push_back(by_slot[static_cast<std::size_t>(t.idx)]);
+  c.estimate.geometric.assign(c.estimate.eta.size(), 0.0);
+  c.report.estimate_seconds = seconds_since(t_estimate);
+  c.report.triangles = c.fe.triangles.size();
+  c.report.dofs = space.num_dofs();
+  c.report.estimate = c.estimate.total;
+  c.report.solve_seconds = loop.assembly_seconds + loop.solve_seconds;
+  c.report.assembly_seconds = loop.assembly_seconds;
+  c.report.solver = fem::to_string(loop.solver);
+  c.report.solver_iterations = loop.iterations;
+  if (problem.exact) {
+    const auto t_errors = std::chrono::steady_clock::now();
+    const fem::ErrorNorms e = fem::loop_error_norms(space, loop.u, *problem.exact, loop.zero_mean);
+    c.report.error_l2 = e.l2;
+    c.report.error_h1 = e.h1;
+    c.report.error_seconds = seconds_since(t_errors);
+  }
+  return c;
+}
+
 SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
                                SolutionTransfer& transfer, bool check_max_dofs = false) {
+  if (options.element == AdaptOptions::Element::loop) return solve_loop_cycle(mesh, problem, options);
   SolvedCycle c;
   if (options.distribution.prepare_mesh) {
     const auto t_prepare = std::chrono::steady_clock::now();
@@ -335,6 +380,11 @@ const char* to_string(StopReason reason) {
 
 AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
                     const CycleCallback& on_cycle) {
+  if (options.element == AdaptOptions::Element::loop &&
+      (options.strategy != Strategy::uniform || options.distribution.partition || options.order != 1))
+    throw InputError(
+        "Loop elements run with uniform refinement on one process for now (adaptive refinement of "
+        "the Loop space is not implemented yet)");
   refine_to_floor(mesh, options);
   SolutionTransfer transfer(mesh);
   AdaptRun run;

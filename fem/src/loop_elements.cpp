@@ -9,6 +9,7 @@
 #include <string>
 
 #include "for_each_index.hpp"
+#include "rgbmesh/canonical.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/timing.hpp"
 #include "source_samples.hpp"
@@ -257,32 +258,34 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
                        std::to_string(space.level));
   }
   mesh.compute_limits();
+  // Numbered canonically (canonical.hpp), each triangle's corners from its lowest-numbered one:
+  // the parametrization of each element, hence its quadrature points, and every sum then
+  // depend on the mesh only, not on its handles (a resumed run repeats the uninterrupted one).
+  const std::vector<VertexHandle> vertex_order = canonical_vertex_order(mesh);
   space.dof_of_vertex.assign(static_cast<std::size_t>(mesh.vertex_slots()), -1);
-  for (const VertexHandle v : mesh.vertices()) {
+  for (const VertexHandle v : vertex_order) {
     space.dof_of_vertex[static_cast<std::size_t>(v.idx)] = static_cast<std::int32_t>(space.vertex.size());
     space.vertex.push_back(v);
     space.control.push_back(mesh.control_point(v, space.level));
   }
+  // Patches are gathered by vertex slots (the mesh's vertex numbers, which messages name; a
+  // base vertex's is its index in the input), then turned into DOFs.
   VertexStar star;
-  const RingOracle ring = [&](std::int32_t dof, std::vector<std::int32_t>& out) {
-    mesh.star(space.vertex[static_cast<std::size_t>(dof)], star);
+  const RingOracle ring = [&](std::int32_t slot, std::vector<std::int32_t>& out) {
+    mesh.star(VertexHandle(slot), star);
     out.clear();
-    for (const VertexHandle w : star.neighbors)
-      out.push_back(space.dof_of_vertex[static_cast<std::size_t>(w.idx)]);
+    for (const VertexHandle w : star.neighbors) out.push_back(w.idx);
     return !star.boundary;
   };
-  for (const TriangleHandle t : mesh.triangles()) {
-    const auto corners = mesh.triangle_vertices(t);
-    std::array<std::int32_t, 3> dofs{};
-    for (int k = 0; k < 3; ++k)
-      dofs[static_cast<std::size_t>(k)] =
-          space.dof_of_vertex[static_cast<std::size_t>(corners[static_cast<std::size_t>(k)].idx)];
-    LoopPatch patch;
-    try {
-      patch = gather_loop_patch(dofs, ring);
-    } catch (const InputError& e) {
-      throw InputError("triangle " + std::to_string(t.idx) + ": " + e.what());
-    }
+  for (const TriangleHandle t : canonical_triangle_order(mesh, vertex_order)) {
+    auto corners = mesh.triangle_vertices(t);
+    const auto dof = [&](VertexHandle v) { return space.dof_of_vertex[static_cast<std::size_t>(v.idx)]; };
+    std::rotate(corners.begin(),
+                std::min_element(corners.begin(), corners.end(),
+                                 [&](VertexHandle a, VertexHandle b) { return dof(a) < dof(b); }),
+                corners.end());
+    LoopPatch patch = gather_loop_patch({corners[0].idx, corners[1].idx, corners[2].idx}, ring);
+    for (std::int32_t& v : patch.vertices) v = space.dof_of_vertex[static_cast<std::size_t>(v)];
     space.elements.push_back({t, patch.vertices, loop_quadrature(patch, quadrature)});
   }
   return space;

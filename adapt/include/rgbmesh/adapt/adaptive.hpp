@@ -121,6 +121,11 @@ struct AdaptOptions {
   /// adaptation (SolutionTransfer) as the next solve's initial guess, and writes each cycle's
   /// solution at the vertices (quadratic_snapshot: every node).
   int order = 1;
+  /// lagrange: P1 or P2 by `order`. loop: Loop-basis elements (fem/loop_elements.hpp), one
+  /// unknown per vertex (order 1), each cycle's solution written as its values at the limit
+  /// positions and estimated by fem::loop_residual_estimate. For now with Strategy::uniform on
+  /// one process, on a closed mesh (run_cycles throws InputError otherwise).
+  enum class Element { lagrange, loop } element = Element::lagrange;
   Distribution distribution;  ///< several processes (rgbmesh::parallel); empty on one
   RunControl control;
 };
