@@ -18,6 +18,7 @@
 
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/fem/loop_basis.hpp"
+#include "rgbmesh/refinement.hpp"
 #include "test_meshes.hpp"
 
 namespace rgbmesh {
@@ -203,9 +204,40 @@ TEST_P(LoopBasisVsOpenSubdiv, CornerLimitsAreTheLimitPositions) {
   }
 }
 
+// A base mesh refined uniformly, as a base mesh of its own (its control points at that level).
+// The tetrahedron's levels have vertices of valence 3: a patch next to one holds that vertex's
+// third neighbour in two of its places (level 1: the middle triangles' patches have 12 places
+// and 11 vertices), which the evaluation must count twice, as OpenSubdiv does.
+testing::BaseMesh refined(const testing::BaseMesh& base, int level) {
+  RgbMesh m = base.build();
+  selective_refinement(m, UniformLevel(level));
+  m.compute_limits();
+  testing::BaseMesh out;
+  out.name = base.name + "_level" + std::to_string(level);
+  std::vector<std::int32_t> index(static_cast<std::size_t>(m.vertex_slots()), -1);
+  for (const VertexHandle v : m.vertices()) {
+    index[static_cast<std::size_t>(v.idx)] = static_cast<std::int32_t>(out.points.size());
+    out.points.push_back(m.control_point(v, level));
+  }
+  for (const TriangleHandle t : m.triangles()) {
+    const auto c = m.triangle_vertices(t);
+    out.triangles.push_back({index[static_cast<std::size_t>(c[0].idx)],
+                             index[static_cast<std::size_t>(c[1].idx)],
+                             index[static_cast<std::size_t>(c[2].idx)]});
+  }
+  return out;
+}
+
 std::vector<testing::BaseMesh> closed_meshes() {
-  return {testing::octahedron(), testing::icosahedron(), testing::cube(),
-          testing::bipyramid(7), testing::torus(6, 8),   testing::double_torus()};
+  return {testing::octahedron(),
+          testing::icosahedron(),
+          testing::cube(),
+          testing::bipyramid(7),
+          testing::torus(6, 8),
+          testing::double_torus(),
+          refined(testing::tetrahedron(), 1),
+          refined(testing::tetrahedron(), 2),
+          refined(testing::bipyramid(3), 1)};
 }
 
 INSTANTIATE_TEST_SUITE_P(Closed, LoopBasisVsOpenSubdiv, ::testing::ValuesIn(closed_meshes()),

@@ -402,8 +402,12 @@ struct RuleBuilder {
 // ---------------------------------------------------------------------------------------------
 
 LoopPatch gather_loop_patch(const std::array<std::int32_t, 3>& corners, const RingOracle& ring_of) {
+  // The patch is built from the corners' fans glued where they share triangles, not by vertex
+  // ids: its places (slots) are those of the patch as a disc, and two slots may hold the same
+  // vertex where the mesh is small around the triangle (a neighbour of valence 3 next to two
+  // corners, a ring wrapping round a thin torus). Loop's rules act on the disc, so the limit
+  // on the triangle is the disc's, with each slot holding its vertex's value.
   LoopPatch patch;
-  patch.vertices = {corners[0], corners[1], corners[2]};
   std::array<std::vector<std::int32_t>, 3> rings;
   for (int k = 0; k < 3; ++k) {
     const std::int32_t next = corners[static_cast<std::size_t>((k + 1) % 3)],
@@ -413,28 +417,73 @@ LoopPatch gather_loop_patch(const std::array<std::int32_t, 3>& corners, const Ri
       patch_error(corners, "reaches the boundary: Loop elements need a closed surface");
     if (r.size() < 3 || !orient_ring(r, next, prev)) patch_error(corners, "is not a triangle fan");
     patch.valence[static_cast<std::size_t>(k)] = static_cast<int>(r.size());
-    for (const std::int32_t w : r) {
-      if (std::find(patch.vertices.begin(), patch.vertices.end(), w) == patch.vertices.end())
-        patch.vertices.push_back(w);
+  }
+  // Provisional slots: the corners, then every ring entry past the two corners it starts with.
+  std::array<std::vector<int>, 3> slot;  // slot[k][j]: ring k's entry j
+  std::vector<int> parent = {0, 1, 2};
+  std::vector<std::int32_t> vertex = {corners[0], corners[1], corners[2]};
+  for (int k = 0; k < 3; ++k) {
+    const auto& r = rings[static_cast<std::size_t>(k)];
+    auto& sk = slot[static_cast<std::size_t>(k)];
+    sk = {(k + 1) % 3, (k + 2) % 3};
+    for (std::size_t j = 2; j < r.size(); ++j) {
+      sk.push_back(static_cast<int>(parent.size()));
+      parent.push_back(static_cast<int>(parent.size()));
+      vertex.push_back(r[j]);
     }
   }
-  const auto local = [&patch](std::int32_t w) {
-    return static_cast<int>(std::find(patch.vertices.begin(), patch.vertices.end(), w) -
-                            patch.vertices.begin());
+  const auto find = [&parent](int x) {
+    while (parent[static_cast<std::size_t>(x)] != x)
+      x = parent[static_cast<std::size_t>(x)] =
+          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
+    return x;
   };
+  // The triangle beyond edge c_k c_{k+1} is in both fans: the last entry of ring k is the
+  // entry after c_k in ring k + 1.
   for (int k = 0; k < 3; ++k) {
-    const std::vector<std::int32_t>& r = rings[static_cast<std::size_t>(k)];
-    for (std::size_t i = 0; i < r.size(); ++i) {
-      std::array<int, 3> t = {k, local(r[i]), local(r[(i + 1) % r.size()])};
+    const auto& here = slot[static_cast<std::size_t>(k)];
+    const auto& there = slot[static_cast<std::size_t>((k + 1) % 3)];
+    const int a = find(here.back()), b = find(there[2]);
+    if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+  }
+  // Canonical numbering: corners, then the classes in the order of the rings.
+  std::vector<int> number(parent.size(), -1);
+  for (int k = 0; k < 3; ++k) number[static_cast<std::size_t>(k)] = k;
+  patch.vertices = {corners[0], corners[1], corners[2]};
+  bool consistent = true;
+  for (int k = 0; k < 3; ++k) {
+    for (const int provisional : slot[static_cast<std::size_t>(k)]) {
+      const int root = find(provisional);
+      consistent = consistent &&
+                   vertex[static_cast<std::size_t>(root)] == vertex[static_cast<std::size_t>(provisional)];
+      if (number[static_cast<std::size_t>(root)] < 0) {
+        number[static_cast<std::size_t>(root)] = static_cast<int>(patch.vertices.size());
+        patch.vertices.push_back(vertex[static_cast<std::size_t>(root)]);
+      }
+    }
+  }
+  if (!consistent) patch_error(corners, "is not a manifold neighbourhood (two fans disagree)");
+  for (int k = 0; k < 3; ++k) {
+    const auto& sk = slot[static_cast<std::size_t>(k)];
+    for (std::size_t j = 0; j < sk.size(); ++j) {
+      std::array<int, 3> t = {k, number[static_cast<std::size_t>(find(sk[j]))],
+                              number[static_cast<std::size_t>(find(sk[(j + 1) % sk.size()]))]};
       std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
       if (std::find(patch.triangles.begin(), patch.triangles.end(), t) == patch.triangles.end())
         patch.triangles.push_back(t);
     }
   }
-  const int sum = patch.valence[0] + patch.valence[1] + patch.valence[2];
-  if (static_cast<int>(patch.vertices.size()) != sum - 6 ||
-      static_cast<int>(patch.triangles.size()) != sum - 5)
-    patch_error(corners, "overlaps itself (the mesh is too coarse there; refine it once)");
+  // A disc: V - E + F = 1 and no edge in more than two triangles. Meshes so coarse that the
+  // fans close up on each other (the tetrahedron: the glued fans make the whole sphere) fail.
+  std::map<std::pair<int, int>, int> edge_use;
+  for (const auto& t : patch.triangles)
+    for (int k = 0; k < 3; ++k)
+      ++edge_use[std::minmax(t[static_cast<std::size_t>(k)], t[static_cast<std::size_t>((k + 1) % 3)])];
+  bool disc = static_cast<int>(patch.vertices.size()) - static_cast<int>(edge_use.size()) +
+                  static_cast<int>(patch.triangles.size()) ==
+              1;
+  for (const auto& [edge, uses] : edge_use) disc = disc && uses <= 2;
+  if (!disc) patch_error(corners, "closes up on itself (the mesh is too coarse there; refine it once)");
   // The central triangle first, its corners as given.
   const auto central = std::find(patch.triangles.begin(), patch.triangles.end(), std::array<int, 3>{0, 1, 2});
   std::iter_swap(patch.triangles.begin(), central);
