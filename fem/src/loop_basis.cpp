@@ -564,8 +564,13 @@ std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
       options.extraordinary_depth < 0 || options.extraordinary_depth > 20)
     throw std::invalid_argument("loop_quadrature: points per direction in [1, 20], depth in [0, 20]");
   using Key = std::pair<std::array<int, 2>, Triangles>;
+  // The rules of a closed mesh refined once are few (one extraordinary corner each, a handful
+  // of valences); an irregular base mesh has one per distinct neighbourhood of its triangles
+  // (the cow: about a hundred, 0.5 MB each). The cache is emptied when it passes 256 MB, so
+  // that a long session with many meshes stays bounded; spaces keep the rules they use.
   static std::mutex mutex;
   static std::map<Key, std::shared_ptr<const LoopQuadrature>> cache;
+  static std::size_t cached_bytes = 0;
   const Key key{{options.points_per_direction, options.extraordinary_depth}, patch.triangles};
   {
     const std::lock_guard<std::mutex> lock(mutex);
@@ -581,7 +586,7 @@ std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
   builder.build(local, Eigen::MatrixXd::Identity(n, n), 1.0, path);
 
   auto rule = std::make_shared<LoopQuadrature>();
-  rule->triangles = patch.triangles;
+  rule->patch = local;
   const Eigen::Index q = static_cast<Eigen::Index>(builder.basis.size());
   rule->u = std::move(builder.u);
   rule->v = std::move(builder.v);
@@ -597,8 +602,15 @@ std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
     rule->duv.col(p) = at.duv;
     rule->dvv.col(p) = at.dvv;
   }
+  const std::size_t bytes = sizeof(double) * static_cast<std::size_t>(rule->value.size()) * 6;
   const std::lock_guard<std::mutex> lock(mutex);
-  return cache.emplace(key, std::move(rule)).first->second;
+  if (cached_bytes + bytes > (std::size_t{256} << 20)) {
+    cache.clear();
+    cached_bytes = 0;
+  }
+  const auto [it, inserted] = cache.emplace(key, std::move(rule));
+  if (inserted) cached_bytes += bytes;
+  return it->second;
 }
 
 }  // namespace rgbmesh::fem

@@ -65,7 +65,8 @@ Eigen::VectorXd loop_corner_limit(const LoopPatch& patch, int corner);
 /// weights sum to 1/2 (the triangle's area in (u, v)). Rows are the patch's vertices, columns
 /// the points (a point's weights are contiguous).
 struct LoopQuadrature {
-  std::vector<std::array<int, 3>> triangles;  ///< the patch connectivity it is for (LoopPatch::triangles)
+  /// The patch connectivity it is for, numbered locally (vertices 0, 1, ..., as its columns).
+  LoopPatch patch;
   std::vector<double> u, v, weight;
   Eigen::MatrixXd value, du, dv, duu, duv, dvv;
   std::size_t size() const { return weight.size(); }

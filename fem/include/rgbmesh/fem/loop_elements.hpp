@@ -21,6 +21,7 @@
 #include "rgbmesh/fem/solver.hpp"
 #include "rgbmesh/fem/surface_mesh.hpp"
 #include "rgbmesh/mesh.hpp"
+#include "rgbmesh/snapshot.hpp"
 
 namespace rgbmesh::fem {
 
@@ -92,6 +93,13 @@ double loop_laplacian(const LoopSpace& space, std::size_t element, std::size_t p
 /// the normal derivative across edges that P1 and P2 estimators add vanish here. One
 /// indicator per element (LoopSpace::elements).
 Estimate loop_residual_estimate(const LoopSpace& space, const Problem& problem, const Eigen::VectorXd& u);
+
+/// A picture of a solution finer than the mesh: each element split `levels` times (4^levels
+/// triangles, levels in [0, 6]), the surface (or its projection) and the function evaluated
+/// exactly at the pieces' corners, points on shared edges once. Point data "solution", cell
+/// data "element" (the element each piece belongs to). For ParaView: the function between the
+/// vertices, which the values at the vertices alone do not show.
+MeshSnapshot loop_refined_view(const LoopSpace& space, const Eigen::VectorXd& u, int levels);
 
 /// The discrete function at the limit positions of the vertices (per DOF): what ParaView shows.
 Eigen::VectorXd loop_vertex_values(const LoopSpace& space, const Eigen::VectorXd& u);
