@@ -141,6 +141,7 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   if (a.element == "loop") {
     // Loop-basis elements: so far on uniformly refined closed meshes, on one process.
     o.element = adapt::AdaptOptions::Element::loop;
+    o.loop_view_levels = 2;  // cycle_NNN_smooth.vtp, which the series lists
     if (o.strategy != adapt::Strategy::uniform)
       throw InputError(
           "--element loop: only with --strategy uniform for now (adaptive refinement of the Loop space "
@@ -238,10 +239,12 @@ std::string cycle_file(bool moving, int cycle) {
 }
 
 // The file of a cycle that the .pvd lists: the cycle's .vtp, or for P2 its quadratic
-// triangles (cycle_NNN_p2.vtu), which ParaView draws curved.
+// triangles (cycle_NNN_p2.vtu), which ParaView draws curved; for Loop elements (order 0 here)
+// the refined picture of the smooth solution (cycle_NNN_smooth.vtp).
 // On several processes, the summary of the processes' pieces (cycle_NNN.pvtp, cycle_NNN_p2.pvtu).
 std::string series_file(bool moving, int cycle, int order, bool pieces = false) {
   const std::string stem = (moving ? "step_" : "cycle_") + number(cycle, "%03.0f");
+  if (order == 0) return stem + "_smooth.vtp";
   if (order == 2) return stem + (pieces ? "_p2.pvtu" : "_p2.vtu");
   if (pieces) return stem + ".pvtp";
   return cycle_file(moving, cycle);
@@ -584,13 +587,15 @@ class RunFiles {
       const std::string summary = series_file(s.moving, r.cycle, a.order, true);
       const bool in_pieces = fs::exists(dir_ / summary);
       series_.emplace_back(s.moving ? r.time : r.cycle,
-                           in_pieces ? summary : series_file(s.moving, r.cycle, a.order));
+                           in_pieces ? summary : series_file(s.moving, r.cycle, listed_order()));
     }
     resumed_ = prior->resumed;
     resumed_.push_back(a.command_line);
   }
 
   const fs::path& dir() const { return dir_; }
+  // Which of a cycle's files the series lists (series_file's order; 0: the Loop picture).
+  int listed_order() const { return a_.element == "loop" ? 0 : a_.order; }
   std::size_t files() const { return series_.size(); }
   // What has been computed so far, for the report.
   adapt::AdaptRun& progress() { return progress_; }
@@ -636,7 +641,12 @@ class RunFiles {
       write_quadratic_triangles(dir_ / p2, q.points, q.cells, q.point_data, q.cell_data,
                                 output_options((dir_ / p2).string(), a_.compression));
     }
-    series_.emplace_back(s_.moving ? r.time : r.cycle, series_file(s_.moving, r.cycle, a_.order, pieces));
+    if (c.loop_view && a_.writes) {
+      const std::string smooth = series_file(s_.moving, r.cycle, 0);
+      write_mesh(dir_ / smooth, *c.loop_view, output_options((dir_ / smooth).string(), a_.compression));
+    }
+    series_.emplace_back(s_.moving ? r.time : r.cycle,
+                         series_file(s_.moving, r.cycle, listed_order(), pieces));
     if (a_.writes) write_pvd(dir_ / "solution.pvd", series_);  // after every cycle: usable while running
     progress_.cycles.push_back(r);
     progress_.cycles.back().output_seconds =
@@ -859,7 +869,11 @@ int run_adapt(const AdaptArgs& args) {
   }
   std::cout << "stopped: " << message << "\n"
             << "wrote " << files.files() << " files and " << (files.dir() / "solution.pvd").string()
-            << " (open the .pvd in ParaView: color by 'solution', 'error_indicator' or 'level')\n";
+            << (a.element == "loop"
+                    ? " (open the .pvd in ParaView: the smooth solution, 16 pieces per triangle; color by "
+                      "'solution'. "
+                      "The cycle_NNN.vtp files hold 'error_indicator' and 'level')\n"
+                    : " (open the .pvd in ParaView: color by 'solution', 'error_indicator' or 'level')\n");
   if (run.stopped == adapt::StopReason::memory) throw ResourceError("adapt: " + message);
   return 0;
 }

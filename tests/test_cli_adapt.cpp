@@ -17,6 +17,7 @@
 #include "cli_fixture.hpp"
 #include "cli_reports.hpp"
 #include "public_data.hpp"
+#include "rgbmesh/vtk_io.hpp"
 
 namespace {
 
@@ -287,6 +288,10 @@ TEST_F(Cli, LoopElementsRunUniformlyAndResume) {
   const RunResult r = run("adapt --element loop --strategy uniform --cycles 5 --out " + path("loop"));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("Loop elements"), std::string::npos) << r.out;
+  // The series lists the refined pictures of the smooth solution, 16 pieces per triangle.
+  EXPECT_NE(read_text(path("loop") + "/solution.pvd").find("cycle_004_smooth.vtp"), std::string::npos);
+  EXPECT_EQ(rgbmesh::read_rgb_mesh(path("loop") + "/cycle_004_smooth.vtp").mesh.num_triangles(),
+            16u * 20480u);
   const std::string json = read_text(path("loop") + "/report.json");
   EXPECT_NE(json.find("\"order\": 1, \"element\": \"loop\""), std::string::npos) << json;
   const std::vector<rgbmesh::testing::Cycle> loop =

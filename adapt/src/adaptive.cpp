@@ -31,6 +31,7 @@ struct SolvedCycle {
   /// lowest part holding it), and whether its unknowns passed max_dofs (then not solved).
   std::size_t vertices = 0, edges = 0;
   bool over_max_dofs = false;
+  std::shared_ptr<const MeshSnapshot> loop_view;  ///< Loop elements: the refined picture, if asked
 };
 
 // A distributed mesh's counts (SolvedCycle::vertices, edges; the report's triangles and
@@ -90,6 +91,10 @@ SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const A
   for (std::size_t d = 0; d < space.num_dofs(); ++d)
     c.solution.u(c.fe.dof_of_vertex[static_cast<std::size_t>(space.vertex[d].idx)]) =
         at_vertices(static_cast<Eigen::Index>(d));
+  int levels = options.loop_view_levels;
+  while (levels > 0 && (space.elements.size() << (2 * levels)) > 3000000) --levels;
+  if (levels > 0)
+    c.loop_view = std::make_shared<const MeshSnapshot>(fem::loop_refined_view(space, loop.u, levels));
   const auto t_estimate = std::chrono::steady_clock::now();
   const fem::Estimate estimate = fem::loop_residual_estimate(space, problem, loop.u);
   std::vector<double> by_slot(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
@@ -430,7 +435,9 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
     count_bytes_sent(c.report, options);
     if (!replay) {
       run.cycles.push_back(c.report);
-      if (on_cycle) on_cycle({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved});
+      if (on_cycle)
+        on_cycle({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved,
+                  c.loop_view.get()});
     }
     if (last) break;
     if (c.report.memory_limit_reached) {

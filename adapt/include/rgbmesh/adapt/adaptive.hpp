@@ -126,6 +126,10 @@ struct AdaptOptions {
   /// positions and estimated by fem::loop_residual_estimate. For now with Strategy::uniform on
   /// one process, on a closed mesh (run_cycles throws InputError otherwise).
   enum class Element { lagrange, loop } element = Element::lagrange;
+  /// Loop elements: also a picture of each cycle's solution finer than the mesh
+  /// (fem::loop_refined_view with this many levels, CycleState::loop_view); 0 for none. Reduced
+  /// on large meshes to stay within 3·10^6 pieces.
+  int loop_view_levels = 0;
   Distribution distribution;  ///< several processes (rgbmesh::parallel); empty on one
   RunControl control;
 };
@@ -200,6 +204,7 @@ struct CycleState {
   const fem::Estimate& estimate;
   const std::vector<char>& marked;  ///< per FE triangle
   const SolvedMesh* solved = nullptr;  ///< set by run_cycles and run_dynamic
+  const MeshSnapshot* loop_view = nullptr;  ///< Loop elements with loop_view_levels > 0
 };
 using CycleCallback = std::function<void(const CycleState&)>;
 
