@@ -150,6 +150,7 @@ struct LocalParts {
   std::vector<Eigen::Index> position;  // of each local entry (column by column) in the matrix's values
   Eigen::VectorXd load, area;
   double integral = 0, magnitude = 0;
+  bool degenerate = false;  // a point where the surface's metric is singular (or not finite)
 };
 
 // N: the patch's size when known at compile time (12, regular corners: most elements), so
@@ -172,8 +173,13 @@ void accumulate(const LoopSpace& space, const LoopSpace::Element& e, const Form&
   Matrix matrix = Matrix::Zero(n, n);
   Vector load = Vector::Zero(n), area = Vector::Zero(n), a(n), b(n);
   out.integral = out.magnitude = 0;
+  out.degenerate = false;
   for (Eigen::Index p = 0; p < static_cast<Eigen::Index>(r.size()); ++p) {
     const Frame fr = frame_at(space, e, p);
+    if (!(fr.density > 0) || !std::isfinite(fr.g11 + fr.g12 + fr.g22)) {
+      out.degenerate = true;
+      return;
+    }
     const double w = r.weight[static_cast<std::size_t>(p)] * fr.density;
     const Eigen::Map<const Vector> du(r.du.col(p).data(), n), dv(r.dv.col(p).data(), n),
         phi(r.value.col(p).data(), n);
@@ -333,6 +339,14 @@ Assembled assemble_loop(const LoopSpace& space, const Form& form, const PointSou
     for (std::size_t i = 0; i < count; ++i) {  // in element order: the same sums on any number of cores
       const LoopSpace::Element& e = space.elements[begin + i];
       const LocalParts& lp = parts[i];
+      if (lp.degenerate)
+        throw InputError(
+            "Loop elements: the limit surface is degenerate (zero area or not finite) on the triangle of "
+            "vertices " +
+            std::to_string(space.vertex[static_cast<std::size_t>(e.dofs[0])].idx) + ", " +
+            std::to_string(space.vertex[static_cast<std::size_t>(e.dofs[1])].idx) + ", " +
+            std::to_string(space.vertex[static_cast<std::size_t>(e.dofs[2])].idx) +
+            " (coincident or collinear control points; --repair removes them)");
       finite = finite && std::isfinite(lp.integral) && std::isfinite(lp.magnitude);
       out.integral += lp.integral;
       out.magnitude += lp.magnitude;
