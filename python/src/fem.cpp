@@ -137,6 +137,9 @@ struct Solution {
   adapt::CycleReport report;
   bool is_cycle = false;
   std::string element = "p1";  // "p1", "p2" or "loop"
+  // Loop elements: the space and the coefficients, for pictures finer than the mesh.
+  std::shared_ptr<const fem::LoopSpace> loop_space;
+  Eigen::VectorXd loop_coefficients;
 
   adapt::CycleState state() const {
     static const RgbMesh no_mesh;  // (snapshot() reads the levels from `solved`, not the mesh)
@@ -188,7 +191,8 @@ std::shared_ptr<Solution> solve_loop_elements(RgbMesh& mesh, const PyProblem& p,
   s->problem = std::make_shared<const fem::Problem>(p.problem);
   s->element = "loop";
   py::gil_scoped_release release;
-  const fem::LoopSpace space = fem::build_loop_space(mesh, setup.projection);
+  auto shared_space = std::make_shared<const fem::LoopSpace>(fem::build_loop_space(mesh, setup.projection));
+  const fem::LoopSpace& space = *shared_space;
   check_signals();
   fem::SolveOptions o;
   o.solver = setup.solver;
@@ -196,6 +200,8 @@ std::shared_ptr<Solution> solve_loop_elements(RgbMesh& mesh, const PyProblem& p,
   check_signals();
   s->fe = fem::build_surface_mesh(mesh, setup.projection, 1, fem::DofOrder::mesh);
   const Eigen::VectorXd at_vertices = fem::loop_vertex_values(space, solution.u);
+  s->loop_space = shared_space;
+  s->loop_coefficients = solution.u;
   s->u.resize(static_cast<Eigen::Index>(s->fe.num_dofs()));
   for (std::size_t d = 0; d < space.num_dofs(); ++d)
     s->u(s->fe.dof_of_vertex[static_cast<std::size_t>(space.vertex[d].idx)]) =
@@ -350,10 +356,25 @@ py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strateg
   return out;
 }
 
-void write_solution(const Solution& s, const std::filesystem::path& path, const std::string& compression) {
+WriteOptions write_options(const std::string& compression) {
   WriteOptions o;
   if (!compression_from_name(compression, o.compression))
     throw InputError("compression '" + compression + "': lz4, zlib or none");
+  return o;
+}
+
+// A Loop solution's picture finer than the mesh (fem::loop_refined_view).
+void write_smooth(const Solution& s, const std::filesystem::path& path, int levels,
+                  const std::string& compression) {
+  if (!s.loop_space) throw InputError("write_smooth: only for a solution with element='loop'");
+  if (levels < 0 || levels > 4) throw InputError("levels: 0 to 4 (each level splits every triangle in four)");
+  const WriteOptions o = write_options(compression);
+  py::gil_scoped_release release;
+  write_mesh(path, fem::loop_refined_view(*s.loop_space, s.loop_coefficients, levels), o);
+}
+
+void write_solution(const Solution& s, const std::filesystem::path& path, const std::string& compression) {
+  const WriteOptions o = write_options(compression);
   py::gil_scoped_release release;
   const adapt::CycleState state = s.state();
   if (s.fe.order == 2 && path.extension() == ".vtu") {
@@ -464,7 +485,12 @@ void bind_fem(py::module_& m) {
            "solution "
            "(exact_solution, error) and cell data error_indicator, marked, level, color; a P2 solution to "
            ".vtu as "
-           "quadratic triangles with every node. Atomic; OSError when the path cannot be written.");
+           "quadratic triangles with every node. Atomic; OSError when the path cannot be written.")
+      .def(
+          "write_smooth", &write_smooth, py::arg("path"), py::kw_only(), py::arg("levels") = 2,
+          py::arg("compression") = "lz4",
+          "element='loop' only: a picture of the smooth solution finer than the mesh, each triangle split in "
+          "4**levels, surface and solution evaluated exactly at the pieces' corners (point data solution).");
 
   m.def("solve", &solve, py::arg("mesh"), py::arg("problem"), py::kw_only(), py::arg("order") = 1,
         py::arg("element") = py::none(), py::arg("geometry") = py::none(), py::arg("solver") = "auto",

@@ -109,6 +109,12 @@ def test_loop_elements_from_python(tmp_path):
     assert loop.estimate.shape == (mesh.num_triangles,) and loop.total_estimate > 0
     loop.write(tmp_path / "loop.vtp")
     assert (tmp_path / "loop.vtp").stat().st_size > 0
+    # The picture of the smooth solution: 16 pieces per triangle, read back as a mesh.
+    loop.write_smooth(tmp_path / "smooth.vtp")
+    smooth = rgbmesh.read(tmp_path / "smooth.vtp")
+    assert smooth.num_triangles == 16 * mesh.num_triangles
+    with pytest.raises(ValueError, match="only for a solution with element='loop'"):
+        p2.write_smooth(tmp_path / "p2.vtp")
     with pytest.raises(ValueError, match="element: 'q2' is not one of p1, p2, loop"):
         rgbmesh.solve(mesh, rgbmesh.Problem.builtin("sphere-peak"), element="q2")
     with pytest.raises(ValueError, match="uniformly refined"):
