@@ -321,6 +321,23 @@ TEST(Adapt, RunsStopAtMaxDofsAndSayWhy) {
   for (const auto& r : mv.cycles) EXPECT_LE(r.dofs, 3000u);
 }
 
+// The memory ceiling reserves what a cycle's new unknowns will take with the element chosen:
+// Loop-basis elements need several times what linear ones do, so under the same ceiling their
+// run stops a level earlier (12 MB: 7,680 new linear unknowns need 19 MB, 1,920 new Loop
+// unknowns 17 MB).
+TEST(Adapt, MemoryCeilingKnowsTheElement) {
+  for (const bool loop : {false, true}) {
+    RgbMesh mesh = icosphere();
+    AdaptOptions o = sphere_options(Strategy::uniform);
+    o.max_dofs = 100000;
+    if (loop) o.element = AdaptOptions::Element::loop;
+    o.control.memory_headroom = [] { return std::size_t{12} << 20; };
+    const AdaptRun run = run_cycles(mesh, fem::sphere_peak(), o);
+    EXPECT_EQ(run.stopped, StopReason::memory) << loop;
+    EXPECT_EQ(run.cycles.back().dofs, loop ? 642u : 2562u) << loop;
+  }
+}
+
 TEST(Adapt, ARunStopsWhenAskedAndCanBeAbandonedWithAValidMesh) {
   // The stop predicate ends the run with the cycle it accepts, on the mesh that cycle solved.
   RgbMesh mesh = icosphere();

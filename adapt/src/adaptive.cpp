@@ -356,11 +356,13 @@ void refine_to_floor(RgbMesh& mesh, const AdaptOptions& options) {
 }
 
 // Whether a cycle on the mesh as it is now fits under the memory ceiling: the unknowns added
-// since the last solve each need kSolveBytesPerDof more.
+// since the last solve each need the element's bytes per unknown more.
 bool next_cycle_fits(const RgbMesh& mesh, const AdaptOptions& options, std::size_t solved_dofs) {
   if (!options.control.memory_headroom) return true;
   const double added = static_cast<double>(unknowns(mesh, options.order)) - static_cast<double>(solved_dofs);
-  return added * kSolveBytesPerDof <= static_cast<double>(options.control.memory_headroom());
+  const double per_dof =
+      options.element == AdaptOptions::Element::loop ? kLoopSolveBytesPerDof : kSolveBytesPerDof;
+  return added * per_dof <= static_cast<double>(options.control.memory_headroom());
 }
 
 }  // namespace

@@ -63,7 +63,7 @@ struct Distribution {
 /// When a run stops early, how it is interrupted, and what it keeps for a later run.
 struct RunControl {
   /// Memory: when set, returns the bytes still free under the caller's ceiling. A cycle whose
-  /// mesh would need more (kSolveBytesPerDof per new unknown, the refinement's arrays) is not
+  /// mesh would need more (solve_bytes_per_dof per new unknown, the refinement's arrays) is not
   /// run: the run stops with StopReason::memory, its results so far intact.
   std::function<std::size_t()> memory_headroom;
   /// run_cycles: asked after each cycle's solve and estimate, before the mesh is adapted;
@@ -145,9 +145,13 @@ enum class StopReason {
 };
 
 /// Peak memory of one cycle per unknown (mesh, finite-element mesh, assembly, CHOLMOD's factor,
-/// estimate, output), measured: 1.25 GB at 655,362 unknowns (1.9 kB each) for uniform
-/// sphere-peak; with a margin.
+/// estimate, output) with Lagrange elements, measured: 1.25 GB at 655,362 unknowns (1.9 kB
+/// each) for uniform sphere-peak; with a margin.
 inline constexpr double kSolveBytesPerDof = 2500.0;
+/// The same for Loop-basis elements, whose rows couple 37 unknowns rather than about 7 and
+/// whose quadrature keeps 12 functions at 16 points per element: measured 1.2 GB at 163,842
+/// unknowns (7.3 kB each, CHOLMOD or AMG) for uniform sphere-peak; with a margin.
+inline constexpr double kLoopSolveBytesPerDof = 9000.0;
 /// "cycles", "target-error", "max-dofs", "steps", "memory", "requested".
 const char* to_string(StopReason reason);
 
