@@ -97,6 +97,21 @@ LaplacianWeights laplacian_weights(const LoopSpace& space, const LoopSpace::Elem
   return {f.g11, 2 * f.g12, f.g22, -dot(christoffel, tu), -dot(christoffel, tv)};
 }
 
+// Δ_Γ u_h at a quadrature point whose frame is known (the estimator and the error norms have
+// it already; loop_laplacian computes it).
+double laplacian_at(const LoopSpace& space, const LoopSpace::Element& e, Eigen::Index p, const Frame& f,
+                    const Eigen::VectorXd& u) {
+  const LoopQuadrature& r = *e.rule;
+  const LaplacianWeights w = laplacian_weights(space, e, p, f);
+  double sum = 0;
+  for (std::size_t i = 0; i < e.dofs.size(); ++i) {
+    const Eigen::Index k = static_cast<Eigen::Index>(i);
+    sum += u(e.dofs[i]) *
+           (w.a * r.duu(k, p) + w.b * r.duv(k, p) + w.c * r.dvv(k, p) + w.d * r.du(k, p) + w.e * r.dv(k, p));
+  }
+  return sum;
+}
+
 // The sparsity of the Loop space's matrices: i and j are coupled when one patch holds both.
 // Per DOF, the patches holding it (a CSR incidence), then each column's rows on every core.
 SparseMatrix pattern(const LoopSpace& space) {
@@ -435,7 +450,8 @@ BiharmonicErrors loop_biharmonic_errors(const LoopSpace& space, const Eigen::Vec
     const LoopSpace::Element& el = space.elements[e];
     for (std::size_t p = 0; p < el.rule->size(); ++p) {
       const Frame fr = frame_at(space, el, static_cast<Eigen::Index>(p));
-      const double difference = problem.exact_laplacian(fr.y) - loop_laplacian(space, e, p, u);
+      const double difference =
+          problem.exact_laplacian(fr.y) - laplacian_at(space, el, static_cast<Eigen::Index>(p), fr, u);
       squares[e] += el.rule->weight[p] * fr.density * difference * difference;
     }
   });
@@ -484,16 +500,8 @@ ErrorNorms loop_error_norms(const LoopSpace& space, const Eigen::VectorXd& u, co
 double loop_laplacian(const LoopSpace& space, std::size_t element, std::size_t point,
                       const Eigen::VectorXd& u) {
   const LoopSpace::Element& e = space.elements[element];
-  const LoopQuadrature& r = *e.rule;
   const Eigen::Index p = static_cast<Eigen::Index>(point);
-  const LaplacianWeights w = laplacian_weights(space, e, p, frame_at(space, e, p));
-  double sum = 0;
-  for (std::size_t i = 0; i < e.dofs.size(); ++i) {
-    const Eigen::Index k = static_cast<Eigen::Index>(i);
-    sum += u(e.dofs[i]) *
-           (w.a * r.duu(k, p) + w.b * r.duv(k, p) + w.c * r.dvv(k, p) + w.d * r.du(k, p) + w.e * r.dv(k, p));
-  }
-  return sum;
+  return laplacian_at(space, e, p, frame_at(space, e, p), u);
 }
 
 Estimate loop_residual_estimate(const LoopSpace& space, const Problem& problem, const Eigen::VectorXd& u) {
@@ -511,7 +519,7 @@ Estimate loop_residual_estimate(const LoopSpace& space, const Problem& problem, 
       for (std::size_t i = 0; i < el.dofs.size(); ++i)
         uh += el.rule->value(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(p)) * u(el.dofs[i]);
       const double fp = source != nullptr ? source[p] : problem.source(fr.y);
-      const double r = fp - problem.c * uh + loop_laplacian(space, e, p, u);
+      const double r = fp - problem.c * uh + laplacian_at(space, el, static_cast<Eigen::Index>(p), fr, u);
       const double w = el.rule->weight[p] * fr.density;
       residual += w * r * r;
       area += w;
