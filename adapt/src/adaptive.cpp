@@ -87,22 +87,15 @@ SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const A
   const fem::Solution loop = fem::solve_loop(space, problem, options.solve);
   if (options.control.interruption_point) options.control.interruption_point();
   c.solution = loop;
-  const Eigen::VectorXd at_vertices = fem::loop_vertex_values(space, loop.u);
-  for (std::size_t d = 0; d < space.num_dofs(); ++d)
-    c.solution.u(c.fe.dof_of_vertex[static_cast<std::size_t>(space.vertex[d].idx)]) =
-        at_vertices(static_cast<Eigen::Index>(d));
+  c.solution.u = fem::loop_values_on(space, loop.u, c.fe);
   int levels = options.loop_view_levels;
   while (levels > 0 && (space.elements.size() << (2 * levels)) > 3000000) --levels;
   if (levels > 0)
     c.loop_view = std::make_shared<const MeshSnapshot>(fem::loop_refined_view(space, loop.u, levels));
   const auto t_estimate = std::chrono::steady_clock::now();
   const fem::Estimate estimate = fem::loop_residual_estimate(space, problem, loop.u);
-  std::vector<double> by_slot(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
-  for (std::size_t e = 0; e < space.elements.size(); ++e)
-    by_slot[static_cast<std::size_t>(space.elements[e].triangle.idx)] = estimate.eta[e];
   c.estimate.total = estimate.total;
-  for (const TriangleHandle t : c.fe.triangle)
-    c.estimate.eta.push_back(by_slot[static_cast<std::size_t>(t.idx)]);
+  c.estimate.eta = fem::loop_element_values_on(space, estimate.eta, c.fe);
   c.estimate.geometric.assign(c.estimate.eta.size(), 0.0);
   c.report.estimate_seconds = seconds_since(t_estimate);
   c.report.triangles = c.fe.triangles.size();

@@ -627,4 +627,30 @@ Eigen::VectorXd loop_vertex_values(const LoopSpace& space, const Eigen::VectorXd
   return out;
 }
 
+Eigen::VectorXd loop_values_on(const LoopSpace& space, const Eigen::VectorXd& u, const SurfaceMesh& p1) {
+  if (p1.order != 1 || p1.num_dofs() != space.num_dofs())
+    throw std::invalid_argument("loop_values_on: the P1 mesh of the Loop space's triangles is needed");
+  const Eigen::VectorXd at_vertices = loop_vertex_values(space, u);
+  Eigen::VectorXd out(static_cast<Eigen::Index>(p1.num_dofs()));
+  for (std::size_t d = 0; d < space.num_dofs(); ++d)
+    out(p1.dof_of_vertex[static_cast<std::size_t>(space.vertex[d].idx)]) =
+        at_vertices(static_cast<Eigen::Index>(d));
+  return out;
+}
+
+std::vector<double> loop_element_values_on(const LoopSpace& space, const std::vector<double>& per_element,
+                                           const SurfaceMesh& p1) {
+  if (per_element.size() != space.elements.size() || p1.triangle.size() != space.elements.size())
+    throw std::invalid_argument("loop_element_values_on: one value per element of the same triangles");
+  std::int32_t slots = 0;
+  for (const LoopSpace::Element& e : space.elements) slots = std::max(slots, e.triangle.idx + 1);
+  std::vector<double> by_slot(static_cast<std::size_t>(slots), 0.0);
+  for (std::size_t e = 0; e < space.elements.size(); ++e)
+    by_slot[static_cast<std::size_t>(space.elements[e].triangle.idx)] = per_element[e];
+  std::vector<double> out;
+  out.reserve(p1.triangle.size());
+  for (const TriangleHandle t : p1.triangle) out.push_back(by_slot[static_cast<std::size_t>(t.idx)]);
+  return out;
+}
+
 }  // namespace rgbmesh::fem

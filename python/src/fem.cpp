@@ -199,20 +199,12 @@ std::shared_ptr<Solution> solve_loop_elements(RgbMesh& mesh, const PyProblem& p,
   const fem::Solution solution = fem::solve_loop(space, p.problem, o);
   check_signals();
   s->fe = fem::build_surface_mesh(mesh, setup.projection, 1, fem::DofOrder::mesh);
-  const Eigen::VectorXd at_vertices = fem::loop_vertex_values(space, solution.u);
   s->loop_space = shared_space;
   s->loop_coefficients = solution.u;
-  s->u.resize(static_cast<Eigen::Index>(s->fe.num_dofs()));
-  for (std::size_t d = 0; d < space.num_dofs(); ++d)
-    s->u(s->fe.dof_of_vertex[static_cast<std::size_t>(space.vertex[d].idx)]) =
-        at_vertices(static_cast<Eigen::Index>(d));
+  s->u = fem::loop_values_on(space, solution.u, s->fe);
   const fem::Estimate estimate = fem::loop_residual_estimate(space, p.problem, solution.u);
-  std::vector<double> eta_of_slot(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
-  for (std::size_t e = 0; e < space.elements.size(); ++e)
-    eta_of_slot[static_cast<std::size_t>(space.elements[e].triangle.idx)] = estimate.eta[e];
   s->estimate.total = estimate.total;
-  for (const TriangleHandle t : s->fe.triangle)
-    s->estimate.eta.push_back(eta_of_slot[static_cast<std::size_t>(t.idx)]);
+  s->estimate.eta = fem::loop_element_values_on(space, estimate.eta, s->fe);
   s->estimate.geometric.assign(s->estimate.eta.size(), 0.0);
   s->report.triangles = s->fe.triangles.size();
   s->report.dofs = space.num_dofs();

@@ -104,4 +104,14 @@ MeshSnapshot loop_refined_view(const LoopSpace& space, const Eigen::VectorXd& u,
 /// The discrete function at the limit positions of the vertices (per DOF): what ParaView shows.
 Eigen::VectorXd loop_vertex_values(const LoopSpace& space, const Eigen::VectorXd& u);
 
+/// The same values in the DOF order of a P1 mesh of the same triangles (build_surface_mesh,
+/// order 1, any DofOrder): how the tools and the bindings hand a Loop solution to what shows
+/// and transfers P1 data.
+Eigen::VectorXd loop_values_on(const LoopSpace& space, const Eigen::VectorXd& u, const SurfaceMesh& p1);
+
+/// One number per element (an estimate's indicators) in the triangle order of a P1 mesh of the
+/// same triangles.
+std::vector<double> loop_element_values_on(const LoopSpace& space, const std::vector<double>& per_element,
+                                           const SurfaceMesh& p1);
+
 }  // namespace rgbmesh::fem
