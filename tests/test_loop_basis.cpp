@@ -9,13 +9,12 @@
 #include <opensubdiv/far/patchTable.h>
 #include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/primvarRefiner.h>
-#include <opensubdiv/far/topologyDescriptor.h>
-#include <opensubdiv/far/topologyRefinerFactory.h>
 
 #include <cmath>
 #include <memory>
 #include <random>
 
+#include "opensubdiv_refiner.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/fem/loop_basis.hpp"
 #include "rgbmesh/refinement.hpp"
@@ -31,23 +30,6 @@ struct Scalar {
   void Clear() { x = 0; }
   void AddWithWeight(const Scalar& o, double w) { x += w * o.x; }
 };
-
-std::unique_ptr<Far::TopologyRefiner> refiner_for(const testing::BaseMesh& base) {
-  static std::vector<int> counts, indices;  // kept alive while the factory reads them
-  counts.assign(base.triangles.size(), 3);
-  indices.clear();
-  for (const auto& t : base.triangles) indices.insert(indices.end(), t.begin(), t.end());
-  Far::TopologyDescriptor desc;
-  desc.numVertices = static_cast<int>(base.points.size());
-  desc.numFaces = static_cast<int>(base.triangles.size());
-  desc.numVertsPerFace = counts.data();
-  desc.vertIndicesPerFace = indices.data();
-  Sdc::Options options;
-  options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
-  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-  return std::unique_ptr<Far::TopologyRefiner>(
-      Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
-}
 
 // The patch of each base triangle, from the mesh's rings.
 fem::LoopPatch patch_of(const RgbMesh& mesh, const std::array<std::int32_t, 3>& t) {
@@ -80,7 +62,7 @@ TEST_P(LoopBasisVsOpenSubdiv, LimitAndDerivativesOnRegularPatches) {
   for (double& x : values) x = unit(random) - 0.5;
 
   const int isolation = 6;
-  auto refiner = refiner_for(base);
+  auto refiner = testing::loop_refiner(base);
   Far::PatchTableFactory::Options patch_options(isolation);
   patch_options.SetPatchPrecision<double>();
   refiner->RefineAdaptive(patch_options.GetRefineAdaptiveOptions());
@@ -182,7 +164,7 @@ TEST_P(LoopBasisVsOpenSubdiv, CornerLimitsAreTheLimitPositions) {
   std::uniform_real_distribution<double> unit(-1, 1);
   std::vector<double> values(base.points.size());
   for (double& x : values) x = unit(random);
-  auto refiner = refiner_for(base);
+  auto refiner = testing::loop_refiner(base);
   Far::TopologyRefiner::UniformOptions uniform(1);
   uniform.fullTopologyInLastLevel = true;
   refiner->RefineUniform(uniform);

@@ -8,13 +8,12 @@
 
 #include <gtest/gtest.h>
 #include <opensubdiv/far/primvarRefiner.h>
-#include <opensubdiv/far/topologyDescriptor.h>
-#include <opensubdiv/far/topologyRefinerFactory.h>
 
 #include <algorithm>
 #include <memory>
 #include <set>
 
+#include "opensubdiv_refiner.hpp"
 #include "rgbmesh/geometry.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/refinement.hpp"
@@ -40,17 +39,7 @@ struct Point {
 class LoopReference {
  public:
   LoopReference(const testing::BaseMesh& base, int levels) : levels_(levels) {
-    Sdc::Options options;
-    options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
-    std::vector<int> counts(base.triangles.size(), 3), indices;
-    for (const auto& t : base.triangles) indices.insert(indices.end(), t.begin(), t.end());
-    Far::TopologyDescriptor desc;
-    desc.numVertices = static_cast<int>(base.points.size());
-    desc.numFaces = static_cast<int>(base.triangles.size());
-    desc.numVertsPerFace = counts.data();
-    desc.vertIndicesPerFace = indices.data();
-    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-    refiner_.reset(Factory::Create(desc, Factory::Options(Sdc::SCHEME_LOOP, options)));
+    refiner_ = testing::loop_refiner(base);
     Far::TopologyRefiner::UniformOptions uniform(levels);
     uniform.fullTopologyInLastLevel = true;
     refiner_->RefineUniform(uniform);
