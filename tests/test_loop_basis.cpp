@@ -192,6 +192,44 @@ TEST_P(LoopBasisVsOpenSubdiv, CornerLimitsAreTheLimitPositions) {
 // The tetrahedron's levels have vertices of valence 3: a patch next to one holds that vertex's
 // third neighbour in two of its places (level 1: the middle triangles' patches have 12 places
 // and 11 vertices), which the evaluation must count twice, as OpenSubdiv does.
+// The third derivatives (used by fourth-order boundary terms) are the slopes of the second
+// ones: central differences at random points of every base triangle. The limit is a
+// polynomial on each sub-triangle, and the random points lie off the knot lines.
+TEST_P(LoopBasisVsOpenSubdiv, ThirdDerivativesAreTheSlopesOfTheSecond) {
+  const testing::BaseMesh& base = GetParam();
+  const RgbMesh mesh = base.build();
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(0.05, 0.9);
+  const double h = 1e-6;
+  double worst = 0;
+  for (const auto& t : base.triangles) {
+    fem::LoopPatch patch = patch_of(mesh, t);
+    for (std::size_t i = 0; i < patch.vertices.size(); ++i) patch.vertices[i] = static_cast<std::int32_t>(i);
+    for (int k = 0; k < 4; ++k) {
+      const double u = unit(random), v = unit(random) * (1 - u);
+      const fem::LoopBasisAt at = fem::evaluate_loop_basis(patch, u, v);
+      const fem::LoopBasisAt up = fem::evaluate_loop_basis(patch, u + h, v);
+      const fem::LoopBasisAt um = fem::evaluate_loop_basis(patch, u - h, v);
+      const fem::LoopBasisAt vp = fem::evaluate_loop_basis(patch, u, v + h);
+      const fem::LoopBasisAt vm = fem::evaluate_loop_basis(patch, u, v - h);
+      const double scale = 1 + at.duu.cwiseAbs().maxCoeff() + at.dvv.cwiseAbs().maxCoeff();
+      const auto check = [&](const Eigen::VectorXd& exact, const Eigen::VectorXd& plus,
+                             const Eigen::VectorXd& minus) {
+        const double e = (exact - (plus - minus) / (2 * h)).cwiseAbs().maxCoeff() / scale;
+        worst = std::max(worst, e);
+      };
+      check(at.duuu, up.duu, um.duu);
+      check(at.duuv, vp.duu, vm.duu);
+      check(at.duuv, up.duv, um.duv);
+      check(at.duvv, up.dvv, um.dvv);
+      check(at.duvv, vp.duv, vm.duv);
+      check(at.dvvv, vp.dvv, vm.dvv);
+    }
+  }
+  std::printf("  largest difference from central differences %.1e (relative)\n", worst);
+  EXPECT_LT(worst, 1e-6);
+}
+
 testing::BaseMesh refined(const testing::BaseMesh& base, int level) {
   RgbMesh m = base.build();
   selective_refinement(m, UniformLevel(level));

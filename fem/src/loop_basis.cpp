@@ -229,18 +229,28 @@ std::array<std::array<int, 2>, kMonomials> monomial_powers() {
 
 double power(double x, int k) { return k <= 0 ? 1.0 : std::pow(x, k); }
 
-// The monomials and their derivatives at (u, v): rows value, du, dv, duu, duv, dvv.
-Eigen::Matrix<double, 6, kMonomials> monomials(double u, double v) {
+// The monomials and their derivatives at (u, v): rows value, du, dv, duu, duv, dvv, duuu,
+// duuv, duvv, dvvv.
+constexpr int kRows = 10;
+using DerivativeRows = Eigen::Matrix<double, kRows, kMonomials>;
+
+double falling(int i, int k) {  // i (i - 1) ... (i - k + 1)
+  double f = 1;
+  for (int m = 0; m < k; ++m) f *= i - m;
+  return f;
+}
+
+DerivativeRows monomials(double u, double v) {
   static const auto powers = monomial_powers();
-  Eigen::Matrix<double, 6, kMonomials> m;
+  static const std::array<std::array<int, 2>, kRows> orders = {
+      {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1}, {0, 2}, {3, 0}, {2, 1}, {1, 2}, {0, 3}}};
+  DerivativeRows m;
   for (int k = 0; k < kMonomials; ++k) {
     const int i = powers[static_cast<std::size_t>(k)][0], j = powers[static_cast<std::size_t>(k)][1];
-    m(0, k) = power(u, i) * power(v, j);
-    m(1, k) = i * power(u, i - 1) * power(v, j);
-    m(2, k) = j * power(u, i) * power(v, j - 1);
-    m(3, k) = i * (i - 1) * power(u, i - 2) * power(v, j);
-    m(4, k) = i * j * power(u, i - 1) * power(v, j - 1);
-    m(5, k) = j * (j - 1) * power(u, i) * power(v, j - 2);
+    for (int r = 0; r < kRows; ++r) {
+      const int a = orders[static_cast<std::size_t>(r)][0], b = orders[static_cast<std::size_t>(r)][1];
+      m(r, k) = falling(i, a) * falling(j, b) * power(u, i - a) * power(v, j - b);
+    }
   }
   return m;
 }
@@ -318,18 +328,32 @@ const Eigen::Matrix<double, kMonomials, 12>& regular_polynomials() {
 }
 
 // Value and derivatives (rows) of the 12 regular basis functions at (u, v).
-Eigen::Matrix<double, 6, 12> regular_basis(double u, double v) {
+Eigen::Matrix<double, kRows, 12> regular_basis(double u, double v) {
   return monomials(u, v) * regular_polynomials();
 }
 
-void set_from(LoopBasisAt& out, const Eigen::Matrix<double, 6, 12>& local, const Eigen::MatrixXd& to_local,
-              double factor) {
-  out.value = to_local.transpose() * local.row(0).transpose();
-  out.du = factor * (to_local.transpose() * local.row(1).transpose());
-  out.dv = factor * (to_local.transpose() * local.row(2).transpose());
-  out.duu = factor * factor * (to_local.transpose() * local.row(3).transpose());
-  out.duv = factor * factor * (to_local.transpose() * local.row(4).transpose());
-  out.dvv = factor * factor * (to_local.transpose() * local.row(5).transpose());
+// The basis of a patch `factor` times finer (each derivative scaled by factor per order) seen
+// from the root patch whose control values map to this one's by `to_local`.
+void set_from(LoopBasisAt& out, const Eigen::Matrix<double, kRows, 12>& local,
+              const Eigen::MatrixXd& to_local, double factor) {
+  const auto row = [&](int r, double scale) -> Eigen::VectorXd {
+    return scale * (to_local.transpose() * local.row(r).transpose());
+  };
+  const double f2 = factor * factor, f3 = f2 * factor;
+  out.value = row(0, 1), out.du = row(1, factor), out.dv = row(2, factor);
+  out.duu = row(3, f2), out.duv = row(4, f2), out.dvv = row(5, f2);
+  out.duuu = row(6, f3), out.duuv = row(7, f3), out.duvv = row(8, f3), out.dvvv = row(9, f3);
+}
+
+void set_from(LoopBasisAt& out, const LoopBasisAt& local, const Eigen::MatrixXd& to_local, double factor) {
+  const auto map = [&](const Eigen::VectorXd& x, double scale) -> Eigen::VectorXd {
+    return scale * (to_local.transpose() * x);
+  };
+  const double f2 = factor * factor, f3 = f2 * factor;
+  out.value = map(local.value, 1), out.du = map(local.du, factor), out.dv = map(local.dv, factor);
+  out.duu = map(local.duu, f2), out.duv = map(local.duv, f2), out.dvv = map(local.dvv, f2);
+  out.duuu = map(local.duuu, f3), out.duuv = map(local.duuv, f3), out.duvv = map(local.duvv, f3);
+  out.dvvv = map(local.dvvv, f3);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -375,14 +399,8 @@ struct RuleBuilder {
     }
     if (levels >= options.extraordinary_depth) {
       add_points(levels, [&](double s, double t, double& ru, double& rv) {
-        const LoopBasisAt local = evaluate_loop_basis(patch, s, t);
         LoopBasisAt at;
-        at.value = to_local.transpose() * local.value;
-        at.du = factor * (to_local.transpose() * local.du);
-        at.dv = factor * (to_local.transpose() * local.dv);
-        at.duu = factor * factor * (to_local.transpose() * local.duu);
-        at.duv = factor * factor * (to_local.transpose() * local.duv);
-        at.dvv = factor * factor * (to_local.transpose() * local.dvv);
+        set_from(at, evaluate_loop_basis(patch, s, t), to_local, factor);
         root_params(ru, rv);
         return at;
       });
@@ -514,6 +532,7 @@ LoopBasisAt evaluate_loop_basis(const LoopPatch& patch, double u, double v) {
       out.value = loop_corner_limit(patch, k);
       const double nan = std::numeric_limits<double>::quiet_NaN();
       out.du = out.dv = out.duu = out.duv = out.dvv = Eigen::VectorXd::Constant(n, nan);
+      out.duuu = out.duuv = out.duvv = out.dvvv = out.du;
       return out;
     }
   }

@@ -50,11 +50,13 @@ using RingOracle = std::function<bool(std::int32_t vertex, std::vector<std::int3
 /// triangle; one uniform refinement removes that).
 LoopPatch gather_loop_patch(const std::array<std::int32_t, 3>& corners, const RingOracle& ring);
 
-/// Weights of the patch's control values at one point: the limit value and its first and
-/// second derivatives with respect to (u, v). At an extraordinary corner itself only the value
-/// is defined (the derivatives are NaN there: the parametrization is singular).
+/// Weights of the patch's control values at one point: the limit value and its first, second
+/// and third derivatives with respect to (u, v) (the third for the boundary terms of fourth-
+/// order problems). At an extraordinary corner itself only the value is defined (the
+/// derivatives are NaN there: the parametrization is singular).
 struct LoopBasisAt {
   Eigen::VectorXd value, du, dv, duu, duv, dvv;
+  Eigen::VectorXd duuu, duuv, duvv, dvvv;
 };
 LoopBasisAt evaluate_loop_basis(const LoopPatch& patch, double u, double v);
 
