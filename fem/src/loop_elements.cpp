@@ -11,6 +11,7 @@
 #include <string>
 
 #include "for_each_index.hpp"
+#include "loop_assembly.hpp"
 #include "rgbmesh/canonical.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/timing.hpp"
@@ -269,7 +270,7 @@ PointSource point_source(const LoopSpace& space, const PointValues& batch) {
 }  // namespace
 
 LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
-                           const LoopQuadratureOptions& quadrature) {
+                           const LoopQuadratureOptions& quadrature, LoopBoundary boundary) {
   LoopSpace space;
   space.projection = std::move(projection);
   space.level = -1;
@@ -285,12 +286,9 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
   // the parametrization of each element, hence its quadrature points, and every sum then
   // depend on the mesh only, not on its handles (a resumed run repeats the uninterrupted one).
   const std::vector<VertexHandle> vertex_order = canonical_vertex_order(mesh);
-  space.dof_of_vertex.assign(static_cast<std::size_t>(mesh.vertex_slots()), -1);
-  for (const VertexHandle v : vertex_order) {
-    space.dof_of_vertex[static_cast<std::size_t>(v.idx)] = static_cast<std::int32_t>(space.vertex.size());
-    space.vertex.push_back(v);
-    space.control.push_back(mesh.control_point(v, space.level));
-  }
+  std::vector<std::int32_t> rank(static_cast<std::size_t>(mesh.vertex_slots()), -1);
+  for (std::size_t i = 0; i < vertex_order.size(); ++i)
+    rank[static_cast<std::size_t>(vertex_order[i].idx)] = static_cast<std::int32_t>(i);
   // Patches are gathered by vertex slots (the mesh's vertex numbers, which messages name; a
   // base vertex's is its index in the input), then turned into DOFs.
   VertexStar star;
@@ -300,14 +298,54 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
     for (const VertexHandle w : star.neighbors) out.push_back(w.idx);
     return !star.boundary;
   };
+  const bool ghosts = boundary == LoopBoundary::ghost_ring;
+  std::vector<LoopPatch> patches;
+  std::vector<TriangleHandle> element_triangles;
+  std::vector<std::int32_t> element_of_slot(static_cast<std::size_t>(mesh.triangle_slots()), -1);
   for (const TriangleHandle t : canonical_triangle_order(mesh, vertex_order)) {
     auto corners = mesh.triangle_vertices(t);
-    const auto dof = [&](VertexHandle v) { return space.dof_of_vertex[static_cast<std::size_t>(v.idx)]; };
-    std::rotate(corners.begin(),
-                std::min_element(corners.begin(), corners.end(),
-                                 [&](VertexHandle a, VertexHandle b) { return dof(a) < dof(b); }),
-                corners.end());
-    LoopPatch patch = gather_loop_patch({corners[0].idx, corners[1].idx, corners[2].idx}, ring);
+    if (ghosts &&
+        (mesh.is_boundary(corners[0]) || mesh.is_boundary(corners[1]) || mesh.is_boundary(corners[2])))
+      continue;
+    const auto by_rank = [&](VertexHandle a, VertexHandle b) {
+      return rank[static_cast<std::size_t>(a.idx)] < rank[static_cast<std::size_t>(b.idx)];
+    };
+    std::rotate(corners.begin(), std::min_element(corners.begin(), corners.end(), by_rank), corners.end());
+    element_of_slot[static_cast<std::size_t>(t.idx)] = static_cast<std::int32_t>(patches.size());
+    patches.push_back(gather_loop_patch({corners[0].idx, corners[1].idx, corners[2].idx}, ring));
+    element_triangles.push_back(t);
+  }
+  if (patches.empty())
+    throw InputError(
+        "Loop elements: no triangle has its three corners inside the mesh (the elements need a "
+        "ring of triangles around them whose vertices carry control values only)");
+  // The DOFs: the vertices of some patch (on a closed mesh, every vertex), in canonical order.
+  std::vector<char> used(static_cast<std::size_t>(mesh.vertex_slots()), 0);
+  for (const LoopPatch& patch : patches)
+    for (const std::int32_t v : patch.vertices) used[static_cast<std::size_t>(v)] = 1;
+  space.dof_of_vertex.assign(static_cast<std::size_t>(mesh.vertex_slots()), -1);
+  for (const VertexHandle v : vertex_order) {
+    if (!used[static_cast<std::size_t>(v.idx)]) continue;
+    space.dof_of_vertex[static_cast<std::size_t>(v.idx)] = static_cast<std::int32_t>(space.vertex.size());
+    space.vertex.push_back(v);
+    space.control.push_back(mesh.control_point(v, space.level));
+  }
+  for (std::size_t e = 0; e < patches.size(); ++e) {
+    LoopPatch& patch = patches[e];
+    const TriangleHandle t = element_triangles[e];
+    if (ghosts) {  // the element's sides towards triangles that are no elements
+      for (int k = 0; k < 3; ++k) {
+        const VertexHandle a(patch.vertices[static_cast<std::size_t>(k)]),
+            b(patch.vertices[static_cast<std::size_t>((k + 1) % 3)]);
+        for (const EdgeHandle edge : mesh.triangle_edges(t)) {
+          const auto& ends = mesh.edge_vertices(edge);
+          if (!((ends[0] == a && ends[1] == b) || (ends[0] == b && ends[1] == a))) continue;
+          const TriangleHandle other = mesh.other_triangle(edge, t);
+          if (!other.valid() || element_of_slot[static_cast<std::size_t>(other.idx)] < 0)
+            space.boundary.push_back({e, k});
+        }
+      }
+    }
     for (std::int32_t& v : patch.vertices) v = space.dof_of_vertex[static_cast<std::size_t>(v)];
     space.elements.push_back({t, patch.vertices, loop_quadrature(patch, quadrature)});
   }
@@ -329,18 +367,11 @@ LoopPoint loop_point(const LoopSpace& space, std::size_t element, std::size_t po
 
 namespace {
 
-// The assembled system of a form, with ∫φ_i (the mean condition) and ∫f, ∫|f|.
-struct Assembled {
-  SparseMatrix a;
-  Eigen::VectorXd b, area;
-  double integral = 0, magnitude = 0, seconds = 0;
-};
-
-Assembled assemble_loop(const LoopSpace& space, const Form& form, const PointSource& f,
-                        const std::string& name) {
+detail::LoopSystem assemble_loop(const LoopSpace& space, const Form& form, const PointSource& f,
+                                 const std::string& name) {
   const auto t0 = std::chrono::steady_clock::now();
   const Eigen::Index n = static_cast<Eigen::Index>(space.num_dofs());
-  Assembled out;
+  detail::LoopSystem out;
   out.a = pattern(space);
   out.b = Eigen::VectorXd::Zero(n);
   out.area = Eigen::VectorXd::Zero(n);
@@ -380,11 +411,13 @@ Assembled assemble_loop(const LoopSpace& space, const Form& form, const PointSou
   return out;
 }
 
+}  // namespace
+
 // The automatic choice differs from P1's and P2's: the wider stencil (37 entries a row) fills
 // a simplicial LDLT factor far more (10,242 unknowns: 0.52 s against CHOLMOD's supernodal
 // 0.16 s), and BoomerAMG pays off later (40,962 unknowns: CHOLMOD 0.8 s, AMG 1.05 s; 163,842:
 // CHOLMOD 6.4 s, AMG 5.2 s).
-SolveOptions loop_solver(const SolveOptions& options, Eigen::Index n) {
+SolveOptions detail::loop_solver(const SolveOptions& options, Eigen::Index n) {
   SolveOptions chosen = options;
   if (chosen.solver == SolverKind::automatic && !chosen.linear_solver) {
     if (cholmod_available() && n < 100000)
@@ -395,15 +428,33 @@ SolveOptions loop_solver(const SolveOptions& options, Eigen::Index n) {
   return chosen;
 }
 
+detail::LoopSystem detail::assemble_loop_system(const LoopSpace& space, bool fourth_order, double c,
+                                                const ScalarField& source, const PointValues& batch,
+                                                const std::string& name) {
+  return assemble_loop(space, {fourth_order, c, source}, point_source(space, batch), name);
+}
+
+namespace {
+
+// solve_loop and solve_loop_biharmonic are for closed surfaces: on a space with a boundary
+// their forms would impose natural conditions silently.
+void require_closed(const LoopSpace& space, const std::string& name) {
+  if (!space.boundary.empty())
+    throw InputError("problem '" + name +
+                     "': Loop elements solve this problem on closed surfaces only; on a mesh with a boundary "
+                     "they solve the clamped plate (solve_clamped_plate)");
+}
+
 }  // namespace
 
 Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveOptions& options) {
+  require_closed(space, problem.name);
   if (!(problem.c >= 0) || !std::isfinite(problem.c))
     throw InputError("problem '" + problem.name + "': the coefficient c must be finite and >= 0");
   if (!problem.source && !problem.source_values)
     throw InputError("problem '" + problem.name + "' has no source");
-  Assembled s = assemble_loop(space, {false, problem.c, problem.source},
-                              point_source(space, problem.source_values), problem.name);
+  detail::LoopSystem s = assemble_loop(space, {false, problem.c, problem.source},
+                                       point_source(space, problem.source_values), problem.name);
   const bool zero_mean = problem.c == 0;
   if (zero_mean) {
     // A closed surface with c = 0: solutions differ by constants (which the Loop space holds:
@@ -420,7 +471,7 @@ Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveO
         if (it.row() == 0) it.valueRef() = 0.0;
     s.b(0) = 0;
   }
-  Solution sol = solve_linear_system(s.a, s.b, loop_solver(options, s.a.rows()), problem.name);
+  Solution sol = solve_linear_system(s.a, s.b, detail::loop_solver(options, s.a.rows()), problem.name);
   sol.assembly_seconds = s.seconds;
   sol.zero_mean = zero_mean;
   if (zero_mean) sol.u.array() -= s.area.dot(sol.u) / s.area.sum();
@@ -429,13 +480,14 @@ Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveO
 
 Solution solve_loop_biharmonic(const LoopSpace& space, const BiharmonicProblem& problem,
                                const SolveOptions& options) {
+  require_closed(space, problem.name);
   if (!(problem.c > 0) || !std::isfinite(problem.c))
     throw InputError("problem '" + problem.name +
                      "': the coefficient c must be finite and > 0 (with c = 0 the "
                      "solution on a closed surface is defined up to a constant)");
   if (!problem.source) throw InputError("problem '" + problem.name + "' has no source");
-  Assembled s = assemble_loop(space, {true, problem.c, problem.source}, PointSource(), problem.name);
-  Solution sol = solve_linear_system(s.a, s.b, loop_solver(options, s.a.rows()), problem.name);
+  detail::LoopSystem s = assemble_loop(space, {true, problem.c, problem.source}, PointSource(), problem.name);
+  Solution sol = solve_linear_system(s.a, s.b, detail::loop_solver(options, s.a.rows()), problem.name);
   sol.assembly_seconds = s.seconds;
   return sol;
 }

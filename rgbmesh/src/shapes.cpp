@@ -1,6 +1,7 @@
 #include "rgbmesh/shapes.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace rgbmesh {
 
@@ -20,6 +21,23 @@ TriangleMeshData octahedron() {
   TriangleMeshData m;
   m.points = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   m.triangles = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  return m;
+}
+
+TriangleMeshData square_lattice(int cells, double side, int ghosts) {
+  if (cells < 1 || ghosts < 0 || cells + 2 * ghosts > 4096 || !(side > 0) || !std::isfinite(side))
+    throw std::invalid_argument("square_lattice: cells in [1, 4096 - 2 ghosts], ghosts >= 0, side > 0");
+  const int n = cells + 2 * ghosts;  // cells per side
+  const double h = side / cells;
+  TriangleMeshData m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.points.push_back({(i - ghosts) * h, (j - ghosts) * h, 0.0});
+  const auto at = [n](int i, int j) { return static_cast<std::int32_t>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
   return m;
 }
 

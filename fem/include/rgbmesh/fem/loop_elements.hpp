@@ -37,16 +37,39 @@ struct LoopSpace {
   };
   std::vector<Element> elements;
   std::optional<Projection> projection;  ///< the exact surface the limit surface is mapped onto, if any
+  /// With LoopBoundary::ghost_ring: the sides of the elements' domain, each an element and the
+  /// edge of its parameter triangle from corner `edge` to corner `edge + 1` (mod 3). Empty on
+  /// a closed surface.
+  struct Side {
+    std::size_t element = 0;
+    int edge = 0;
+  };
+  std::vector<Side> boundary;
 
   std::size_t num_dofs() const { return vertex.size(); }
 };
 
-/// The Loop space of a closed mesh refined uniformly (every triangle green at one level).
-/// The limits are computed (RgbMesh::compute_limits leaves the mesh as it was). Throws
-/// InputError naming the triangle where the mesh is not uniform, where a triangle reaches a
-/// boundary, or where a triangle's patch folds onto itself (a mesh too coarse: refine once).
+/// What build_loop_space does with a mesh that has a boundary.
+enum class LoopBoundary {
+  /// Closed surfaces only: a triangle touching the boundary is refused, named.
+  refuse,
+  /// The elements are the triangles whose three corners are interior vertices; the vertices
+  /// beyond them (the mesh's boundary ring) carry control values only, as the ghost vertices
+  /// of Cirak, Ortiz and Schröder's thin shells do. Every element keeps the interior rules and
+  /// its full patch, and boundary conditions are imposed weakly on LoopSpace::boundary. The
+  /// domain is the limit image of the elements, not the RGB mesh's limit surface near the
+  /// boundary (which follows Loop's boundary rules): for a flat mesh both are the plane.
+  ghost_ring,
+};
+
+/// The Loop space of a mesh refined uniformly (every triangle green at one level). The limits
+/// are computed (RgbMesh::compute_limits leaves the mesh as it was). Throws InputError naming
+/// the triangle where the mesh is not uniform, where a triangle reaches a boundary (with
+/// LoopBoundary::refuse), or where a triangle's patch folds onto itself (a mesh too coarse:
+/// refine once).
 LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection = std::nullopt,
-                           const LoopQuadratureOptions& quadrature = {});
+                           const LoopQuadratureOptions& quadrature = {},
+                           LoopBoundary boundary = LoopBoundary::refuse);
 
 /// The limit surface (or its projection) at a point of an element, with the basis there:
 /// position, tangents y_u, y_v, the area density |y_u × y_v| and the surface gradient of each

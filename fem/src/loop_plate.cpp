@@ -1,0 +1,219 @@
+// The clamped Kirchhoff plate with Loop-basis elements and Nitsche's boundary terms (see
+// loop_plate.hpp).
+
+#include "rgbmesh/fem/loop_plate.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "loop_assembly.hpp"
+#include "rgbmesh/errors.hpp"
+#include "rgbmesh/timing.hpp"
+
+namespace rgbmesh::fem {
+
+namespace {
+
+// The plane of a flat space: a point and two orthonormal directions in it. InputError when
+// the control values leave the plane by more than 1e-9 of the mesh's extent.
+struct Plane {
+  Vec3 origin, e1, e2;
+  Eigen::Vector2d to_plane(const Vec3& x) const { return {dot(x - origin, e1), dot(x - origin, e2)}; }
+  Eigen::Vector2d along(const Vec3& d) const { return {dot(d, e1), dot(d, e2)}; }
+};
+
+Plane plane_of(const LoopSpace& space, const std::string& name) {
+  Vec3 centre;
+  for (const Vec3& x : space.control) centre += x;
+  centre = (1.0 / static_cast<double>(space.control.size())) * centre;
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  double extent = 0;
+  for (const Vec3& x : space.control) {
+    const Eigen::Vector3d d(x.x - centre.x, x.y - centre.y, x.z - centre.z);
+    scatter += d * d.transpose();
+    extent = std::max(extent, d.norm());
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
+  const Eigen::Vector3d normal = eigen.eigenvectors().col(0);
+  for (std::size_t i = 0; i < space.control.size(); ++i) {
+    const Vec3& x = space.control[i];
+    const double off = std::abs(normal.dot(Eigen::Vector3d(x.x - centre.x, x.y - centre.y, x.z - centre.z)));
+    if (!(off <= 1e-9 * extent))
+      throw InputError("problem '" + name + "': a Kirchhoff plate needs a flat mesh, but vertex " +
+                       std::to_string(space.vertex[i].idx) + " is " + std::to_string(off) +
+                       " from the plane of the others (a curved surface is a shell)");
+  }
+  const Eigen::Vector3d a = eigen.eigenvectors().col(2), b = eigen.eigenvectors().col(1);
+  return {centre, {a.x(), a.y(), a.z()}, {b.x(), b.y(), b.z()}};
+}
+
+// What the boundary terms need of each basis function at a point of a side, in the plane's
+// coordinates: φ, ∂ₙφ, Δφ, ∂ₙΔφ; and the length element ds / dt.
+struct SidePoint {
+  Eigen::VectorXd value, dn, laplacian, dn_laplacian;
+  double speed = 0;
+};
+
+// Chain rule from the parameters (u, v) to the plane (x, y) = X(u, v) up to third order:
+//   φ_a = G_i J_ia,  φ_ab = H_ij J_ia J_jb + G_i X_i,ab,
+//   φ_abc = T_ijk J_ia J_jb J_kc + H_ij (X_i,ab J_jc + X_i,ac J_jb + X_i,bc J_ja) + G_i X_i,abc,
+// solved for the gradient G, the Hessian H and the third derivatives T with K = J⁻¹.
+SidePoint side_point(const LoopSpace::Element& element, const std::vector<Eigen::Vector2d>& control, int edge,
+                     double t) {
+  static constexpr std::array<std::array<double, 4>, 3> kEdges = {{
+      {0, 0, 1, 0},   // corner 0 -> 1: (u, v) = (t, 0)
+      {1, 0, -1, 1},  // corner 1 -> 2: (1 - t, t)
+      {0, 1, 0, -1},  // corner 2 -> 0: (0, 1 - t)
+  }};
+  const auto& e = kEdges[static_cast<std::size_t>(edge)];
+  const LoopBasisAt at = evaluate_loop_basis(element.rule->patch, e[0] + t * e[2], e[1] + t * e[3]);
+  const Eigen::Index n = at.value.size();
+  // The basis's parameter derivatives by multi-index: d1[a], d2[a][b], d3[a][b][c].
+  const auto d1 = [&](int a) -> const Eigen::VectorXd& { return a == 0 ? at.du : at.dv; };
+  const auto d2 = [&](int a, int b) -> const Eigen::VectorXd& {
+    return a + b == 0 ? at.duu : (a + b == 1 ? at.duv : at.dvv);
+  };
+  const auto d3 = [&](int a, int b, int c) -> const Eigen::VectorXd& {
+    const int vs = a + b + c;
+    return vs == 0 ? at.duuu : (vs == 1 ? at.duuv : (vs == 2 ? at.duvv : at.dvvv));
+  };
+  // The map's derivatives: X_a, X_ab, X_abc (2-vectors).
+  const auto map_sum = [&](const Eigen::VectorXd& w) {
+    Eigen::Vector2d s = Eigen::Vector2d::Zero();
+    for (Eigen::Index i = 0; i < n; ++i)
+      s += w(i) * control[static_cast<std::size_t>(element.dofs[static_cast<std::size_t>(i)])];
+    return s;
+  };
+  Eigen::Matrix2d jacobian;  // J_ia = ∂X_i / ∂ξ_a
+  for (int a = 0; a < 2; ++a) jacobian.col(a) = map_sum(d1(a));
+  std::array<std::array<Eigen::Vector2d, 2>, 2> x2;
+  std::array<std::array<std::array<Eigen::Vector2d, 2>, 2>, 2> x3;
+  for (int a = 0; a < 2; ++a)
+    for (int b = 0; b < 2; ++b) {
+      x2[a][b] = map_sum(d2(a, b));
+      for (int c = 0; c < 2; ++c) x3[a][b][c] = map_sum(d3(a, b, c));
+    }
+  const Eigen::Matrix2d k = jacobian.inverse();  // K_ai
+  const Eigen::Vector2d tangent = jacobian * Eigen::Vector2d(e[2], e[3]);
+  SidePoint out;
+  out.speed = tangent.norm();
+  // Outward: to the right of a counter-clockwise walk (parameter triangle's orientation in the
+  // plane given by det J).
+  Eigen::Vector2d normal(tangent.y(), -tangent.x());
+  normal *= (jacobian.determinant() > 0 ? 1.0 : -1.0) / out.speed;
+  out.value = at.value;
+  out.dn.resize(n), out.laplacian.resize(n), out.dn_laplacian.resize(n);
+  for (Eigen::Index f = 0; f < n; ++f) {
+    Eigen::Vector2d g1(at.du(f), at.dv(f));
+    const Eigen::Vector2d grad = k.transpose() * g1;  // G = J⁻ᵀ (φ_u, φ_v)
+    Eigen::Matrix2d r2;
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b) r2(a, b) = d2(a, b)(f) - grad.dot(x2[a][b]);
+    const Eigen::Matrix2d hessian = k.transpose() * r2 * k;
+    // R_abc = φ_abc − H-terms − G-terms, then T_ijk = R_abc K_ai K_bj K_ck.
+    double r3[2][2][2];
+    for (int a = 0; a < 2; ++a)
+      for (int b = 0; b < 2; ++b)
+        for (int c = 0; c < 2; ++c) {
+          const Eigen::Vector2d ja = jacobian.col(a), jb = jacobian.col(b), jc = jacobian.col(c);
+          r3[a][b][c] = d3(a, b, c)(f) - x2[a][b].dot(hessian * jc) - x2[a][c].dot(hessian * jb) -
+                        x2[b][c].dot(hessian * ja) - grad.dot(x3[a][b][c]);
+        }
+    // ∂ₙΔφ = n_k Σ_i T_iik.
+    double dn_lap = 0;
+    for (int i = 0; i < 2; ++i)
+      for (int kk = 0; kk < 2; ++kk) {
+        double tiik = 0;
+        for (int a = 0; a < 2; ++a)
+          for (int b = 0; b < 2; ++b)
+            for (int c = 0; c < 2; ++c) tiik += r3[a][b][c] * k(a, i) * k(b, i) * k(c, kk);
+        dn_lap += normal(kk) * tiik;
+      }
+    out.dn(f) = grad.dot(normal);
+    out.laplacian(f) = hessian.trace();
+    out.dn_laplacian(f) = dn_lap;
+  }
+  return out;
+}
+
+}  // namespace
+
+PlateProblem clamped_square_plate() {
+  PlateProblem p;
+  p.name = "clamped-square-plate";
+  p.rigidity = 1;
+  p.load = [](const Vec3&) { return 1.0; };
+  return p;
+}
+
+Solution solve_clamped_plate(const LoopSpace& space, const PlateProblem& problem, const PlateOptions& options,
+                             const SolveOptions& solve) {
+  if (!problem.load) throw InputError("problem '" + problem.name + "' has no load");
+  if (!(problem.rigidity > 0) || !std::isfinite(problem.rigidity))
+    throw InputError("problem '" + problem.name + "': the rigidity D must be finite and > 0");
+  if (space.projection)
+    throw InputError("problem '" + problem.name + "': a Kirchhoff plate lies in its plane (no projection)");
+  if (space.boundary.empty())
+    throw InputError("problem '" + problem.name +
+                     "': the plate's space has no boundary to clamp (build it with LoopBoundary::ghost_ring "
+                     "on a mesh with a ring of ghost triangles)");
+  if (!(options.penalty > 0) || options.edge_points < 1 || options.edge_points > 16)
+    throw std::invalid_argument("solve_clamped_plate: penalty > 0, edge_points in [1, 16]");
+  const Plane plane = plane_of(space, problem.name);
+  const double d = problem.rigidity;
+  const ScalarField& load = problem.load;
+  detail::LoopSystem s = detail::assemble_loop_system(
+      space, true, 0.0, [&load, d](const Vec3& x) { return load(x) / d; }, PointValues(), problem.name);
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<Eigen::Vector2d> control;
+  control.reserve(space.control.size());
+  for (const Vec3& x : space.control) control.push_back(plane.to_plane(x));
+  std::vector<double> gauss_t, gauss_w;
+  gauss_legendre(options.edge_points, gauss_t, gauss_w);
+  for (const LoopSpace::Side& side : space.boundary) {
+    const LoopSpace::Element& element = space.elements[side.element];
+    std::vector<SidePoint> points;
+    double length = 0;
+    for (std::size_t q = 0; q < gauss_t.size(); ++q) {
+      points.push_back(side_point(element, control, side.edge, gauss_t[q]));
+      length += gauss_w[q] * points.back().speed;
+    }
+    const double beta1 = options.penalty / length, beta3 = options.penalty / (length * length * length);
+    const Eigen::Index n = static_cast<Eigen::Index>(element.dofs.size());
+    Eigen::MatrixXd local = Eigen::MatrixXd::Zero(n, n);
+    for (std::size_t q = 0; q < points.size(); ++q) {
+      const SidePoint& p = points[q];
+      const double w = gauss_w[q] * p.speed;
+      local.noalias() -= w * (p.laplacian * p.dn.transpose() + p.dn * p.laplacian.transpose());
+      local.noalias() += w * (p.dn_laplacian * p.value.transpose() + p.value * p.dn_laplacian.transpose());
+      local.noalias() += (w * beta1) * (p.dn * p.dn.transpose());
+      local.noalias() += (w * beta3) * (p.value * p.value.transpose());
+    }
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const Eigen::Index col = element.dofs[static_cast<std::size_t>(j)];
+      for (Eigen::Index i = 0; i < n; ++i)
+        s.a.coeffRef(element.dofs[static_cast<std::size_t>(i)], col) += local(i, j);
+    }
+  }
+  if (!s.a.isCompressed()) s.a.makeCompressed();
+  const double assembly_seconds = s.seconds + seconds_since(t0);
+  SolveOptions chosen = detail::loop_solver(solve, s.a.rows());
+  Solution sol;
+  try {
+    sol = solve_linear_system(s.a, s.b, chosen, problem.name);
+  } catch (const std::runtime_error& e) {
+    // Below a mesh-dependent γ Nitsche's form is not coercive: the factorization says so.
+    if (std::string(e.what()).find("not positive definite") == std::string::npos) throw;
+    throw InputError("problem '" + problem.name + "': with Nitsche's penalty " +
+                     std::to_string(options.penalty) +
+                     " the plate's system is not positive definite on this mesh; raise the penalty "
+                     "(PlateOptions::penalty, 80 by default; 2-4 times more costs little accuracy)");
+  }
+  sol.assembly_seconds = assembly_seconds;
+  return sol;
+}
+
+}  // namespace rgbmesh::fem
