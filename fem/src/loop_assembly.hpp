@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <vector>
 
 #include "rgbmesh/fem/loop_elements.hpp"
 
@@ -24,5 +25,21 @@ LoopSystem assemble_loop_system(const LoopSpace& space, bool fourth_order, doubl
 
 /// The solver SolverKind::automatic means for a Loop system of n unknowns.
 SolveOptions loop_solver(const SolveOptions& options, Eigen::Index n);
+
+/// A point of an element's side `edge` (from corner edge to corner edge + 1 of its parameter
+/// triangle) at t in [0, 1]: its parameters (u, v) and their derivatives along the side.
+struct SideParameters {
+  double u = 0, v = 0, du = 0, dv = 0;
+};
+SideParameters side_parameters(int edge, double t);
+
+/// Adds an element's matrix (rows and columns in the order of its DOFs) into the system.
+void add_local(SparseMatrix& a, const std::vector<std::int32_t>& dofs, const Eigen::MatrixXd& local);
+
+/// Solves a system with Nitsche's boundary terms. Below a mesh-dependent penalty their form is
+/// not coercive, which the factorization detects: InputError naming the penalty and the option
+/// that raises it.
+Solution solve_nitsche_system(LoopSystem& s, const SolveOptions& options, const std::string& name,
+                              double penalty, const std::string& option);
 
 }  // namespace rgbmesh::fem::detail

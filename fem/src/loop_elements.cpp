@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -428,6 +429,39 @@ SolveOptions detail::loop_solver(const SolveOptions& options, Eigen::Index n) {
   return chosen;
 }
 
+detail::SideParameters detail::side_parameters(int edge, double t) {
+  switch (edge) {
+    case 0:
+      return {t, 0, 1, 0};  // corner 0 -> 1
+    case 1:
+      return {1 - t, t, -1, 1};  // corner 1 -> 2
+    case 2:
+      return {0, 1 - t, 0, -1};  // corner 2 -> 0
+  }
+  throw std::invalid_argument("side_parameters: edge in [0, 2]");
+}
+
+void detail::add_local(SparseMatrix& a, const std::vector<std::int32_t>& dofs, const Eigen::MatrixXd& local) {
+  for (std::size_t j = 0; j < dofs.size(); ++j)
+    for (std::size_t i = 0; i < dofs.size(); ++i)
+      a.coeffRef(dofs[i], dofs[j]) += local(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+}
+
+Solution detail::solve_nitsche_system(LoopSystem& s, const SolveOptions& options, const std::string& name,
+                                      double penalty, const std::string& option) {
+  Solution sol;
+  try {
+    sol = solve_linear_system(s.a, s.b, loop_solver(options, s.a.rows()), name);
+  } catch (const std::runtime_error& e) {
+    if (std::string(e.what()).find("not positive definite") == std::string::npos) throw;
+    throw InputError("problem '" + name + "': with Nitsche's penalty " + std::to_string(penalty) +
+                     " the system is not positive definite on this mesh; raise the penalty (" + option +
+                     "; 2-4 times more costs little accuracy)");
+  }
+  sol.assembly_seconds = s.seconds;
+  return sol;
+}
+
 detail::LoopSystem detail::assemble_loop_system(const LoopSpace& space, bool fourth_order, double c,
                                                 const ScalarField& source, const PointValues& batch,
                                                 const std::string& name) {
@@ -436,25 +470,129 @@ detail::LoopSystem detail::assemble_loop_system(const LoopSpace& space, bool fou
 
 namespace {
 
-// solve_loop and solve_loop_biharmonic are for closed surfaces: on a space with a boundary
-// their forms would impose natural conditions silently.
+// solve_loop_biharmonic is for closed surfaces: on a space with a boundary its form would
+// impose natural conditions silently.
 void require_closed(const LoopSpace& space, const std::string& name) {
   if (!space.boundary.empty())
-    throw InputError("problem '" + name +
-                     "': Loop elements solve this problem on closed surfaces only; on a mesh with a boundary "
-                     "they solve the clamped plate (solve_clamped_plate)");
+    throw InputError(
+        "problem '" + name +
+        "': Loop elements solve the surface biharmonic on closed surfaces only; on a mesh with a "
+        "boundary they solve -Δu + c u = f with Dirichlet data (solve_loop) and the clamped plate "
+        "(solve_clamped_plate)");
+}
+
+// Nitsche's terms for u = g on the boundary sides (see LoopNitscheOptions), added to the
+// system: at each Gauss point of a side, the basis, its co-normal derivative ∂ₘφ = ∇_Γφ · m
+// with m = y_t × n / |y_t| (outward: the parameter triangle runs counter-clockwise about the
+// normal n = y_u × y_v / |y_u × y_v|), and g. A Neumann side (problem.is_neumann at its
+// midpoint) takes the flux instead: ∫_Γ h v, no Nitsche terms.
+void add_boundary_terms(const LoopSpace& space, const Problem& problem, const LoopNitscheOptions& o,
+                        detail::LoopSystem& s) {
+  if (!(o.penalty > 0) || o.edge_points < 1 || o.edge_points > 16)
+    throw std::invalid_argument("LoopNitscheOptions: penalty > 0, edge_points in [1, 16]");
+  std::vector<double> gauss_t, gauss_w;
+  gauss_legendre(o.edge_points, gauss_t, gauss_w);
+  struct Point {
+    LoopBasisAt basis;
+    Eigen::VectorXd dm;
+    double speed = 0;
+  };
+  std::vector<Point> points;
+  std::vector<Vec3> where;
+  const auto surface_point = [&space](const LoopSpace::Element& e, const LoopBasisAt& basis, Vec3& x,
+                                      Vec3& xu, Vec3& xv) {
+    x = xu = xv = Vec3{};
+    for (std::size_t i = 0; i < e.dofs.size(); ++i) {
+      const Vec3& c = space.control[static_cast<std::size_t>(e.dofs[i])];
+      const Eigen::Index k = static_cast<Eigen::Index>(i);
+      x += basis.value(k) * c, xu += basis.du(k) * c, xv += basis.dv(k) * c;
+    }
+  };
+  for (const LoopSpace::Side& side : space.boundary) {
+    const LoopSpace::Element& e = space.elements[side.element];
+    const Eigen::Index n = static_cast<Eigen::Index>(e.dofs.size());
+    points.clear();
+    where.clear();
+    double length = 0;
+    for (std::size_t q = 0; q < gauss_t.size(); ++q) {
+      const detail::SideParameters at = detail::side_parameters(side.edge, gauss_t[q]);
+      Point p;
+      p.basis = evaluate_loop_basis(e.rule->patch, at.u, at.v);
+      Vec3 x, xu, xv;
+      surface_point(e, p.basis, x, xu, xv);
+      Vec3 y = x, yu = xu, yv = xv;
+      if (space.projection) {
+        y = (*space.projection)(x);
+        yu = projected_tangent(*space.projection, x, xu);
+        yv = projected_tangent(*space.projection, x, xv);
+      }
+      const double a = dot(yu, yu), b = dot(yu, yv), c = dot(yv, yv), det = a * c - b * b;
+      const Vec3 tangent = at.du * yu + at.dv * yv;
+      p.speed = norm(tangent);
+      const Vec3 normal = (1.0 / std::sqrt(det)) * cross(yu, yv);
+      const Vec3 m = (1.0 / p.speed) * cross(tangent, normal);
+      // ∇_Γφ · m = (g^{1b} φ_b) y_u · m + (g^{2b} φ_b) y_v · m.
+      const double um = dot(yu, m), vm = dot(yv, m);
+      p.dm = ((c * um - b * vm) / det) * p.basis.du + ((a * vm - b * um) / det) * p.basis.dv;
+      length += gauss_w[q] * p.speed;
+      where.push_back(y);
+      points.push_back(std::move(p));
+    }
+    const auto add_load = [&](const Eigen::VectorXd& load) {
+      for (Eigen::Index i = 0; i < n; ++i) s.b(e.dofs[static_cast<std::size_t>(i)]) += load(i);
+    };
+    if (problem.is_neumann) {
+      const detail::SideParameters mid = detail::side_parameters(side.edge, 0.5);
+      Vec3 x, xu, xv;
+      surface_point(e, evaluate_loop_basis(e.rule->patch, mid.u, mid.v), x, xu, xv);
+      if (problem.is_neumann(space.projection ? (*space.projection)(x) : x)) {
+        for (std::size_t q = 0; q < points.size(); ++q) {
+          const double h = problem.neumann_flux ? problem.neumann_flux(where[q]) : 0.0;
+          if (!std::isfinite(h))
+            throw InputError("problem '" + problem.name +
+                             "': the Neumann flux is not finite on the boundary");
+          add_load((gauss_w[q] * points[q].speed * h) * points[q].basis.value);
+        }
+        continue;
+      }
+    }
+    std::vector<double> g(points.size(), 0.0);
+    if (problem.dirichlet_values)
+      g = detail::point_values(problem.dirichlet_values, where);
+    else if (problem.dirichlet)
+      for (std::size_t q = 0; q < points.size(); ++q) g[q] = problem.dirichlet(where[q]);
+    const double beta = o.penalty / length;
+    Eigen::MatrixXd local = Eigen::MatrixXd::Zero(n, n);
+    for (std::size_t q = 0; q < points.size(); ++q) {
+      const Point& p = points[q];
+      const double w = gauss_w[q] * p.speed;
+      if (!std::isfinite(g[q]))
+        throw InputError("problem '" + problem.name + "': the Dirichlet data is not finite on the boundary");
+      local.noalias() -= w * (p.dm * p.basis.value.transpose() + p.basis.value * p.dm.transpose());
+      local.noalias() += (w * beta) * (p.basis.value * p.basis.value.transpose());
+      add_load((w * g[q]) * (beta * p.basis.value - p.dm));
+    }
+    detail::add_local(s.a, e.dofs, local);
+  }
 }
 
 }  // namespace
 
-Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveOptions& options) {
-  require_closed(space, problem.name);
+Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveOptions& options,
+                    const LoopNitscheOptions& nitsche) {
   if (!(problem.c >= 0) || !std::isfinite(problem.c))
     throw InputError("problem '" + problem.name + "': the coefficient c must be finite and >= 0");
   if (!problem.source && !problem.source_values)
     throw InputError("problem '" + problem.name + "' has no source");
   detail::LoopSystem s = assemble_loop(space, {false, problem.c, problem.source},
                                        point_source(space, problem.source_values), problem.name);
+  if (!space.boundary.empty()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    add_boundary_terms(space, problem, nitsche, s);
+    s.seconds += seconds_since(t0);
+    return detail::solve_nitsche_system(s, options, problem.name, nitsche.penalty,
+                                        "LoopNitscheOptions::penalty, 20 by default");
+  }
   const bool zero_mean = problem.c == 0;
   if (zero_mean) {
     // A closed surface with c = 0: solutions differ by constants (which the Loop space holds:
@@ -663,7 +801,8 @@ MeshSnapshot loop_refined_view(const LoopSpace& space, const Eigen::VectorXd& u,
 }
 
 Eigen::VectorXd loop_vertex_values(const LoopSpace& space, const Eigen::VectorXd& u) {
-  Eigen::VectorXd out = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(space.num_dofs()), 0.0);
+  Eigen::VectorXd out = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(space.num_dofs()),
+                                                  std::numeric_limits<double>::quiet_NaN());
   std::vector<char> done(space.num_dofs(), 0);
   for (const LoopSpace::Element& e : space.elements) {
     for (int corner = 0; corner < 3; ++corner) {

@@ -63,13 +63,8 @@ struct SidePoint {
 // solved for the gradient G, the Hessian H and the third derivatives T with K = J⁻¹.
 SidePoint side_point(const LoopSpace::Element& element, const std::vector<Eigen::Vector2d>& control, int edge,
                      double t) {
-  static constexpr std::array<std::array<double, 4>, 3> kEdges = {{
-      {0, 0, 1, 0},   // corner 0 -> 1: (u, v) = (t, 0)
-      {1, 0, -1, 1},  // corner 1 -> 2: (1 - t, t)
-      {0, 1, 0, -1},  // corner 2 -> 0: (0, 1 - t)
-  }};
-  const auto& e = kEdges[static_cast<std::size_t>(edge)];
-  const LoopBasisAt at = evaluate_loop_basis(element.rule->patch, e[0] + t * e[2], e[1] + t * e[3]);
+  const detail::SideParameters side = detail::side_parameters(edge, t);
+  const LoopBasisAt at = evaluate_loop_basis(element.rule->patch, side.u, side.v);
   const Eigen::Index n = at.value.size();
   // The basis's parameter derivatives by multi-index: d1[a], d2[a][b], d3[a][b][c].
   const auto d1 = [&](int a) -> const Eigen::VectorXd& { return a == 0 ? at.du : at.dv; };
@@ -97,7 +92,7 @@ SidePoint side_point(const LoopSpace::Element& element, const std::vector<Eigen:
       for (int c = 0; c < 2; ++c) x3[a][b][c] = map_sum(d3(a, b, c));
     }
   const Eigen::Matrix2d k = jacobian.inverse();  // K_ai
-  const Eigen::Vector2d tangent = jacobian * Eigen::Vector2d(e[2], e[3]);
+  const Eigen::Vector2d tangent = jacobian * Eigen::Vector2d(side.du, side.dv);
   SidePoint out;
   out.speed = tangent.norm();
   // Outward: to the right of a counter-clockwise walk (parameter triangle's orientation in the
@@ -192,28 +187,11 @@ Solution solve_clamped_plate(const LoopSpace& space, const PlateProblem& problem
       local.noalias() += (w * beta1) * (p.dn * p.dn.transpose());
       local.noalias() += (w * beta3) * (p.value * p.value.transpose());
     }
-    for (Eigen::Index j = 0; j < n; ++j) {
-      const Eigen::Index col = element.dofs[static_cast<std::size_t>(j)];
-      for (Eigen::Index i = 0; i < n; ++i)
-        s.a.coeffRef(element.dofs[static_cast<std::size_t>(i)], col) += local(i, j);
-    }
+    detail::add_local(s.a, element.dofs, local);
   }
-  if (!s.a.isCompressed()) s.a.makeCompressed();
-  const double assembly_seconds = s.seconds + seconds_since(t0);
-  SolveOptions chosen = detail::loop_solver(solve, s.a.rows());
-  Solution sol;
-  try {
-    sol = solve_linear_system(s.a, s.b, chosen, problem.name);
-  } catch (const std::runtime_error& e) {
-    // Below a mesh-dependent γ Nitsche's form is not coercive: the factorization says so.
-    if (std::string(e.what()).find("not positive definite") == std::string::npos) throw;
-    throw InputError("problem '" + problem.name + "': with Nitsche's penalty " +
-                     std::to_string(options.penalty) +
-                     " the plate's system is not positive definite on this mesh; raise the penalty "
-                     "(PlateOptions::penalty, 80 by default; 2-4 times more costs little accuracy)");
-  }
-  sol.assembly_seconds = assembly_seconds;
-  return sol;
+  s.seconds += seconds_since(t0);
+  return detail::solve_nitsche_system(s, solve, problem.name, options.penalty,
+                                      "PlateOptions::penalty, 80 by default");
 }
 
 }  // namespace rgbmesh::fem

@@ -81,11 +81,26 @@ struct LoopPoint {
 };
 LoopPoint loop_point(const LoopSpace& space, std::size_t element, std::size_t point);
 
-/// -Δu + c u = f on the closed surface (c = 0: the zero-mean solution, for a source of zero
-/// mean), assembled with each element's rule and solved by options' solver (as fem::solve).
-Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveOptions& options = {});
+/// Dirichlet data on a space with a boundary, imposed weakly by Nitsche's method: the Loop
+/// basis does not interpolate, and imposing u = g on the control values would also force
+/// ∂²u/∂n² on the boundary (the box splines' traces). With the outward co-normal m,
+///   ∫ ∇u·∇v + c u v − ∫_Γ (∂ₘu v + ∂ₘv u) + ∫_Γ (γ/h) u v = ∫ f v − ∫_Γ g ∂ₘv + ∫_Γ (γ/h) g v.
+struct LoopNitscheOptions {
+  /// γ: large enough for coercivity (refused with advice otherwise); beyond that it changes
+  /// the solution by the order of the discretization error.
+  double penalty = 20;
+  int edge_points = 6;  ///< Gauss points per boundary side
+};
 
-/// Δ²u + c u = f on the closed surface (c > 0): the weak form ∫ Δ_Γu Δ_Γv + c u v = ∫ f v
+/// -Δu + c u = f, assembled with each element's rule and solved by options' solver (as
+/// fem::solve). On a closed surface with c = 0: the zero-mean solution, for a source of zero
+/// mean. On a space with a boundary (LoopBoundary::ghost_ring): u = g (problem.dirichlet,
+/// zero if empty) on its boundary, by Nitsche's method, except on the sides where
+/// problem.is_neumann holds at the midpoint, which take the flux ∂ₘu = h (neumann_flux).
+Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveOptions& options = {},
+                    const LoopNitscheOptions& nitsche = {});
+
+/// Δ²u + c u = f on a closed surface (c > 0): the weak form ∫ Δ_Γu Δ_Γv + c u v = ∫ f v
 /// needs functions in H², which Loop's C¹ space is (P1 and P2 are not). Solved as solve_loop.
 Solution solve_loop_biharmonic(const LoopSpace& space, const BiharmonicProblem& problem,
                                const SolveOptions& options = {});
@@ -125,6 +140,8 @@ Estimate loop_residual_estimate(const LoopSpace& space, const Problem& problem, 
 MeshSnapshot loop_refined_view(const LoopSpace& space, const Eigen::VectorXd& u, int levels);
 
 /// The discrete function at the limit positions of the vertices (per DOF): what ParaView shows.
+/// A ghost DOF (LoopBoundary::ghost_ring: a vertex that is no element's corner) has no point
+/// in the domain: NaN.
 Eigen::VectorXd loop_vertex_values(const LoopSpace& space, const Eigen::VectorXd& u);
 
 /// The same values in the DOF order of a P1 mesh of the same triangles (build_surface_mesh,
