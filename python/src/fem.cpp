@@ -125,6 +125,10 @@ Setup settle(const RgbMesh& mesh, const PyProblem& p, int order, const std::opti
   return s;
 }
 
+// The picture of the smooth solution that adapt(element='loop') keeps per cycle: each triangle
+// split in 16 (as rgbmesh adapt --element loop writes).
+constexpr int kCycleViewLevels = 2;
+
 // A solved mesh, kept after the call that made it: the finite-element mesh, the solution, the
 // estimate, and for a cycle its report and marks.
 struct Solution {
@@ -137,9 +141,11 @@ struct Solution {
   adapt::CycleReport report;
   bool is_cycle = false;
   std::string element = "p1";  // "p1", "p2" or "loop"
-  // Loop elements: the space and the coefficients, for pictures finer than the mesh.
+  // Loop elements: the space and the coefficients, for pictures finer than the mesh (solve);
+  // a cycle of adapt keeps the picture the cycle made instead (AdaptOptions::loop_view_levels).
   std::shared_ptr<const fem::LoopSpace> loop_space;
   Eigen::VectorXd loop_coefficients;
+  std::shared_ptr<const MeshSnapshot> loop_view;
 
   adapt::CycleState state() const {
     static const RgbMesh no_mesh;  // (snapshot() reads the levels from `solved`, not the mesh)
@@ -222,21 +228,25 @@ std::shared_ptr<Solution> solve_loop_elements(RgbMesh& mesh, const PyProblem& p,
   return s;
 }
 
+// element names the space; order (1, 2) stays for the Lagrange elements. Returns whether the
+// element is Loop's, and settles order (1 for Loop: its cycles keep a P1 mesh of the vertices).
+bool resolve_element(int& order, const std::optional<std::string>& element) {
+  static const std::vector<Named<int>> elements = {{"p1", 1}, {"p2", 2}, {"loop", 0}};
+  if (!element) return false;
+  const int element_order = named_row(elements, *element, "element").value;
+  if (order != 1 && order != element_order)
+    throw InputError("order " + std::to_string(order) + " and element '" + *element +
+                     "' disagree (give one)");
+  order = element_order == 0 ? 1 : element_order;
+  return element_order == 0;
+}
+
 std::shared_ptr<Solution> solve(RgbMesh& mesh, const PyProblem& p, int order,
                                 const std::optional<std::string>& element,
                                 const std::optional<std::string>& geometry, const std::string& solver,
                                 const std::string& estimator) {
-  // element names the space; order (1, 2) stays for the Lagrange elements.
-  static const std::vector<Named<int>> elements = {{"p1", 1}, {"p2", 2}, {"loop", 0}};
-  if (element) {
-    const int element_order = named_row(elements, *element, "element").value;
-    if (order != 1 && order != element_order)
-      throw InputError("order " + std::to_string(order) + " and element '" + *element +
-                       "' disagree (give one)");
-    if (element_order == 0)
-      return solve_loop_elements(mesh, p, settle(mesh, p, 1, geometry, solver), estimator);
-    order = element_order;
-  }
+  if (resolve_element(order, element))
+    return solve_loop_elements(mesh, p, settle(mesh, p, 1, geometry, solver), estimator);
   const Setup setup = settle(mesh, p, order, geometry, solver);
   const std::shared_ptr<const fem::ErrorEstimator> estimate =
       named_row(fem::estimator_table(), estimator, "estimator").make();
@@ -271,9 +281,12 @@ std::shared_ptr<Solution> solve(RgbMesh& mesh, const PyProblem& p, int order,
 }
 
 // Builds a Solution from a cycle's state (the callback's copy).
-std::shared_ptr<Solution> copy_cycle(const adapt::CycleState& c, const std::shared_ptr<const fem::Problem>& problem) {
+std::shared_ptr<Solution> copy_cycle(const adapt::CycleState& c,
+                                     const std::shared_ptr<const fem::Problem>& problem, bool loop) {
   auto s = std::make_shared<Solution>();
   s->problem = problem;
+  s->element = loop ? "loop" : (c.fe.order == 2 ? "p2" : "p1");
+  if (c.loop_view) s->loop_view = std::make_shared<const MeshSnapshot>(*c.loop_view);
   s->fe = c.fe;
   s->u = c.u;
   s->estimate = c.estimate;
@@ -285,9 +298,14 @@ std::shared_ptr<Solution> copy_cycle(const adapt::CycleState& c, const std::shar
 }
 
 py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strategy, const std::string& marking,
-                   double theta, const std::string& estimator, int order, double coarsen, int min_level, int max_level,
-                   int cycles, double target_error, std::size_t max_dofs, const std::optional<std::string>& geometry,
-                   const std::string& solver, py::object callback, py::object stop) {
+                   double theta, const std::string& estimator, int order,
+                   const std::optional<std::string>& element, double coarsen, int min_level, int max_level,
+                   int cycles, double target_error, std::size_t max_dofs,
+                   const std::optional<std::string>& geometry, const std::string& solver, py::object callback,
+                   py::object stop) {
+  const bool loop = resolve_element(order, element);
+  if (loop && estimator != "residual")
+    throw InputError("estimator '" + estimator + "': Loop elements have the residual estimator only");
   const Setup setup = settle(mesh, p, order, geometry, solver);
   adapt::AdaptOptions o;
   o.strategy = named_row(adapt::strategy_table(), strategy, "strategy").value;
@@ -307,6 +325,10 @@ py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strateg
   if (!(target_error >= 0)) throw InputError("target_error: must be >= 0");
   o.estimator = named_row(fem::estimator_table(), estimator, "estimator").make();
   o.order = order;
+  if (loop) {  // run_cycles refuses it unless uniform
+    o.element = adapt::AdaptOptions::Element::loop;
+    o.loop_view_levels = kCycleViewLevels;
+  }
   o.coarsen_below = coarsen;
   o.min_level = min_level;
   o.max_level = max_level;
@@ -334,7 +356,7 @@ py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strateg
     py::gil_scoped_release release;
     run = adapt::run_cycles(mesh, *problem, o, [&](const adapt::CycleState& c) {
       if (callback.is_none()) return check_signals();
-      std::shared_ptr<Solution> copy = copy_cycle(c, problem);
+      std::shared_ptr<Solution> copy = copy_cycle(c, problem, loop);
       py::gil_scoped_acquire gil;
       on_cycle->f(std::move(copy));
       throw_if_interrupted();
@@ -358,9 +380,18 @@ WriteOptions write_options(const std::string& compression) {
 // A Loop solution's picture finer than the mesh (fem::loop_refined_view).
 void write_smooth(const Solution& s, const std::filesystem::path& path, int levels,
                   const std::string& compression) {
-  if (!s.loop_space) throw InputError("write_smooth: only for a solution with element='loop'");
+  if (!s.loop_space && !s.loop_view)
+    throw InputError("write_smooth: only for a solution with element='loop'");
   if (levels < 0 || levels > 4) throw InputError("levels: 0 to 4 (each level splits every triangle in four)");
   const WriteOptions o = write_options(compression);
+  if (!s.loop_space) {  // a cycle of adapt(): the picture it made
+    if (levels != kCycleViewLevels)
+      throw InputError("write_smooth: a cycle of adapt() keeps its picture at levels=" +
+                       std::to_string(kCycleViewLevels) + " (solve() the mesh for another)");
+    py::gil_scoped_release release;
+    write_mesh(path, *s.loop_view, o);
+    return;
+  }
   py::gil_scoped_release release;
   write_mesh(path, fem::loop_refined_view(*s.loop_space, s.loop_coefficients, levels), o);
 }
@@ -494,15 +525,21 @@ void bind_fem(py::module_& m) {
         "triangle ('residual' or 'zz'). element='loop': Loop-basis (smooth) elements, one unknown per "
         "vertex, on a "
         "closed mesh refined uniformly (residual estimator). Returns a Solution.");
-  m.def("adapt", &run_adapt, py::arg("mesh"), py::arg("problem"), py::kw_only(), py::arg("strategy") = "adaptive",
-        py::arg("marking") = "dorfler", py::arg("theta") = 0.5, py::arg("estimator") = "residual", py::arg("order") = 1,
-        py::arg("coarsen") = 0.0, py::arg("min_level") = 0, py::arg("max_level") = kMaxLevel, py::arg("cycles") = 20,
-        py::arg("target_error") = 0.0, py::arg("max_dofs") = 100000, py::arg("geometry") = py::none(),
-        py::arg("solver") = "auto", py::arg("callback") = py::none(), py::arg("stop") = py::none(),
-        "Adaptive cycles on the mesh, in place, as rgbmesh adapt runs them: solve, estimate, mark, refine (and "
-        "coarsen), until cycles, target_error or max_dofs stops them. callback(solution) after each cycle (the "
-        "Solution of that cycle; the mesh is already adapted for the next); stop(report) -> True ends the run with "
-        "that cycle. Returns {'cycles': [report, ...], 'stopped': why}. Ctrl-C interrupts between steps.");
+  m.def(
+      "adapt", &run_adapt, py::arg("mesh"), py::arg("problem"), py::kw_only(),
+      py::arg("strategy") = "adaptive", py::arg("marking") = "dorfler", py::arg("theta") = 0.5,
+      py::arg("estimator") = "residual", py::arg("order") = 1, py::arg("element") = py::none(),
+      py::arg("coarsen") = 0.0, py::arg("min_level") = 0, py::arg("max_level") = kMaxLevel,
+      py::arg("cycles") = 20, py::arg("target_error") = 0.0, py::arg("max_dofs") = 100000,
+      py::arg("geometry") = py::none(), py::arg("solver") = "auto", py::arg("callback") = py::none(),
+      py::arg("stop") = py::none(),
+      "Adaptive cycles on the mesh, in place, as rgbmesh adapt runs them: solve, estimate, mark, refine (and "
+      "coarsen), until cycles, target_error or max_dofs stops them. callback(solution) after each cycle (the "
+      "Solution of that cycle; the mesh is already adapted for the next); stop(report) -> True ends the run "
+      "with "
+      "that cycle. Returns {'cycles': [report, ...], 'stopped': why}. Ctrl-C interrupts between steps. "
+      "element='loop' (with strategy='uniform'): Loop-basis elements, each cycle's Solution keeping its "
+      "picture for write_smooth().");
 }
 
 }  // namespace rgbmesh::python

@@ -123,6 +123,39 @@ def test_loop_elements_from_python(tmp_path):
         rgbmesh.solve(coarse, rgbmesh.Problem.builtin("sphere-peak"), element="loop")
 
 
+def test_loop_cycles_are_the_tool_s(tmp_path):
+    """adapt(element='loop') runs the cycles rgbmesh adapt --element loop runs (uniform
+    refinement), and each cycle's Solution keeps the picture of the smooth solution."""
+    points, triangles = icosahedron(unit=True)
+    write_obj(tmp_path / "ico.obj", points, triangles)
+    tool("adapt", "--mesh", tmp_path / "ico.obj", "--problem", "sphere-peak", "--element", "loop", "--strategy",
+         "uniform", "--cycles", 4, "--out", tmp_path / "run", "--report", tmp_path / "report.json")
+    expected = json.load(open(tmp_path / "report.json"))["cycles"]
+    mesh = rgbmesh.Mesh.from_arrays(points, triangles)
+    seen = []
+    run = rgbmesh.adapt(mesh, rgbmesh.Problem.builtin("sphere-peak"), element="loop", strategy="uniform", cycles=4,
+                        callback=seen.append)
+    got = run["cycles"]
+    assert [(c["triangles"], c["dofs"]) for c in got] == [(c["triangles"], c["dofs"]) for c in expected]
+    assert [c["dofs"] for c in got] == [12, 42, 162, 642]
+    assert np.allclose([c["error_h1"] for c in got], [c["error_h1"] for c in expected], rtol=1e-10)
+    assert np.allclose([c["estimate"] for c in got], [c["estimate"] for c in expected], rtol=1e-10)
+    assert got[-1]["error_h1"] < got[-2]["error_h1"] / 2.5  # measured 3.0 (P1 at best halves)
+    assert [s.element for s in seen] == ["loop"] * 4
+    seen[-1].write_smooth(tmp_path / "last.vtp")
+    assert rgbmesh.read(tmp_path / "last.vtp").num_triangles == 16 * mesh.num_triangles
+    with pytest.raises(ValueError, match="levels=2"):
+        seen[-1].write_smooth(tmp_path / "other.vtp", levels=3)
+    # Loop elements have no adaptive space yet, nor another estimator: refused, nothing done.
+    before = mesh.num_vertices
+    with pytest.raises(ValueError, match="uniform"):
+        rgbmesh.adapt(mesh, rgbmesh.Problem.builtin("sphere-peak"), element="loop")
+    with pytest.raises(ValueError, match="residual estimator only"):
+        rgbmesh.adapt(mesh, rgbmesh.Problem.builtin("sphere-peak"), element="loop", strategy="uniform",
+                      estimator="zz")
+    assert mesh.num_vertices == before
+
+
 @pytest.mark.parametrize("order", [1, 2])
 def test_adaptive_cycles_are_the_tool_s_on_the_sphere(tmp_path, order):
     points, triangles = icosahedron(unit=True)
