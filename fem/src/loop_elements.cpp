@@ -292,15 +292,15 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
     rank[static_cast<std::size_t>(vertex_order[i].idx)] = static_cast<std::int32_t>(i);
   // Patches are gathered by vertex slots (the mesh's vertex numbers, which messages name; a
   // base vertex's is its index in the input), then turned into DOFs.
-  VertexStar star;
-  const RingOracle ring = [&](std::int32_t slot, std::vector<std::int32_t>& out) {
+  const RingOracle ring = [&mesh](std::int32_t slot, std::vector<std::int32_t>& out) {
+    thread_local VertexStar star;  // the patches are gathered on every core
     mesh.star(VertexHandle(slot), star);
     out.clear();
     for (const VertexHandle w : star.neighbors) out.push_back(w.idx);
     return !star.boundary;
   };
   const bool ghosts = boundary == LoopBoundary::ghost_ring;
-  std::vector<LoopPatch> patches;
+  std::vector<std::array<VertexHandle, 3>> element_corners;
   std::vector<TriangleHandle> element_triangles;
   std::vector<std::int32_t> element_of_slot(static_cast<std::size_t>(mesh.triangle_slots()), -1);
   for (const TriangleHandle t : canonical_triangle_order(mesh, vertex_order)) {
@@ -312,10 +312,26 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
       return rank[static_cast<std::size_t>(a.idx)] < rank[static_cast<std::size_t>(b.idx)];
     };
     std::rotate(corners.begin(), std::min_element(corners.begin(), corners.end(), by_rank), corners.end());
-    element_of_slot[static_cast<std::size_t>(t.idx)] = static_cast<std::int32_t>(patches.size());
-    patches.push_back(gather_loop_patch({corners[0].idx, corners[1].idx, corners[2].idx}, ring));
+    element_of_slot[static_cast<std::size_t>(t.idx)] = static_cast<std::int32_t>(element_triangles.size());
+    element_corners.push_back(corners);
     element_triangles.push_back(t);
   }
+  // Each patch and its rule on every core (the rules' cache is shared); a refusal names the
+  // first triangle in canonical order, whatever the number of threads.
+  std::vector<LoopPatch> patches(element_triangles.size());
+  std::vector<std::shared_ptr<const LoopQuadrature>> rules(element_triangles.size());
+  std::vector<std::string> refused(element_triangles.size());
+  detail::for_each_index(element_triangles.size(), [&](std::size_t e) {
+    const auto& c = element_corners[e];
+    try {
+      patches[e] = gather_loop_patch({c[0].idx, c[1].idx, c[2].idx}, ring);
+      rules[e] = loop_quadrature(patches[e], quadrature);
+    } catch (const InputError& error) {
+      refused[e] = error.what();
+    }
+  });
+  for (const std::string& why : refused)
+    if (!why.empty()) throw InputError(why);
   if (patches.empty())
     throw InputError(
         "Loop elements: no triangle has its three corners inside the mesh (the elements need a "
@@ -348,7 +364,7 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
       }
     }
     for (std::int32_t& v : patch.vertices) v = space.dof_of_vertex[static_cast<std::size_t>(v)];
-    space.elements.push_back({t, patch.vertices, loop_quadrature(patch, quadrature)});
+    space.elements.push_back({t, patch.vertices, std::move(rules[e])});
   }
   return space;
 }
