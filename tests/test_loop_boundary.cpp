@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -76,12 +77,13 @@ TEST(LoopPlate, ClampedSquareReachesTheSeriesValue) {
   }
 }
 
-// Nitsche's terms are consistent: the penalty γ only has to be large enough, and what it
-// changes is of the order of the discretization error, which refinement removes (γ large
-// approaches the exact constraint, which locks the box-spline space: slower from above).
-// Too small a γ loses coercivity, which the factorization detects: refused with advice.
+// Nitsche's terms are consistent: the penalty factor only has to be large enough, and what it
+// changes is of the order of the discretization error, which refinement removes (large
+// factors approach the exact constraint, which locks the box-spline space: slower from
+// above). A factor below the guarantee may lose coercivity, which the factorization detects:
+// refused with advice.
 TEST(LoopPlate, NitschePenaltyOnlyNeedsToBeLargeEnough) {
-  const std::vector<double> penalties = {80.0, 160.0, 640.0, 5000.0};
+  const std::vector<double> penalties = {3.0, 6.0, 24.0};
   std::vector<double> spread;
   for (const int cells : {8, 16, 32}) {
     std::printf("  %2d cells:", cells);
@@ -92,10 +94,10 @@ TEST(LoopPlate, NitschePenaltyOnlyNeedsToBeLargeEnough) {
       const double relative = clamped_square(cells, 1, fem::clamped_square_plate(), o).centre /
                                   fem::kClampedSquareCentreDeflection -
                               1;
-      std::printf(" γ %4.0f: %+.1e", penalty, relative);
+      std::printf(" f %4.1f: %+.1e", penalty, relative);
       low = std::min(low, relative), high = std::max(high, relative);
       if (cells == 32) {
-        EXPECT_LT(std::abs(relative), penalty <= 640 ? 1e-5 : 5e-5) << penalty;
+        EXPECT_LT(std::abs(relative), 1e-5) << penalty;
       }
     }
     std::printf("\n");
@@ -104,7 +106,7 @@ TEST(LoopPlate, NitschePenaltyOnlyNeedsToBeLargeEnough) {
   EXPECT_LT(spread[1], spread[0] / 10);
   EXPECT_LT(spread[2], spread[1] / 10);
   fem::PlateOptions weak;
-  weak.penalty = 20;
+  weak.penalty = 0.25;
   try {
     clamped_square(8, 1, fem::clamped_square_plate(), weak);
     FAIL() << "a penalty too small to be coercive was accepted";
@@ -141,8 +143,28 @@ TEST(LoopPlate, ScalesRotatesAndGradesAsThePlateDoes) {
     const PlateRun run = clamped_square(cells, 1, fem::clamped_square_plate(), {}, graded);
     const double relative = run.centre / fem::kClampedSquareCentreDeflection - 1;
     std::printf("  graded, %d cells: relative error %+.2e\n", cells, relative);
-    EXPECT_LT(std::abs(relative), cells == 16 ? 2e-4 : 2e-5);
+    EXPECT_LT(std::abs(relative), cells == 16 ? 5e-4 : 3e-5);
   }
+}
+
+// The square lattice with one ghost ring, its cells cut by alternating diagonals: valences 4
+// and 8 everywhere, the boundary rows included.
+TriangleMeshData alternating_lattice(int cells) {
+  TriangleMeshData m = square_lattice(cells, 1);
+  const int n = cells + 2;  // with the ghosts
+  m.triangles.clear();
+  const auto at = [n](int i, int j) { return static_cast<std::int32_t>(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if ((i + j) % 2 == 0) {
+        m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+        m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+      } else {
+        m.triangles.push_back({at(i, j), at(i + 1, j), at(i, j + 1)});
+        m.triangles.push_back({at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+      }
+    }
+  return m;
 }
 
 // The Poisson problem on the flat square with Dirichlet data: the space on the regular lattice
@@ -214,6 +236,35 @@ TEST(LoopDirichlet, SmoothSolutionConvergesAtTheCubicsRates) {
       std::printf("\n");
       l2 = e.l2, h1 = e.h1;
     }
+  }
+}
+
+// Dirichlet data through extraordinary boundary vertices (alternating diagonals: valences 4
+// and 8): Nitsche's terms need only first derivatives, bounded there, and the per-element
+// penalty keeps the form coercive. Every vertex being extraordinary, Loop's functions
+// reproduce only linear ones anywhere: P1's rates, O(h) in H1 and O(h²) in L2 (measured 1.00
+// and 2.00), not the cubics' of the regular lattice.
+TEST(LoopDirichlet, ExtraordinaryVerticesOnTheBoundaryConverge) {
+  const fem::Problem wave = plane_problem(
+      "wave", [](double x, double y) { return std::sin(2 * x + y) + x * y * y; },
+      [](double x, double y) {
+        return Vec3{2 * std::cos(2 * x + y) + y * y, std::cos(2 * x + y) + 2 * x * y, 0};
+      },
+      [](double x, double y) { return 5 * std::sin(2 * x + y) - 2 * x; });
+  double previous = 0;
+  for (const int cells : {8, 16, 32}) {
+    const TriangleMeshData m = alternating_lattice(cells);
+    RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);
+    const fem::LoopSpace space = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::ghost_ring);
+    const fem::Solution u = fem::solve_loop(space, wave);
+    const fem::ErrorNorms e = fem::loop_error_norms(space, u.u, *wave.exact);
+    std::printf("  alternating diagonals, %2d cells: L2 %.2e, H1 %.2e", cells, e.l2, e.h1);
+    if (previous > 0) {
+      std::printf(", H1 rate %.2f", std::log2(previous / e.h1));
+      EXPECT_GT(std::log2(previous / e.h1), 0.95);
+    }
+    std::printf("\n");
+    previous = e.h1;
   }
 }
 
@@ -291,6 +342,48 @@ TEST(LoopDirichlet, TooSmallAPenaltyIsRefusedWithAdvice) {
       ++inside;
     }
   EXPECT_EQ(inside, 9 * 9);  // the square's vertices; the ghosts have none
+}
+
+// A lattice with alternating diagonals has vertices of valence 4 and 8 on its boundary rows,
+// where the basis's third derivatives (which Nitsche's terms for the plate take) are
+// unbounded. Solved anyway, it converged at half an order (-35%, -21%, -15% at 8, 16, 32
+// cells): refused, with the vertex named.
+TEST(LoopPlate, ExtraordinaryVerticesOnTheBoundaryAreRefused) {
+  const TriangleMeshData m = alternating_lattice(8);
+  RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);
+  const fem::LoopSpace space = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::ghost_ring);
+  try {
+    fem::solve_clamped_plate(space, fem::clamped_square_plate());
+    FAIL() << "a boundary through extraordinary vertices was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("passes through vertex"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("valence 6"), std::string::npos) << e.what();
+  }
+}
+
+// Data that is not finite is refused, named, rather than solved into NaN.
+TEST(LoopPlate, NonFiniteDataIsRefused) {
+  fem::PlateProblem broken = fem::clamped_square_plate();
+  broken.load = [](const Vec3& x) { return x.x > 0.7 ? std::nan("") : 1.0; };
+  const TriangleMeshData lattice = square_lattice(8, 1);
+  RgbMesh mesh = RgbMesh::from_triangles(lattice.points, lattice.triangles);
+  const fem::LoopSpace space = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::ghost_ring);
+  EXPECT_THROW(fem::solve_clamped_plate(space, broken), InputError);
+  fem::Problem dirichlet;
+  dirichlet.name = "bad-g";
+  dirichlet.source = [](const Vec3&) { return 0.0; };
+  dirichlet.dirichlet = [](const Vec3& x) {
+    return x.y > 0.9 ? std::numeric_limits<double>::infinity() : 0.0;
+  };
+  try {
+    fem::solve_loop(space, dirichlet);
+    FAIL() << "infinite Dirichlet data was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("Dirichlet data is not finite"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(square_lattice(0, 1), std::invalid_argument);
+  EXPECT_THROW(square_lattice(4, -1), std::invalid_argument);
+  EXPECT_THROW(square_lattice(4, std::nan("")), std::invalid_argument);
 }
 
 TEST(LoopPlate, RefusesWhatIsNoPlate) {

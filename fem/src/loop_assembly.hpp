@@ -33,6 +33,12 @@ struct SideParameters {
 };
 SideParameters side_parameters(int edge, double t);
 
+/// The largest λ with B v = λ A v for v off A's kernel (A, B symmetric positive semidefinite):
+/// how much of an element's energy (A) a boundary quantity (B) can take, the constant that
+/// makes Nitsche's penalty coercive. B must vanish on A's kernel (functions without energy
+/// have no boundary terms either), which holds for the forms here.
+double largest_ratio(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
+
 /// Adds an element's matrix (rows and columns in the order of its DOFs) into the system.
 void add_local(SparseMatrix& a, const std::vector<std::int32_t>& dofs, const Eigen::MatrixXd& local);
 

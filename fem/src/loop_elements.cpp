@@ -2,6 +2,7 @@
 
 #include "rgbmesh/fem/loop_elements.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <chrono>
@@ -445,6 +446,23 @@ SolveOptions detail::loop_solver(const SolveOptions& options, Eigen::Index n) {
   return chosen;
 }
 
+double detail::largest_ratio(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(a);
+  const Eigen::VectorXd& lambda = eigen.eigenvalues();
+  const double cut = 1e-10 * std::max(lambda.maxCoeff(), 0.0);
+  std::vector<Eigen::Index> kept;
+  for (Eigen::Index i = 0; i < lambda.size(); ++i)
+    if (lambda(i) > cut) kept.push_back(i);
+  if (kept.empty()) return 0;
+  Eigen::MatrixXd scaled(a.rows(), static_cast<Eigen::Index>(kept.size()));
+  for (std::size_t k = 0; k < kept.size(); ++k)
+    scaled.col(static_cast<Eigen::Index>(k)) = eigen.eigenvectors().col(kept[k]) / std::sqrt(lambda(kept[k]));
+  const Eigen::MatrixXd reduced = scaled.transpose() * b * scaled;
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(reduced, Eigen::EigenvaluesOnly)
+      .eigenvalues()
+      .maxCoeff();
+}
+
 detail::SideParameters detail::side_parameters(int edge, double t) {
   switch (edge) {
     case 0:
@@ -509,12 +527,15 @@ void add_boundary_terms(const LoopSpace& space, const Problem& problem, const Lo
   std::vector<double> gauss_t, gauss_w;
   gauss_legendre(o.edge_points, gauss_t, gauss_w);
   struct Point {
-    LoopBasisAt basis;
-    Eigen::VectorXd dm;
+    Eigen::VectorXd value, dm;
     double speed = 0;
   };
-  std::vector<Point> points;
-  std::vector<Vec3> where;
+  struct SideTerms {
+    std::size_t element = 0;
+    std::vector<Point> points;
+    std::vector<double> g;
+    double length = 0;
+  };
   const auto surface_point = [&space](const LoopSpace::Element& e, const LoopBasisAt& basis, Vec3& x,
                                       Vec3& xu, Vec3& xv) {
     x = xu = xv = Vec3{};
@@ -524,18 +545,20 @@ void add_boundary_terms(const LoopSpace& space, const Problem& problem, const Lo
       x += basis.value(k) * c, xu += basis.du(k) * c, xv += basis.dv(k) * c;
     }
   };
+  // The Dirichlet sides of each element, with their points; Neumann sides go to the load.
+  std::map<std::size_t, std::vector<SideTerms>> dirichlet_sides;
+  std::vector<Vec3> where;
   for (const LoopSpace::Side& side : space.boundary) {
     const LoopSpace::Element& e = space.elements[side.element];
     const Eigen::Index n = static_cast<Eigen::Index>(e.dofs.size());
-    points.clear();
+    SideTerms terms;
+    terms.element = side.element;
     where.clear();
-    double length = 0;
     for (std::size_t q = 0; q < gauss_t.size(); ++q) {
       const detail::SideParameters at = detail::side_parameters(side.edge, gauss_t[q]);
-      Point p;
-      p.basis = evaluate_loop_basis(e.rule->patch, at.u, at.v);
+      const LoopBasisAt basis = evaluate_loop_basis(e.rule->patch, at.u, at.v);
       Vec3 x, xu, xv;
-      surface_point(e, p.basis, x, xu, xv);
+      surface_point(e, basis, x, xu, xv);
       Vec3 y = x, yu = xu, yv = xv;
       if (space.projection) {
         y = (*space.projection)(x);
@@ -544,15 +567,17 @@ void add_boundary_terms(const LoopSpace& space, const Problem& problem, const Lo
       }
       const double a = dot(yu, yu), b = dot(yu, yv), c = dot(yv, yv), det = a * c - b * b;
       const Vec3 tangent = at.du * yu + at.dv * yv;
+      Point p;
       p.speed = norm(tangent);
       const Vec3 normal = (1.0 / std::sqrt(det)) * cross(yu, yv);
       const Vec3 m = (1.0 / p.speed) * cross(tangent, normal);
       // ∇_Γφ · m = (g^{1b} φ_b) y_u · m + (g^{2b} φ_b) y_v · m.
       const double um = dot(yu, m), vm = dot(yv, m);
-      p.dm = ((c * um - b * vm) / det) * p.basis.du + ((a * vm - b * um) / det) * p.basis.dv;
-      length += gauss_w[q] * p.speed;
+      p.dm = ((c * um - b * vm) / det) * basis.du + ((a * vm - b * um) / det) * basis.dv;
+      p.value = basis.value;
+      terms.length += gauss_w[q] * p.speed;
       where.push_back(y);
-      points.push_back(std::move(p));
+      terms.points.push_back(std::move(p));
     }
     const auto add_load = [&](const Eigen::VectorXd& load) {
       for (Eigen::Index i = 0; i < n; ++i) s.b(e.dofs[static_cast<std::size_t>(i)]) += load(i);
@@ -562,31 +587,56 @@ void add_boundary_terms(const LoopSpace& space, const Problem& problem, const Lo
       Vec3 x, xu, xv;
       surface_point(e, evaluate_loop_basis(e.rule->patch, mid.u, mid.v), x, xu, xv);
       if (problem.is_neumann(space.projection ? (*space.projection)(x) : x)) {
-        for (std::size_t q = 0; q < points.size(); ++q) {
+        for (std::size_t q = 0; q < terms.points.size(); ++q) {
           const double h = problem.neumann_flux ? problem.neumann_flux(where[q]) : 0.0;
           if (!std::isfinite(h))
             throw InputError("problem '" + problem.name +
                              "': the Neumann flux is not finite on the boundary");
-          add_load((gauss_w[q] * points[q].speed * h) * points[q].basis.value);
+          add_load((gauss_w[q] * terms.points[q].speed * h) * terms.points[q].value);
         }
         continue;
       }
     }
-    std::vector<double> g(points.size(), 0.0);
+    terms.g.assign(terms.points.size(), 0.0);
     if (problem.dirichlet_values)
-      g = detail::point_values(problem.dirichlet_values, where);
+      terms.g = detail::point_values(problem.dirichlet_values, where);
     else if (problem.dirichlet)
-      for (std::size_t q = 0; q < points.size(); ++q) g[q] = problem.dirichlet(where[q]);
-    const double beta = o.penalty / length;
-    Eigen::MatrixXd local = Eigen::MatrixXd::Zero(n, n);
-    for (std::size_t q = 0; q < points.size(); ++q) {
-      const Point& p = points[q];
-      const double w = gauss_w[q] * p.speed;
-      if (!std::isfinite(g[q]))
+      for (std::size_t q = 0; q < terms.points.size(); ++q) terms.g[q] = problem.dirichlet(where[q]);
+    for (const double g : terms.g)
+      if (!std::isfinite(g))
         throw InputError("problem '" + problem.name + "': the Dirichlet data is not finite on the boundary");
-      local.noalias() -= w * (p.dm * p.basis.value.transpose() + p.basis.value * p.dm.transpose());
-      local.noalias() += (w * beta) * (p.basis.value * p.basis.value.transpose());
-      add_load((w * g[q]) * (beta * p.basis.value - p.dm));
+    dirichlet_sides[side.element].push_back(std::move(terms));
+  }
+  for (const auto& [element, sides] : dirichlet_sides) {
+    const LoopSpace::Element& e = space.elements[element];
+    const Eigen::Index n = static_cast<Eigen::Index>(e.dofs.size());
+    // The penalty γ = f C, C the largest ratio h ∫_∂T (∂ₘv)² / ∫_T |∇v|² over the element's
+    // functions: then the symmetric terms take at most half of the element's energy when f > 2.
+    Eigen::MatrixXd energy = Eigen::MatrixXd::Zero(n, n), on_sides = energy;
+    for (std::size_t p = 0; p < e.rule->size(); ++p) {
+      const LoopPoint at = loop_point(space, element, p);
+      const double w = e.rule->weight[p] * at.density;
+      for (Eigen::Index j = 0; j < n; ++j)
+        for (Eigen::Index i = 0; i < n; ++i)
+          energy(i, j) +=
+              w * dot(at.gradient[static_cast<std::size_t>(i)], at.gradient[static_cast<std::size_t>(j)]);
+    }
+    for (const SideTerms& side : sides)
+      for (std::size_t q = 0; q < side.points.size(); ++q)
+        on_sides.noalias() += (gauss_w[q] * side.points[q].speed * side.length) *
+                              (side.points[q].dm * side.points[q].dm.transpose());
+    const double gamma = o.penalty * detail::largest_ratio(energy, on_sides);
+    Eigen::MatrixXd local = Eigen::MatrixXd::Zero(n, n);
+    for (const SideTerms& side : sides) {
+      const double beta = gamma / side.length;
+      for (std::size_t q = 0; q < side.points.size(); ++q) {
+        const Point& p = side.points[q];
+        const double w = gauss_w[q] * p.speed;
+        local.noalias() -= w * (p.dm * p.value.transpose() + p.value * p.dm.transpose());
+        local.noalias() += (w * beta) * (p.value * p.value.transpose());
+        const Eigen::VectorXd load = (w * side.g[q]) * (beta * p.value - p.dm);
+        for (Eigen::Index i = 0; i < n; ++i) s.b(e.dofs[static_cast<std::size_t>(i)]) += load(i);
+      }
     }
     detail::add_local(s.a, e.dofs, local);
   }
@@ -607,7 +657,7 @@ Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveO
     add_boundary_terms(space, problem, nitsche, s);
     s.seconds += seconds_since(t0);
     return detail::solve_nitsche_system(s, options, problem.name, nitsche.penalty,
-                                        "LoopNitscheOptions::penalty, 20 by default");
+                                        "LoopNitscheOptions::penalty, 4 by default");
   }
   const bool zero_mean = problem.c == 0;
   if (zero_mean) {
