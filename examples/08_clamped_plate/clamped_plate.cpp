@@ -33,7 +33,9 @@ int main(int argc, char** argv) {
   std::string out;
   app.add_option("--cells", finest, "cells a side of the finest lattice (from 4, doubling)")
       ->check(CLI::Range(4, 512));
-  app.add_option("--penalty", penalty, "Nitsche's penalty γ")->check(CLI::PositiveNumber);
+  app.add_option("--penalty", penalty,
+                 "the factor of Nitsche's penalties (3; above 2.5 is coercive on any mesh)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--out", out, "write the finest plate's deflection here (.vtp)");
   CLI11_PARSE(app, argc, argv);
   try {
