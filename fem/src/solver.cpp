@@ -533,6 +533,9 @@ FreeSolution solve_free_system(SparseMatrix& a, const Eigen::VectorXd& rhs, cons
       // costs more to compute (6 s) than it saves in the factorization (3 s).
       llt.cholmod().nmethods = 1;
       llt.cholmod().method[0].ordering = CHOLMOD_AMD;
+      // Errors only: an indefinite matrix is reported by the exception below (and, for
+      // Nitsche's forms, with advice), not by a second line from CHOLMOD on stderr.
+      llt.cholmod().print = 1;
       f.x = factor_and_solve(llt, a, rhs, "cholmod");
 #else
       throw InputError("solver 'cholmod' is not available: rgbmesh was built without SuiteSparse");
