@@ -80,8 +80,7 @@ TEST(LoopPlate, ClampedSquareReachesTheSeriesValue) {
 // Nitsche's terms are consistent: the penalty factor only has to be large enough, and what it
 // changes is of the order of the discretization error, which refinement removes (large
 // factors approach the exact constraint, which locks the box-spline space: slower from
-// above). A factor below the guarantee may lose coercivity, which the factorization detects:
-// refused with advice.
+// above). A factor without the coercivity guarantee (f <= 2) is refused with advice.
 TEST(LoopPlate, NitschePenaltyOnlyNeedsToBeLargeEnough) {
   const std::vector<double> penalties = {3.0, 6.0, 24.0};
   std::vector<double> spread;
@@ -106,12 +105,12 @@ TEST(LoopPlate, NitschePenaltyOnlyNeedsToBeLargeEnough) {
   EXPECT_LT(spread[1], spread[0] / 10);
   EXPECT_LT(spread[2], spread[1] / 10);
   fem::PlateOptions weak;
-  weak.penalty = 0.25;
+  weak.penalty = 1.5;
   try {
     clamped_square(8, 1, fem::clamped_square_plate(), weak);
-    FAIL() << "a penalty too small to be coercive was accepted";
+    FAIL() << "a penalty factor without the guarantee was accepted";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("raise the penalty"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("is not above 2"), std::string::npos) << e.what();
   }
 }
 
@@ -318,20 +317,39 @@ TEST(LoopDirichlet, SphericalCapConverges) {
   }
 }
 
-TEST(LoopDirichlet, TooSmallAPenaltyIsRefusedWithAdvice) {
+TEST(LoopDirichlet, WhatCannotBeSolvedIsRefusedWithAdvice) {
   fem::Problem p;
   p.name = "one";
   p.source = [](const Vec3&) { return 0.0; };
   p.dirichlet = [](const Vec3&) { return 1.0; };
   Square s = square(8);
+  const auto refused = [&](const fem::Problem& problem, const fem::LoopNitscheOptions& o,
+                           const std::string& why) {
+    try {
+      fem::solve_loop(s.space, problem, {}, o);
+      ADD_FAILURE() << "accepted; expected: " << why;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  };
+  // A penalty factor without the coercivity guarantee.
   fem::LoopNitscheOptions weak;
   weak.penalty = 0.5;
-  try {
-    fem::solve_loop(s.space, p, {}, weak);
-    FAIL() << "a penalty too small to be coercive was accepted";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("raise the penalty"), std::string::npos) << e.what();
-  }
+  refused(p, weak, "is not above 1");
+  // Every side Neumann with c = 0: defined up to a constant.
+  fem::Problem floating = p;
+  floating.is_neumann = [](const Vec3&) { return true; };
+  refused(floating, {}, "every boundary side is Neumann and c = 0");
+  floating.c = 1;  // with c > 0 it is well posed: -Δu + u = 0, ∂u/∂n = 0 gives u = 0
+  const Eigen::VectorXd zero = fem::loop_vertex_values(s.space, fem::solve_loop(s.space, floating).u);
+  for (Eigen::Index d = 0; d < zero.size(); ++d)
+    if (std::isfinite(zero(d))) {
+      EXPECT_NEAR(zero(d), 0.0, 1e-12);
+    }
+  // Both forms of the Dirichlet data.
+  fem::Problem both = p;
+  both.dirichlet_values = [](const Vec3*, std::size_t n, double* v) { std::fill(v, v + n, 1.0); };
+  refused(both, {}, "both dirichlet and dirichlet_values");
   // With the default, u = 1 exactly (constants are in the space).
   const fem::Solution u = fem::solve_loop(s.space, p);
   const Eigen::VectorXd at_vertices = fem::loop_vertex_values(s.space, u.u);

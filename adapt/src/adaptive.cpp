@@ -431,8 +431,8 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
     if (!replay) {
       run.cycles.push_back(c.report);
       if (on_cycle)
-        on_cycle({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved,
-                  c.loop_view.get()});
+        on_cycle(
+            {run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved, c.loop_view});
     }
     if (last) break;
     if (c.report.memory_limit_reached) {
@@ -568,7 +568,8 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     }
     const SolvedMesh solved = describe(mesh, c, o.control.resumable,
                                        o.distribution.distributed_mesh ? o.distribution.share.process : -1);
-    if (on_step) on_step({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved});
+    if (on_step)
+      on_step({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved, nullptr});
   }
   return run;
 }

@@ -283,6 +283,9 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
                        std::to_string(t.idx) + " is not a green triangle of level " +
                        std::to_string(space.level));
   }
+  if (quadrature.points_per_direction < 1 || quadrature.points_per_direction > 20 ||
+      quadrature.extraordinary_depth < 0 || quadrature.extraordinary_depth > 20)
+    throw std::invalid_argument("build_loop_space: points per direction in [1, 20], depth in [0, 20]");
   mesh.compute_limits();
   // Numbered canonically (canonical.hpp), each triangle's corners from its lowest-numbered one:
   // the parametrization of each element, hence its quadrature points, and every sum then
@@ -447,6 +450,9 @@ SolveOptions detail::loop_solver(const SolveOptions& options, Eigen::Index n) {
 }
 
 double detail::largest_ratio(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  if (!a.allFinite() || !b.allFinite())
+    throw InputError(
+        "Loop elements: a boundary element's geometry is degenerate (its Nitsche constant is not finite)");
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(a);
   const Eigen::VectorXd& lambda = eigen.eigenvalues();
   const double cut = 1e-10 * std::max(lambda.maxCoeff(), 0.0);
@@ -458,9 +464,13 @@ double detail::largest_ratio(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b)
   for (std::size_t k = 0; k < kept.size(); ++k)
     scaled.col(static_cast<Eigen::Index>(k)) = eigen.eigenvectors().col(kept[k]) / std::sqrt(lambda(kept[k]));
   const Eigen::MatrixXd reduced = scaled.transpose() * b * scaled;
-  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(reduced, Eigen::EigenvaluesOnly)
-      .eigenvalues()
-      .maxCoeff();
+  const double ratio = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(reduced, Eigen::EigenvaluesOnly)
+                           .eigenvalues()
+                           .maxCoeff();
+  if (!std::isfinite(ratio))
+    throw InputError(
+        "Loop elements: a boundary element's geometry is degenerate (its Nitsche constant is not finite)");
+  return ratio;
 }
 
 detail::SideParameters detail::side_parameters(int edge, double t) {
@@ -522,8 +532,16 @@ void require_closed(const LoopSpace& space, const std::string& name) {
 // midpoint) takes the flux instead: ∫_Γ h v, no Nitsche terms.
 void add_boundary_terms(const LoopSpace& space, const Problem& problem, const LoopNitscheOptions& o,
                         detail::LoopSystem& s) {
-  if (!(o.penalty > 0) || o.edge_points < 1 || o.edge_points > 16)
-    throw std::invalid_argument("LoopNitscheOptions: penalty > 0, edge_points in [1, 16]");
+  if (!(o.penalty > 1) || !std::isfinite(o.penalty))
+    throw InputError(
+        "problem '" + problem.name + "': Nitsche's penalty factor " + std::to_string(o.penalty) +
+        " is not above 1, below which the form need not be coercive (LoopNitscheOptions::penalty, 4 "
+        "by default)");
+  if (o.edge_points < 1 || o.edge_points > 16)
+    throw std::invalid_argument("LoopNitscheOptions: edge_points in [1, 16]");
+  if (problem.dirichlet && problem.dirichlet_values)
+    throw InputError("problem '" + problem.name +
+                     "': both dirichlet and dirichlet_values are set (give one)");
   std::vector<double> gauss_t, gauss_w;
   gauss_legendre(o.edge_points, gauss_t, gauss_w);
   struct Point {
@@ -533,6 +551,7 @@ void add_boundary_terms(const LoopSpace& space, const Problem& problem, const Lo
   struct SideTerms {
     std::size_t element = 0;
     std::vector<Point> points;
+    std::vector<Vec3> where;
     std::vector<double> g;
     double length = 0;
   };
@@ -597,21 +616,39 @@ void add_boundary_terms(const LoopSpace& space, const Problem& problem, const Lo
         continue;
       }
     }
-    terms.g.assign(terms.points.size(), 0.0);
-    if (problem.dirichlet_values)
-      terms.g = detail::point_values(problem.dirichlet_values, where);
-    else if (problem.dirichlet)
-      for (std::size_t q = 0; q < terms.points.size(); ++q) terms.g[q] = problem.dirichlet(where[q]);
-    for (const double g : terms.g)
-      if (!std::isfinite(g))
-        throw InputError("problem '" + problem.name + "': the Dirichlet data is not finite on the boundary");
+    terms.where = where;
     dirichlet_sides[side.element].push_back(std::move(terms));
   }
+  // g at every Dirichlet point, in one call of a batch function.
+  std::vector<Vec3> all_points;
+  for (const auto& [element, sides] : dirichlet_sides)
+    for (const SideTerms& side : sides)
+      all_points.insert(all_points.end(), side.where.begin(), side.where.end());
+  if (all_points.empty() && problem.c == 0)
+    throw InputError(
+        "problem '" + problem.name +
+        "': every boundary side is Neumann and c = 0, so the solution is defined up to a constant; "
+        "make a side Dirichlet or use c > 0");
+  std::vector<double> all_g(all_points.size(), 0.0);
+  if (problem.dirichlet_values)
+    all_g = detail::point_values(problem.dirichlet_values, all_points);
+  else if (problem.dirichlet)
+    for (std::size_t i = 0; i < all_points.size(); ++i) all_g[i] = problem.dirichlet(all_points[i]);
+  std::size_t next = 0;
+  for (auto& [element, sides] : dirichlet_sides)
+    for (SideTerms& side : sides)
+      for (std::size_t q = 0; q < side.where.size(); ++q) {
+        if (!std::isfinite(all_g[next]))
+          throw InputError("problem '" + problem.name +
+                           "': the Dirichlet data is not finite on the boundary");
+        side.g.push_back(all_g[next++]);
+      }
   for (const auto& [element, sides] : dirichlet_sides) {
     const LoopSpace::Element& e = space.elements[element];
     const Eigen::Index n = static_cast<Eigen::Index>(e.dofs.size());
     // The penalty γ = f C, C the largest ratio h ∫_∂T (∂ₘv)² / ∫_T |∇v|² over the element's
-    // functions: then the symmetric terms take at most half of the element's energy when f > 2.
+    // functions: with f > 1 the symmetric terms take less than the element's energy (Young's
+    // inequality), so the form is coercive.
     Eigen::MatrixXd energy = Eigen::MatrixXd::Zero(n, n), on_sides = energy;
     for (std::size_t p = 0; p < e.rule->size(); ++p) {
       const LoopPoint at = loop_point(space, element, p);
@@ -888,10 +925,15 @@ Eigen::VectorXd loop_values_on(const LoopSpace& space, const Eigen::VectorXd& u,
   if (p1.order != 1 || p1.num_dofs() != space.num_dofs())
     throw std::invalid_argument("loop_values_on: the P1 mesh of the Loop space's triangles is needed");
   const Eigen::VectorXd at_vertices = loop_vertex_values(space, u);
-  Eigen::VectorXd out(static_cast<Eigen::Index>(p1.num_dofs()));
-  for (std::size_t d = 0; d < space.num_dofs(); ++d)
-    out(p1.dof_of_vertex[static_cast<std::size_t>(space.vertex[d].idx)]) =
-        at_vertices(static_cast<Eigen::Index>(d));
+  Eigen::VectorXd out = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(p1.num_dofs()),
+                                                  std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t d = 0; d < space.num_dofs(); ++d) {
+    const std::size_t slot = static_cast<std::size_t>(space.vertex[d].idx);
+    const std::int32_t to = slot < p1.dof_of_vertex.size() ? p1.dof_of_vertex[slot] : -1;
+    if (to < 0 || static_cast<std::size_t>(to) >= p1.num_dofs())
+      throw std::invalid_argument("loop_values_on: the P1 mesh is not of the Loop space's vertices");
+    out(to) = at_vertices(static_cast<Eigen::Index>(d));
+  }
   return out;
 }
 
@@ -906,7 +948,11 @@ std::vector<double> loop_element_values_on(const LoopSpace& space, const std::ve
     by_slot[static_cast<std::size_t>(space.elements[e].triangle.idx)] = per_element[e];
   std::vector<double> out;
   out.reserve(p1.triangle.size());
-  for (const TriangleHandle t : p1.triangle) out.push_back(by_slot[static_cast<std::size_t>(t.idx)]);
+  for (const TriangleHandle t : p1.triangle) {
+    if (t.idx < 0 || t.idx >= slots)
+      throw std::invalid_argument("loop_element_values_on: the P1 mesh is not of the Loop space's triangles");
+    out.push_back(by_slot[static_cast<std::size_t>(t.idx)]);
+  }
   return out;
 }
 

@@ -43,10 +43,13 @@ Plane plane_of(const LoopSpace& space, const std::string& name) {
   for (std::size_t i = 0; i < space.control.size(); ++i) {
     const Vec3& x = space.control[i];
     const double off = std::abs(normal.dot(Eigen::Vector3d(x.x - centre.x, x.y - centre.y, x.z - centre.z)));
-    if (!(off <= 1e-9 * extent))
+    if (!(off <= 1e-9 * extent)) {
+      char distance[64];
+      std::snprintf(distance, sizeof distance, "%.3g (more than %.3g)", off, 1e-9 * extent);
       throw InputError("problem '" + name + "': a Kirchhoff plate needs a flat mesh, but vertex " +
-                       std::to_string(space.vertex[i].idx) + " is " + std::to_string(off) +
+                       std::to_string(space.vertex[i].idx) + " is " + distance +
                        " from the plane of the others (a curved surface is a shell)");
+    }
   }
   const Eigen::Vector3d a = eigen.eigenvectors().col(2), b = eigen.eigenvectors().col(1);
   return {centre, {a.x(), a.y(), a.z()}, {b.x(), b.y(), b.z()}};
@@ -158,8 +161,13 @@ Solution solve_clamped_plate(const LoopSpace& space, const PlateProblem& problem
     throw InputError("problem '" + problem.name +
                      "': the plate's space has no boundary to clamp (build it with LoopBoundary::ghost_ring "
                      "on a mesh with a ring of ghost triangles)");
-  if (!(options.penalty > 0) || options.edge_points < 1 || options.edge_points > 16)
-    throw std::invalid_argument("solve_clamped_plate: penalty > 0, edge_points in [1, 16]");
+  if (!(options.penalty > 2) || !std::isfinite(options.penalty))
+    throw InputError(
+        "problem '" + problem.name + "': Nitsche's penalty factor " + std::to_string(options.penalty) +
+        " is not above 2, below which the plate's form need not be coercive (PlateOptions::penalty, 3 "
+        "by default)");
+  if (options.edge_points < 1 || options.edge_points > 16)
+    throw std::invalid_argument("solve_clamped_plate: edge_points in [1, 16]");
   const Plane plane = plane_of(space, problem.name);
   const double d = problem.rigidity;
   const ScalarField& load = problem.load;
@@ -213,8 +221,8 @@ Solution solve_clamped_plate(const LoopSpace& space, const PlateProblem& problem
         third.noalias() += (w * h * h * h) * (p.dn_laplacian * p.dn_laplacian.transpose());
       }
     }
-    // Coercive when γ₁ > 4 C₁ and γ₃ > 4 C₃ (Young's inequality on the two symmetric terms,
-    // each then taking at most a quarter of the element's energy).
+    // Coercive when γ₁ > 2 C₁ and γ₃ > 2 C₃ (Young's inequality: each symmetric term then takes
+    // less than half of the element's energy).
     const double c1 = detail::largest_ratio(energy, on_sides), c3 = detail::largest_ratio(energy, third);
 
     Eigen::MatrixXd local = Eigen::MatrixXd::Zero(n, n);

@@ -146,10 +146,11 @@ struct Solution {
   std::shared_ptr<const fem::LoopSpace> loop_space;
   Eigen::VectorXd loop_coefficients;
   std::shared_ptr<const MeshSnapshot> loop_view;
+  bool loop_view_kept = false;  // a cycle of adapt(element='loop'), whose picture is loop_view
 
   adapt::CycleState state() const {
     static const RgbMesh no_mesh;  // (snapshot() reads the levels from `solved`, not the mesh)
-    return {report, no_mesh, fe, *problem, u, estimate, marked, &solved};
+    return {report, no_mesh, fe, *problem, u, estimate, marked, &solved, nullptr};
   }
 };
 
@@ -286,7 +287,8 @@ std::shared_ptr<Solution> copy_cycle(const adapt::CycleState& c,
   auto s = std::make_shared<Solution>();
   s->problem = problem;
   s->element = loop ? "loop" : (c.fe.order == 2 ? "p2" : "p1");
-  if (c.loop_view) s->loop_view = std::make_shared<const MeshSnapshot>(*c.loop_view);
+  s->loop_view = c.loop_view;  // shared, not copied
+  s->loop_view_kept = loop;
   s->fe = c.fe;
   s->u = c.u;
   s->estimate = c.estimate;
@@ -380,14 +382,22 @@ WriteOptions write_options(const std::string& compression) {
 // A Loop solution's picture finer than the mesh (fem::loop_refined_view).
 void write_smooth(const Solution& s, const std::filesystem::path& path, int levels,
                   const std::string& compression) {
-  if (!s.loop_space && !s.loop_view)
+  if (!s.loop_space && !s.loop_view_kept)
     throw InputError("write_smooth: only for a solution with element='loop'");
   if (levels < 0 || levels > 4) throw InputError("levels: 0 to 4 (each level splits every triangle in four)");
   const WriteOptions o = write_options(compression);
-  if (!s.loop_space) {  // a cycle of adapt(): the picture it made
-    if (levels != kCycleViewLevels)
-      throw InputError("write_smooth: a cycle of adapt() keeps its picture at levels=" +
-                       std::to_string(kCycleViewLevels) + " (solve() the mesh for another)");
+  if (!s.loop_space) {  // a cycle of adapt(): the picture it made, at the levels it could afford
+    if (!s.loop_view)
+      throw InputError(
+          "write_smooth: this cycle kept no picture (past 3 million pieces); solve() the mesh and "
+          "write that solution's");
+    int made = 0;
+    for (std::size_t pieces = std::max<std::size_t>(1, s.fe.triangles.size());
+         pieces < s.loop_view->triangles.size(); pieces *= 4)
+      ++made;
+    if (levels != made)
+      throw InputError("write_smooth: this cycle of adapt() kept its picture at levels=" +
+                       std::to_string(made) + " (solve() the mesh for another)");
     py::gil_scoped_release release;
     write_mesh(path, *s.loop_view, o);
     return;

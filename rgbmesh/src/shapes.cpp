@@ -25,7 +25,8 @@ TriangleMeshData octahedron() {
 }
 
 TriangleMeshData square_lattice(int cells, double side, int ghosts) {
-  if (cells < 1 || ghosts < 0 || cells + 2 * ghosts > 4096 || !(side > 0) || !std::isfinite(side))
+  if (cells < 1 || cells > 4096 || ghosts < 0 || ghosts > 4096 || cells + 2 * ghosts > 4096 || !(side > 0) ||
+      !std::isfinite(side))
     throw std::invalid_argument("square_lattice: cells in [1, 4096 - 2 ghosts], ghosts >= 0, side > 0");
   const int n = cells + 2 * ghosts;  // cells per side
   const double h = side / cells;

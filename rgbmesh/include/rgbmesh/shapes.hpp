@@ -14,8 +14,10 @@ TriangleMeshData octahedron();
 
 /// The square [-ghosts h, side + ghosts h]² in the plane z = 0, h = side / cells, divided into
 /// squares of side h, each cut by its diagonal of direction (1, 1): every interior vertex has
-/// valence 6 (the regular lattice). `ghosts` rings of cells around [0, side]² give the
-/// elements on it complete patches (fem::LoopBoundary::ghost_ring).
+/// valence 6 (the regular lattice). With ghosts = 1, the elements of
+/// fem::LoopBoundary::ghost_ring cover [0, side]² exactly (with g rings, the g - 1 inner ones
+/// become elements too). Refining the mesh thins its ghost ring, and the elements' domain grows
+/// by half a cell each level: build the lattice at the size wanted instead.
 TriangleMeshData square_lattice(int cells, double side, int ghosts = 1);
 
 }  // namespace rgbmesh

@@ -208,7 +208,9 @@ struct CycleState {
   const fem::Estimate& estimate;
   const std::vector<char>& marked;  ///< per FE triangle
   const SolvedMesh* solved = nullptr;  ///< set by run_cycles and run_dynamic
-  const MeshSnapshot* loop_view = nullptr;  ///< Loop elements with loop_view_levels > 0
+  /// Loop elements with loop_view_levels > 0: the picture (shared: a callback may keep it);
+  /// its levels may be fewer than asked on large meshes, none past 3 million pieces.
+  std::shared_ptr<const MeshSnapshot> loop_view;
 };
 using CycleCallback = std::function<void(const CycleState&)>;
 

@@ -88,8 +88,9 @@ LoopPoint loop_point(const LoopSpace& space, std::size_t element, std::size_t po
 struct LoopNitscheOptions {
   /// The factor f of the penalty, per element T with Dirichlet sides: γ = f C, where C is the
   /// largest ratio h ∫_∂T (∂ₘv)² / ∫_T |∇v|² over the element's functions (a small generalized
-  /// eigenvalue problem). f > 2 makes the form coercive whatever the mesh; the default keeps a
-  /// margin. Beyond that f changes the solution by the order of the discretization error.
+  /// eigenvalue problem). f > 1 makes the form coercive whatever the mesh (Young's inequality),
+  /// and smaller factors are refused; the default keeps a margin. Beyond that f changes the
+  /// solution by the order of the discretization error.
   double penalty = 4;
   int edge_points = 6;  ///< Gauss points per boundary side
 };
@@ -98,7 +99,8 @@ struct LoopNitscheOptions {
 /// fem::solve). On a closed surface with c = 0: the zero-mean solution, for a source of zero
 /// mean. On a space with a boundary (LoopBoundary::ghost_ring): u = g (problem.dirichlet,
 /// zero if empty) on its boundary, by Nitsche's method, except on the sides where
-/// problem.is_neumann holds at the midpoint, which take the flux ∂ₘu = h (neumann_flux).
+/// problem.is_neumann holds at the midpoint, which take the flux ∂ₘu = h (neumann_flux); with
+/// c = 0 at least one side must be Dirichlet.
 Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveOptions& options = {},
                     const LoopNitscheOptions& nitsche = {});
 

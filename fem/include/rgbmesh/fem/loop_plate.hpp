@@ -39,8 +39,9 @@ struct PlateOptions {
   /// The factor f of Nitsche's penalties, per element T with boundary sides: γ₁ = f C₁ and
   /// γ₃ = f C₃, where C₁ and C₃ are the largest ratios h ∫_∂T (Δv)² / ∫_T (Δv)² and
   /// h³ ∫_∂T (∂ₙΔv)² / ∫_T (Δv)² over the element's functions (small generalized eigenvalue
-  /// problems). f > 2.5 makes the form coercive whatever the mesh (Young's inequality gives
-  /// each symmetric term at most 0.4 of the element's energy); the default 3 keeps a margin.
+  /// problems). f > 2 makes the form coercive whatever the mesh (Young's inequality gives each
+  /// symmetric term less than half of the element's energy), and smaller factors are refused;
+  /// the default 3 keeps a margin.
   /// Larger f approaches the exact constraint, which locks: the clamped square at 16 cells a
   /// side is 6.5e-5 below the series value with 3, 8.9e-5 with 6, 2.0e-4 with 24.
   double penalty = 3;
@@ -50,7 +51,7 @@ struct PlateOptions {
 /// Solves the clamped plate. Throws InputError if the space is not flat (all control values in
 /// one plane: a curved surface is a shell), has a projection or has no boundary, if the
 /// boundary passes through an extraordinary vertex (the third derivatives are unbounded there),
-/// and if the system is not positive definite (a penalty factor below the guarantee).
+/// and if the penalty factor is not above 2.
 Solution solve_clamped_plate(const LoopSpace& space, const PlateProblem& problem,
                              const PlateOptions& options = {}, const SolveOptions& solve = {});
 
