@@ -39,6 +39,11 @@ SideParameters side_parameters(int edge, double t);
 /// have no boundary terms either), which holds for the forms here.
 double largest_ratio(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 
+/// Nitsche's options: InputError unless the penalty factor is above `guarantee` (the factor
+/// that makes the form coercive on any mesh), naming `option`.
+void check_nitsche_options(const std::string& name, double factor, double guarantee,
+                           const std::string& option, int edge_points);
+
 /// Adds an element's matrix (rows and columns in the order of its DOFs) into the system.
 void add_local(SparseMatrix& a, const std::vector<std::int32_t>& dofs, const Eigen::MatrixXd& local);
 

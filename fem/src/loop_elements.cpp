@@ -473,6 +473,17 @@ double detail::largest_ratio(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b)
   return ratio;
 }
 
+void detail::check_nitsche_options(const std::string& name, double factor, double guarantee,
+                                   const std::string& option, int edge_points) {
+  if (!(factor > guarantee) || !std::isfinite(factor))
+    throw InputError("problem '" + name + "': Nitsche's penalty factor " + std::to_string(factor) +
+                     " is not above " + std::to_string(static_cast<int>(guarantee)) +
+                     ", below which the form need not be coercive (" + option + ")");
+  if (edge_points < 1 || edge_points > 16)
+    throw std::invalid_argument("Nitsche's terms: edge points in [1, 16], got " +
+                                std::to_string(edge_points));
+}
+
 detail::SideParameters detail::side_parameters(int edge, double t) {
   switch (edge) {
     case 0:
@@ -532,13 +543,8 @@ void require_closed(const LoopSpace& space, const std::string& name) {
 // midpoint) takes the flux instead: ∫_Γ h v, no Nitsche terms.
 void add_boundary_terms(const LoopSpace& space, const Problem& problem, const LoopNitscheOptions& o,
                         detail::LoopSystem& s) {
-  if (!(o.penalty > 1) || !std::isfinite(o.penalty))
-    throw InputError(
-        "problem '" + problem.name + "': Nitsche's penalty factor " + std::to_string(o.penalty) +
-        " is not above 1, below which the form need not be coercive (LoopNitscheOptions::penalty, 4 "
-        "by default)");
-  if (o.edge_points < 1 || o.edge_points > 16)
-    throw std::invalid_argument("LoopNitscheOptions: edge_points in [1, 16]");
+  detail::check_nitsche_options(problem.name, o.penalty, 1, "LoopNitscheOptions::penalty, 4 by default",
+                                o.edge_points);
   if (problem.dirichlet && problem.dirichlet_values)
     throw InputError("problem '" + problem.name +
                      "': both dirichlet and dirichlet_values are set (give one)");

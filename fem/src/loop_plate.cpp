@@ -161,13 +161,8 @@ Solution solve_clamped_plate(const LoopSpace& space, const PlateProblem& problem
     throw InputError("problem '" + problem.name +
                      "': the plate's space has no boundary to clamp (build it with LoopBoundary::ghost_ring "
                      "on a mesh with a ring of ghost triangles)");
-  if (!(options.penalty > 2) || !std::isfinite(options.penalty))
-    throw InputError(
-        "problem '" + problem.name + "': Nitsche's penalty factor " + std::to_string(options.penalty) +
-        " is not above 2, below which the plate's form need not be coercive (PlateOptions::penalty, 3 "
-        "by default)");
-  if (options.edge_points < 1 || options.edge_points > 16)
-    throw std::invalid_argument("solve_clamped_plate: edge_points in [1, 16]");
+  detail::check_nitsche_options(problem.name, options.penalty, 2, "PlateOptions::penalty, 3 by default",
+                                options.edge_points);
   const Plane plane = plane_of(space, problem.name);
   const double d = problem.rigidity;
   const ScalarField& load = problem.load;
