@@ -17,6 +17,8 @@
 #include "rgbmesh/fem/problem.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/shapes.hpp"
+#include "rgbmesh/soup.hpp"
+#include "test_meshes.hpp"
 
 namespace rgbmesh {
 namespace {
@@ -146,23 +148,22 @@ TEST(LoopPlate, ScalesRotatesAndGradesAsThePlateDoes) {
   }
 }
 
+// Prints one row of a convergence study and checks the rate against the previous row's error:
+// log2(previous / error) per halving of h, at least `least`.
+void rate_row(double& previous, double error, double least) {
+  if (previous > 0) {
+    std::printf(", rate %.2f", std::log2(previous / error));
+    EXPECT_GT(std::log2(previous / error), least);
+  }
+  std::printf("\n");
+  previous = error;
+}
+
 // The square lattice with one ghost ring, its cells cut by alternating diagonals: valences 4
 // and 8 everywhere, the boundary rows included.
 TriangleMeshData alternating_lattice(int cells) {
   TriangleMeshData m = square_lattice(cells, 1);
-  const int n = cells + 2;  // with the ghosts
-  m.triangles.clear();
-  const auto at = [n](int i, int j) { return static_cast<std::int32_t>(j * (n + 1) + i); };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      if ((i + j) % 2 == 0) {
-        m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-        m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-      } else {
-        m.triangles.push_back({at(i, j), at(i + 1, j), at(i, j + 1)});
-        m.triangles.push_back({at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
-      }
-    }
+  m.triangles = testing::grid_with_holes(cells + 2, 0).triangles;  // the same vertex numbering
   return m;
 }
 
@@ -258,12 +259,7 @@ TEST(LoopDirichlet, ExtraordinaryVerticesOnTheBoundaryConverge) {
     const fem::Solution u = fem::solve_loop(space, wave);
     const fem::ErrorNorms e = fem::loop_error_norms(space, u.u, *wave.exact);
     std::printf("  alternating diagonals, %2d cells: L2 %.2e, H1 %.2e", cells, e.l2, e.h1);
-    if (previous > 0) {
-      std::printf(", H1 rate %.2f", std::log2(previous / e.h1));
-      EXPECT_GT(std::log2(previous / e.h1), 0.95);
-    }
-    std::printf("\n");
-    previous = e.h1;
+    rate_row(previous, e.h1, 0.95);
   }
 }
 
@@ -286,34 +282,20 @@ TEST(LoopDirichlet, SphericalCapConverges) {
     const MeshSnapshot snap = sphere.snapshot();
     std::vector<Vec3> points;
     for (const Vec3& p : snap.points) points.push_back(fem::project_to_unit_sphere(p));
-    std::vector<std::array<std::int32_t, 3>> kept;
+    PolygonSoup cap_soup{points, {}, true};
     for (const auto& t : snap.triangles)
       if (points[static_cast<std::size_t>(t[0])].z > -0.3 &&
           points[static_cast<std::size_t>(t[1])].z > -0.3 && points[static_cast<std::size_t>(t[2])].z > -0.3)
-        kept.push_back(t);
-    std::vector<std::int32_t> renumbered(points.size(), -1);
-    std::vector<Vec3> used;
-    for (auto& t : kept)
-      for (std::int32_t& v : t) {
-        if (renumbered[static_cast<std::size_t>(v)] < 0) {
-          renumbered[static_cast<std::size_t>(v)] = static_cast<std::int32_t>(used.size());
-          used.push_back(points[static_cast<std::size_t>(v)]);
-        }
-        v = renumbered[static_cast<std::size_t>(v)];
-      }
-    RgbMesh mesh = RgbMesh::from_triangles(used, kept);
+        cap_soup.faces.push_back({t[0], t[1], t[2]});
+    const TriangleMeshData cut = prepare_triangle_mesh(cap_soup);  // drops the vertices left out
+    RgbMesh mesh = RgbMesh::from_triangles(cut.points, cut.triangles);
     const fem::LoopSpace space = fem::build_loop_space(mesh, fem::Projection(fem::project_to_unit_sphere), {},
                                                        fem::LoopBoundary::ghost_ring);
     const fem::Solution u = fem::solve_loop(space, cap);
     const fem::ErrorNorms e = fem::loop_error_norms(space, u.u, *cap.exact);
     std::printf("  level %d: %zu unknowns, %zu boundary sides, H1 error %.2e", level, space.num_dofs(),
                 space.boundary.size(), e.h1);
-    if (previous > 0) {
-      std::printf(", rate %.2f", std::log2(previous / e.h1));
-      EXPECT_GT(std::log2(previous / e.h1), 1.8);
-    }
-    std::printf("\n");
-    previous = e.h1;
+    rate_row(previous, e.h1, 1.8);
   }
 }
 
