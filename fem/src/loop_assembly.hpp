@@ -47,6 +47,12 @@ void check_nitsche_options(const std::string& name, double factor, double guaran
 /// Adds an element's matrix (rows and columns in the order of its DOFs) into the system.
 void add_local(SparseMatrix& a, const std::vector<std::int32_t>& dofs, const Eigen::MatrixXd& local);
 
+/// Solves the system of a closed surface: with c = 0 in the zero-mean space, where `constant`
+/// holds the coefficients of the function 1 (all ones for control values; the base vertices'
+/// for a hierarchical basis) and s.area the integrals of the basis functions.
+Solution solve_closed_loop_system(LoopSystem& s, const Problem& problem, const SolveOptions& options,
+                                  const Eigen::VectorXd& constant);
+
 /// Solves a system with Nitsche's boundary terms. Below a mesh-dependent penalty their form is
 /// not coercive, which the factorization detects: InputError naming the penalty and the option
 /// that raises it.

@@ -148,6 +148,7 @@ int child_containing(double u, double v) {
 struct Child {
   LoopPatch patch;
   Eigen::MatrixXd from_parent;  ///< patch values = from_parent * parent patch values
+  std::vector<std::array<int, 2>> origin;  ///< per child vertex: {parent vertex, -1} or the edge's ends
 };
 
 // The patch of child `child` of a patch's central triangle.
@@ -196,6 +197,9 @@ Child subdivide(const LoopPatch& parent, int child) {
   for (std::size_t row = 0; row < out.patch.vertices.size(); ++row) {
     const int w = out.patch.vertices[row];
     auto r = out.from_parent.row(static_cast<Eigen::Index>(row));
+    out.origin.push_back(w < n ? std::array<int, 2>{w, -1}
+                               : std::array<int, 2>{edges[static_cast<std::size_t>(w - n)].a,
+                                                    edges[static_cast<std::size_t>(w - n)].b});
     if (w < n) {  // even: Loop's vertex rule over the parent ring (Eq. 3)
       if (!rings.ring(w, ring))
         throw std::logic_error("subdivide: an even vertex of a child patch has no ring");
@@ -630,6 +634,42 @@ std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
   const auto [it, inserted] = cache.emplace(key, std::move(rule));
   if (inserted) cached_bytes += bytes;
   return it->second;
+}
+
+std::shared_ptr<const LoopChildPatch> loop_child_patch(const LoopPatch& parent, int child) {
+  if (child < 0 || child > 3) throw std::invalid_argument("loop_child_patch: child in [0, 3]");
+  // Keyed by connectivity, as the rules are: an adaptive space asks for the same few patches
+  // (the regular one above all) for every cell it subdivides.
+  using Key = std::pair<int, Triangles>;
+  static std::mutex mutex;
+  static std::map<Key, std::shared_ptr<const LoopChildPatch>> cache;
+  Key key{child, parent.triangles};
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    const auto it = cache.find(key);
+    if (it != cache.end()) return it->second;
+  }
+  LoopPatch local = parent;
+  for (std::size_t i = 0; i < local.vertices.size(); ++i) local.vertices[i] = static_cast<std::int32_t>(i);
+  Child c = subdivide(local, child);
+  auto out = std::make_shared<LoopChildPatch>();
+  out->patch = std::move(c.patch);
+  out->from_parent = std::move(c.from_parent);
+  out->origin = std::move(c.origin);
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (cache.size() > 4096) cache.clear();  // bounded over a long session of many meshes
+  return cache.emplace(std::move(key), std::move(out)).first->second;
+}
+
+int loop_descend(double& u, double& v) {
+  const int c = child_containing(u, v);
+  to_child(c, u, v);
+  return c;
+}
+
+RingOracle triangle_rings(std::int32_t vertices, const std::vector<std::array<int, 3>>& triangles) {
+  auto rings = std::make_shared<const NetRings>(vertices, triangles);
+  return [rings](std::int32_t v, std::vector<std::int32_t>& out) { return rings->ring(v, out); };
 }
 
 }  // namespace rgbmesh::fem

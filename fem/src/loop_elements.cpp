@@ -702,26 +702,34 @@ Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveO
     return detail::solve_nitsche_system(s, options, problem.name, nitsche.penalty,
                                         "LoopNitscheOptions::penalty, 4 by default");
   }
+  return detail::solve_closed_loop_system(s, problem, options, Eigen::VectorXd::Ones(s.a.rows()));
+}
+
+Solution detail::solve_closed_loop_system(LoopSystem& s, const Problem& problem, const SolveOptions& options,
+                                          const Eigen::VectorXd& constant) {
   const bool zero_mean = problem.c == 0;
   if (zero_mean) {
     // A closed surface with c = 0: solutions differ by constants (which the Loop space holds:
     // its functions sum to one) and exist only for a source of zero mean; the discrete load is
-    // then made exactly compatible, one value fixed, the result shifted to zero mean.
+    // then made exactly compatible (orthogonal to the constant's coefficients), one value
+    // fixed where the constant's coefficient is not zero, the result shifted to zero mean.
     if (std::abs(s.integral) > problem.mean_tolerance * s.magnitude)
       throw InputError("problem '" + problem.name +
                        "': on a closed surface with c = 0 the source must have zero mean, but ∫f = " +
                        std::to_string(s.integral) + "; use c > 0, or subtract the mean");
-    s.b -= (s.b.sum() / s.area.sum()) * s.area;
-    for (SparseMatrix::InnerIterator it(s.a, 0); it; ++it) it.valueRef() = it.row() == 0 ? 1.0 : 0.0;
-    for (Eigen::Index j = 1; j < s.a.outerSize(); ++j)
+    const double measure = s.area.dot(constant);
+    s.b -= (s.b.dot(constant) / measure) * s.area;
+    Eigen::Index pinned = 0;
+    while (constant(pinned) == 0) ++pinned;
+    for (Eigen::Index j = 0; j < s.a.outerSize(); ++j)
       for (SparseMatrix::InnerIterator it(s.a, j); it; ++it)
-        if (it.row() == 0) it.valueRef() = 0.0;
-    s.b(0) = 0;
+        if (it.row() == pinned || j == pinned) it.valueRef() = it.row() == j ? 1.0 : 0.0;
+    s.b(pinned) = 0;
   }
   Solution sol = solve_linear_system(s.a, s.b, detail::loop_solver(options, s.a.rows()), problem.name);
   sol.assembly_seconds = s.seconds;
   sol.zero_mean = zero_mean;
-  if (zero_mean) sol.u.array() -= s.area.dot(sol.u) / s.area.sum();
+  if (zero_mean) sol.u -= (s.area.dot(sol.u) / s.area.dot(constant)) * constant;
   return sol;
 }
 

@@ -90,6 +90,27 @@ struct LoopQuadratureOptions {
 std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
                                                       const LoopQuadratureOptions& options = {});
 
+/// One Loop step of a patch, kept to the patch of child `child` (0-3) of its central triangle:
+/// children 0-2 at corners 0-2, child 3 the middle one (its corners the midpoints of edges
+/// 12, 20, 01). The child's vertices are numbered in the subdivided patch: 0..n-1 are the
+/// parent's vertices (even), n and up the midpoints of its edges (odd); `origin` gives each
+/// one's parents in the parent's numbering, {v, -1} for an even vertex. The child's control
+/// values are from_parent times the parent's. Built once per connectivity (thread-safe).
+struct LoopChildPatch {
+  LoopPatch patch;
+  Eigen::MatrixXd from_parent;
+  std::vector<std::array<int, 2>> origin;
+};
+std::shared_ptr<const LoopChildPatch> loop_child_patch(const LoopPatch& parent, int child);
+
+/// The child of the parameter triangle that holds the point (u, v) (numbered as for
+/// loop_child_patch); u and v become the point's parameters in that child.
+int loop_descend(double& u, double& v);
+
+/// The rings of a small closed mesh given by its triangles (counter-clockwise), for
+/// gather_loop_patch.
+RingOracle triangle_rings(std::int32_t vertices, const std::vector<std::array<int, 3>>& triangles);
+
 /// Gauss-Legendre points and weights on [0, 1] (weights sum to 1).
 void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w);
 

@@ -1,0 +1,86 @@
+#pragma once
+/// \file
+/// Loop-basis elements on an adaptive RGB mesh: the hierarchical basis of the selectively
+/// refined Loop space.
+///
+/// The unknowns are one coefficient per vertex of the RGB mesh. A base vertex's coefficient is
+/// its control value at level 0; a vertex inserted at level l (the midpoint of a level l-1
+/// edge) carries a detail, added at level l to the control value that Loop's edge rule gives
+/// it from the level l-1 values. So the control values of every level follow from the
+/// coefficients as the surface's control points follow from the base mesh, and the discrete
+/// functions are those of Loop subdivision with details: C² except at extraordinary vertices.
+/// On a uniformly refined mesh this is the space of build_loop_space (another basis of it);
+/// refining adds a function with a zero coefficient (the function is unchanged), coarsening
+/// drops a detail, so refine-then-coarsen gives the same function back exactly.
+///
+/// Integration: a function inserted at level l is a level-l Loop basis function, smooth on the
+/// level-l triangles of its two-ring. The integration cells are the triangles of the Loop
+/// hierarchy (base triangles, split 1-to-4) refined where a finer function is not smooth: a
+/// cell of level l is split when one of its children's patches holds a vertex the RGB mesh
+/// inserted at level l + 1 (no finer function can reach a cell otherwise: a level l + 2
+/// vertex is the midpoint of an edge with a level l + 1 end in that patch). On each cell every
+/// function is a combination of the cell's level-l patch functions, whose control values are
+/// the `expansion` of the coefficients. RGB's red and blue triangles decide nothing here.
+
+#include <Eigen/SparseCore>
+#include <optional>
+#include <vector>
+
+#include "rgbmesh/fem/loop_elements.hpp"
+
+namespace rgbmesh::fem {
+
+struct AdaptiveLoopSpace {
+  /// The integration cells, as the elements of a LoopSpace whose DOFs are control values at
+  /// the cells' levels (the "control vertices": each level's vertices that some cell's patch
+  /// uses). Errors, estimates and pictures take `cells` and control_values(u): for instance
+  /// loop_error_norms(space.cells, space.control_values(u), exact).
+  LoopSpace cells;
+  std::vector<int> cell_level;  ///< per cell
+  /// The hierarchy of triangles down to the cells: nodes 0 .. T0 - 1 are the base triangles
+  /// (RgbMesh::base_triangles, parameters from their corners as listed), a split node's
+  /// children are first_child + 0..3 (numbered as loop_child_patch does), a leaf names its cell.
+  struct Node {
+    std::int32_t first_child = -1, cell = -1;
+  };
+  std::vector<Node> tree;
+  /// Per control vertex (DOF of `cells`): its level, and the RGB vertex it is, if any.
+  struct ControlVertex {
+    int level = 0;
+    VertexHandle vertex;  ///< invalid for a point of the Loop hierarchy the RGB mesh does not hold
+    /// The control vertices of level - 1 it is computed from: {v, -1} for the same point one
+    /// level up (Loop's vertex rule), {a, b} for the midpoint of edge ab (the edge rule);
+    /// {-1, -1} at level 0.
+    std::array<std::int32_t, 2> origin{-1, -1};
+  };
+  std::vector<ControlVertex> control_vertex;
+  /// control values = expansion * coefficients (rows: control vertices; columns: coefficients).
+  SparseMatrix expansion;
+  std::vector<VertexHandle> vertex;  ///< coefficient -> RGB vertex (base vertices first)
+  std::size_t num_base = 0;          ///< coefficients 0 .. num_base - 1 are the base vertices' values
+  std::vector<std::int32_t> coefficient_of_vertex;  ///< vertex slot -> coefficient (-1 if none)
+
+  std::size_t num_dofs() const { return vertex.size(); }
+  Eigen::VectorXd control_values(const Eigen::VectorXd& u) const { return expansion * u; }
+  /// The coefficients of the function 1 (the base vertices' functions sum to one).
+  Eigen::VectorXd constant() const;
+};
+
+/// The value at point (u, v) of base triangle `base_triangle` of the function whose control
+/// values (AdaptiveLoopSpace::control_values) are given: Loop's limit, exactly.
+double loop_value_at(const AdaptiveLoopSpace& space, const Eigen::VectorXd& control,
+                     std::size_t base_triangle, double u, double v);
+
+/// The hierarchical Loop space of a closed RGB mesh in any state of selective refinement. Throws InputError
+/// on an open mesh, or where a base triangle's patch folds onto itself (the base mesh is too coarse: refine
+/// it once and use that as the base).
+AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh,
+                                            std::optional<Projection> projection = std::nullopt,
+                                            const LoopQuadratureOptions& quadrature = {});
+
+/// -Δu + c u = f on the closed surface, as solve_loop: the cells' matrices assembled on their
+/// control values (K), then the coefficients' system expansionᵀ K expansion. With c = 0, the
+/// zero-mean solution. The result's `u` holds the coefficients.
+Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options = {});
+
+}  // namespace rgbmesh::fem

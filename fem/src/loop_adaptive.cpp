@@ -1,0 +1,278 @@
+// The hierarchical Loop space of an adaptive RGB mesh (see loop_adaptive.hpp).
+
+#include "rgbmesh/fem/loop_adaptive.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+#include <unordered_map>
+
+#include "loop_assembly.hpp"
+#include "rgbmesh/canonical.hpp"
+#include "rgbmesh/errors.hpp"
+#include "rgbmesh/timing.hpp"
+
+namespace rgbmesh::fem {
+
+namespace {
+
+std::uint64_t pair_key(std::int32_t a, std::int32_t b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+}
+
+// The control vertices as they are found, level by level: each one's rule (weights of
+// control vertices one level up) and point of the surface's control net.
+struct ControlNet {
+  std::vector<AdaptiveLoopSpace::ControlVertex> vertex;
+  std::vector<std::size_t> rule_start{0};
+  std::vector<std::pair<std::int32_t, double>> rule;
+  std::vector<Vec3> point;
+  std::vector<std::int32_t> even_child;                       // control vertex -> the same point a level down
+  std::unordered_map<std::uint64_t, std::int32_t> odd_child;  // edge (a, b) -> its midpoint a level down
+
+  std::int32_t add(const AdaptiveLoopSpace::ControlVertex& v, const Vec3& p) {
+    vertex.push_back(v);
+    point.push_back(p);
+    rule_start.push_back(rule.size());
+    even_child.push_back(-1);
+    return static_cast<std::int32_t>(vertex.size() - 1);
+  }
+};
+
+// A cell: a triangle of the Loop hierarchy with its patch (vertices: control vertices).
+struct Cell {
+  LoopPatch patch;
+  std::int32_t node = -1;  // in AdaptiveLoopSpace::tree
+};
+
+}  // namespace
+
+Eigen::VectorXd AdaptiveLoopSpace::constant() const {
+  Eigen::VectorXd one = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(num_dofs()));
+  one.head(static_cast<Eigen::Index>(num_base)).setOnes();
+  return one;
+}
+
+AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<Projection> projection,
+                                            const LoopQuadratureOptions& quadrature) {
+  if (quadrature.points_per_direction < 1 || quadrature.points_per_direction > 20 ||
+      quadrature.extraordinary_depth < 0 || quadrature.extraordinary_depth > 20)
+    throw std::invalid_argument(
+        "build_adaptive_loop_space: points per direction in [1, 20], depth in [0, 20]");
+  for (const VertexHandle v : mesh.vertices())
+    if (mesh.is_boundary(v))
+      throw InputError("Loop elements on an adaptive mesh need a closed surface, but vertex " +
+                       std::to_string(v.idx) + " is on a boundary");
+  AdaptiveLoopSpace space;
+  space.cells.projection = std::move(projection);
+  space.cells.level = -1;
+
+  // The coefficients: base vertices first, each group in canonical order (a resumed run
+  // numbers them as the uninterrupted one).
+  std::vector<VertexHandle> order = canonical_vertex_order(mesh);
+  std::stable_partition(order.begin(), order.end(), [&mesh](VertexHandle v) { return mesh.level(v) == 0; });
+  space.coefficient_of_vertex.assign(static_cast<std::size_t>(mesh.vertex_slots()), -1);
+  std::unordered_map<std::uint64_t, std::int32_t> midpoint;  // parents' slots -> inserted vertex
+  for (const VertexHandle v : order) {
+    space.coefficient_of_vertex[static_cast<std::size_t>(v.idx)] =
+        static_cast<std::int32_t>(space.vertex.size());
+    space.vertex.push_back(v);
+    if (mesh.level(v) == 0) {
+      ++space.num_base;
+    } else {
+      const auto& p = mesh.parents(v);
+      midpoint.emplace(pair_key(p[0].idx, p[1].idx), v.idx);
+    }
+  }
+
+  // Level 0: the base triangles, whose corners are base vertices (slot = index in the input).
+  ControlNet net;
+  const std::size_t base_count = mesh.num_base_vertices();
+  for (std::size_t i = 0; i < base_count; ++i) {
+    const VertexHandle v(static_cast<std::int32_t>(i));
+    AdaptiveLoopSpace::ControlVertex cv;
+    cv.vertex = v;
+    net.add(cv, mesh.control_point(v, 0));
+  }
+  const RingOracle base_rings = triangle_rings(static_cast<std::int32_t>(base_count), mesh.base_triangles());
+  std::vector<Cell> level_cells;
+  for (const auto& t : mesh.base_triangles()) {
+    Cell c;
+    try {
+      c.patch = gather_loop_patch({t[0], t[1], t[2]}, base_rings);
+    } catch (const InputError& e) {
+      throw InputError(std::string(e.what()) +
+                       " (adaptive Loop elements build on the base mesh: give a base mesh refined once)");
+    }
+    c.node = static_cast<std::int32_t>(space.tree.size());
+    space.tree.emplace_back();
+    level_cells.push_back(std::move(c));
+  }
+
+  // Level by level: a cell is split when a child's patch holds a vertex the RGB mesh inserted
+  // at the child's level; otherwise it is an integration cell.
+  std::vector<Cell> leaves;
+  std::vector<int> leaf_level;
+  const auto rgb_midpoint = [&](std::int32_t a, std::int32_t b) -> std::int32_t {
+    const VertexHandle va = net.vertex[static_cast<std::size_t>(a)].vertex,
+                       vb = net.vertex[static_cast<std::size_t>(b)].vertex;
+    if (!va.valid() || !vb.valid()) return -1;
+    const auto it = midpoint.find(pair_key(va.idx, vb.idx));
+    return it == midpoint.end() ? -1 : it->second;
+  };
+  for (int level = 0; !level_cells.empty(); ++level) {
+    std::vector<Cell> next;
+    for (Cell& cell : level_cells) {
+      std::array<std::shared_ptr<const LoopChildPatch>, 4> kids;
+      bool split = false;
+      for (int k = 0; k < 4; ++k) {
+        kids[static_cast<std::size_t>(k)] = loop_child_patch(cell.patch, k);
+        for (const auto& o : kids[static_cast<std::size_t>(k)]->origin)
+          split =
+              split || (o[1] >= 0 && rgb_midpoint(cell.patch.vertices[static_cast<std::size_t>(o[0])],
+                                                  cell.patch.vertices[static_cast<std::size_t>(o[1])]) >= 0);
+      }
+      if (!split) {
+        space.tree[static_cast<std::size_t>(cell.node)].cell = static_cast<std::int32_t>(leaves.size());
+        leaves.push_back(std::move(cell));
+        leaf_level.push_back(level);
+        continue;
+      }
+      space.tree[static_cast<std::size_t>(cell.node)].first_child =
+          static_cast<std::int32_t>(space.tree.size());
+      for (const auto& kid : kids) {
+        Cell child;
+        child.patch = kid->patch;
+        child.node = static_cast<std::int32_t>(space.tree.size());
+        space.tree.emplace_back();
+        for (std::size_t i = 0; i < kid->origin.size(); ++i) {
+          const auto o = kid->origin[i];
+          const std::int32_t a = cell.patch.vertices[static_cast<std::size_t>(o[0])];
+          const std::int32_t b = o[1] < 0 ? -1 : cell.patch.vertices[static_cast<std::size_t>(o[1])];
+          std::int32_t cv = b < 0 ? net.even_child[static_cast<std::size_t>(a)] : -1;
+          if (b >= 0) {
+            const auto it = net.odd_child.find(pair_key(a, b));
+            if (it != net.odd_child.end()) cv = it->second;
+          }
+          if (cv < 0) {
+            AdaptiveLoopSpace::ControlVertex v;
+            v.level = level + 1;
+            v.origin = {a, b};
+            if (b < 0) {
+              v.vertex = net.vertex[static_cast<std::size_t>(a)].vertex;
+            } else {
+              const std::int32_t slot = rgb_midpoint(a, b);
+              if (slot >= 0) v.vertex = VertexHandle(slot);
+            }
+            Vec3 p;
+            const auto row = kid->from_parent.row(static_cast<Eigen::Index>(i));
+            for (Eigen::Index j = 0; j < row.size(); ++j) {
+              if (row(j) == 0) continue;
+              const std::int32_t from = cell.patch.vertices[static_cast<std::size_t>(j)];
+              net.rule.emplace_back(from, row(j));
+              p += row(j) * net.point[static_cast<std::size_t>(from)];
+            }
+            cv = net.add(v, p);
+            if (b < 0)
+              net.even_child[static_cast<std::size_t>(a)] = cv;
+            else
+              net.odd_child.emplace(pair_key(a, b), cv);
+          }
+          child.patch.vertices[i] = cv;
+        }
+        next.push_back(std::move(child));
+      }
+    }
+    level_cells = std::move(next);
+  }
+
+  // The expansion, row by row in the order found (every rule refers to earlier rows). Every
+  // control vertex is kept, those only the split cells use too: they are the chain from the
+  // base that each value comes down (ControlVertex::origin), and cost no matrix entries.
+  const std::size_t m = net.vertex.size();
+  std::vector<Eigen::Triplet<double>> entries;
+  {
+    std::vector<std::vector<std::pair<std::int32_t, double>>> rows(m);
+    std::vector<double> dense(space.num_dofs(), 0.0);
+    std::vector<char> seen(space.num_dofs(), 0);
+    std::vector<std::int32_t> touched;
+    for (std::size_t r = 0; r < m; ++r) {
+      const AdaptiveLoopSpace::ControlVertex& v = net.vertex[r];
+      touched.clear();
+      const auto add = [&](std::int32_t col, double w) {
+        const auto c = static_cast<std::size_t>(col);
+        if (!seen[c]) touched.push_back(col), seen[c] = 1;
+        dense[c] += w;
+      };
+      for (std::size_t k = net.rule_start[r]; k < net.rule_start[r + 1]; ++k)
+        for (const auto& [col, w] : rows[static_cast<std::size_t>(net.rule[k].first)])
+          add(col, net.rule[k].second * w);
+      // A level-0 vertex is its coefficient; an inserted vertex adds its detail at the level
+      // it was inserted at.
+      if (v.vertex.valid() && mesh.level(v.vertex) == v.level)
+        add(space.coefficient_of_vertex[static_cast<std::size_t>(v.vertex.idx)], 1.0);
+      std::sort(touched.begin(), touched.end());
+      rows[r].reserve(touched.size());
+      for (const std::int32_t col : touched) {
+        const auto c = static_cast<std::size_t>(col);
+        rows[r].emplace_back(col, dense[c]);
+        entries.emplace_back(static_cast<Eigen::Index>(r), col, dense[c]);
+        dense[c] = 0, seen[c] = 0;
+      }
+    }
+  }
+  space.control_vertex = std::move(net.vertex);
+  for (const AdaptiveLoopSpace::ControlVertex& v : space.control_vertex)
+    space.cells.vertex.push_back(v.vertex);
+  space.cells.control = std::move(net.point);
+  space.expansion.resize(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(space.num_dofs()));
+  space.expansion.setFromTriplets(entries.begin(), entries.end());
+
+  // The cells, with their rules (one per connectivity, shared).
+  space.cells.elements.resize(leaves.size());
+  for (std::size_t e = 0; e < leaves.size(); ++e) {
+    LoopSpace::Element& el = space.cells.elements[e];
+    el.dofs = leaves[e].patch.vertices;
+    el.rule = loop_quadrature(leaves[e].patch, quadrature);
+  }
+  space.cell_level = std::move(leaf_level);
+  return space;
+}
+
+double loop_value_at(const AdaptiveLoopSpace& space, const Eigen::VectorXd& control,
+                     std::size_t base_triangle, double u, double v) {
+  if (base_triangle >= space.tree.size() || !(u >= 0 && v >= 0 && u + v <= 1) ||
+      control.size() != static_cast<Eigen::Index>(space.control_vertex.size()))
+    throw std::invalid_argument("loop_value_at: no such point, or control values of another space");
+  std::size_t node = base_triangle;
+  while (space.tree[node].cell < 0) {
+    const int child = loop_descend(u, v);
+    node = static_cast<std::size_t>(space.tree[node].first_child + child);
+  }
+  const LoopSpace::Element& cell = space.cells.elements[static_cast<std::size_t>(space.tree[node].cell)];
+  const Eigen::VectorXd w = evaluate_loop_basis(cell.rule->patch, u, v).value;
+  double sum = 0;
+  for (std::size_t i = 0; i < cell.dofs.size(); ++i)
+    sum += w(static_cast<Eigen::Index>(i)) * control(cell.dofs[i]);
+  return sum;
+}
+
+Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options) {
+  if (!(problem.c >= 0) || !std::isfinite(problem.c))
+    throw InputError("problem '" + problem.name + "': the coefficient c must be finite and >= 0");
+  if (!problem.source && !problem.source_values)
+    throw InputError("problem '" + problem.name + "' has no source");
+  detail::LoopSystem s = detail::assemble_loop_system(space.cells, false, problem.c, problem.source,
+                                                      problem.source_values, problem.name);
+  const auto t0 = std::chrono::steady_clock::now();
+  const SparseMatrix& e = space.expansion;
+  const SparseMatrix ke = s.a * e;
+  s.a = SparseMatrix(e.transpose() * ke);
+  s.b = e.transpose() * s.b;
+  s.area = e.transpose() * s.area;
+  s.seconds += seconds_since(t0);
+  return detail::solve_closed_loop_system(s, problem, options, space.constant());
+}
+
+}  // namespace rgbmesh::fem

@@ -1,0 +1,277 @@
+// The hierarchical Loop space of an adaptive RGB mesh (fem::build_adaptive_loop_space): its
+// control values against OpenSubdiv's Loop subdivision with the details added, the uniform
+// space it must equal on a uniform mesh, exact transfer under refinement and coarsening, and
+// the accuracy adaptivity buys on sphere-peak.
+
+#include <gtest/gtest.h>
+#include <opensubdiv/far/primvarRefiner.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <random>
+
+#include "opensubdiv_refiner.hpp"
+#include "rgbmesh/errors.hpp"
+#include "rgbmesh/fem/loop_adaptive.hpp"
+#include "rgbmesh/refinement.hpp"
+#include "test_meshes.hpp"
+
+namespace rgbmesh {
+namespace {
+
+using OpenSubdiv::Far::Index;
+
+const fem::Projection kSphere(fem::project_to_unit_sphere);
+
+// The RGB mesh of `base` refined to `floor` everywhere and to `peak` in a ball around the
+// limit point of the base's first vertex (radius relative to the first base edge): triangles
+// of several levels, with red and blue ones between them.
+RgbMesh graded(const testing::BaseMesh& base, int floor, int peak, double radius) {
+  RgbMesh mesh = base.build();
+  if (floor > 0) selective_refinement(mesh, AtLeastLevel(floor));
+  const auto& t = base.triangles[0];
+  const double edge =
+      norm(base.points[static_cast<std::size_t>(t[0])] - base.points[static_cast<std::size_t>(t[1])]);
+  mesh.compute_limits();
+  selective_refinement(mesh, BallLevel(mesh.limit_position(VertexHandle(0)), radius * edge, peak));
+  return mesh;
+}
+
+struct Scalar {
+  double x = 0;
+  void Clear() { x = 0; }
+  void AddWithWeight(const Scalar& s, double w) { x += w * s.x; }
+};
+
+// Per level, OpenSubdiv's index of each RGB vertex that exists by then, and of each control
+// vertex of the space (from its origin: the child of a vertex or of an edge one level up).
+std::vector<Index> osd_index_of_control_vertices(const fem::AdaptiveLoopSpace& space,
+                                                 const OpenSubdiv::Far::TopologyRefiner& refiner) {
+  std::vector<Index> index(space.control_vertex.size(), -1);
+  for (std::size_t i = 0; i < space.control_vertex.size(); ++i) {
+    const auto& cv = space.control_vertex[i];
+    if (cv.level == 0) {
+      index[i] = cv.vertex.idx;  // base vertices keep their input index as slot
+      continue;
+    }
+    const auto& up = refiner.GetLevel(cv.level - 1);
+    const Index a = index[static_cast<std::size_t>(cv.origin[0])];
+    if (cv.origin[1] < 0) {
+      index[i] = up.GetVertexChildVertex(a);
+    } else {
+      const Index edge = up.FindEdge(a, index[static_cast<std::size_t>(cv.origin[1])]);
+      EXPECT_NE(edge, OpenSubdiv::Far::INDEX_INVALID);
+      index[i] = up.GetEdgeChildVertex(edge);
+    }
+  }
+  return index;
+}
+
+// The coefficients' control values are Loop subdivision of the base values with each
+// inserted vertex's detail added at its level: what OpenSubdiv's uniform refinement gives when
+// the details are added between its steps. And the surface's control points are the same
+// subdivision of the base points (no details).
+TEST(AdaptiveLoopSpace, ControlValuesAreLoopSubdivisionWithDetails) {
+  for (const testing::BaseMesh& base :
+       {testing::icosahedron(), testing::torus(6, 8), testing::double_torus()}) {
+    RgbMesh mesh = graded(base, 1, 4, 0.5);
+    const fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh);
+    EXPECT_EQ(space.num_dofs(), mesh.num_vertices());
+    int deepest = 0;
+    for (const auto& cv : space.control_vertex) deepest = std::max(deepest, cv.level);
+    ASSERT_GE(deepest, 4) << base.name;
+
+    std::mt19937 random(3);
+    std::uniform_real_distribution<double> unit(-1, 1);
+    Eigen::VectorXd u(static_cast<Eigen::Index>(space.num_dofs()));
+    for (Eigen::Index i = 0; i < u.size(); ++i) u(i) = unit(random);
+    const Eigen::VectorXd control = space.control_values(u);
+
+    auto refiner = testing::loop_refiner(base);
+    refiner->RefineUniform(OpenSubdiv::Far::TopologyRefiner::UniformOptions(deepest));
+    OpenSubdiv::Far::PrimvarRefinerReal<double> primvar(*refiner);
+    std::vector<std::vector<Scalar>> value(static_cast<std::size_t>(deepest) + 1);
+    std::array<std::vector<std::vector<Scalar>>, 3> coordinate;
+    for (auto& c : coordinate) c.resize(value.size());
+    // RGB vertex slot -> OpenSubdiv index at the current level.
+    std::map<std::int32_t, Index> osd;
+    for (std::size_t i = 0; i < base.points.size(); ++i)
+      osd[static_cast<std::int32_t>(i)] = static_cast<Index>(i);
+    value[0].resize(base.points.size());
+    for (int k = 0; k < 3; ++k) coordinate[static_cast<std::size_t>(k)][0].resize(base.points.size());
+    for (std::size_t i = 0; i < base.points.size(); ++i) {
+      value[0][i].x = u(space.coefficient_of_vertex[i]);
+      for (int k = 0; k < 3; ++k) coordinate[static_cast<std::size_t>(k)][0][i].x = base.points[i][k];
+    }
+    for (int level = 1; level <= deepest; ++level) {
+      const auto& up = refiner->GetLevel(level - 1);
+      const std::size_t n = static_cast<std::size_t>(refiner->GetLevel(level).GetNumVertices());
+      const auto interpolate = [&](std::vector<std::vector<Scalar>>& field) {
+        field[static_cast<std::size_t>(level)].resize(n);
+        Scalar* src = field[static_cast<std::size_t>(level) - 1].data();
+        Scalar* dst = field[static_cast<std::size_t>(level)].data();
+        primvar.Interpolate(level, src, dst);
+      };
+      interpolate(value);
+      for (auto& c : coordinate) interpolate(c);
+      std::map<std::int32_t, Index> next;
+      for (const auto& [slot, index] : osd) next[slot] = up.GetVertexChildVertex(index);
+      for (const VertexHandle v : mesh.vertices()) {
+        if (mesh.level(v) != level) continue;
+        const auto& p = mesh.parents(v);
+        const Index edge = up.FindEdge(osd.at(p[0].idx), osd.at(p[1].idx));
+        ASSERT_NE(edge, OpenSubdiv::Far::INDEX_INVALID);
+        const Index child = up.GetEdgeChildVertex(edge);
+        next[v.idx] = child;
+        value[static_cast<std::size_t>(level)][static_cast<std::size_t>(child)].x +=
+            u(space.coefficient_of_vertex[static_cast<std::size_t>(v.idx)]);
+      }
+      osd = std::move(next);
+    }
+    const std::vector<Index> index = osd_index_of_control_vertices(space, *refiner);
+    double worst_value = 0, worst_point = 0, scale = 0;
+    for (std::size_t i = 0; i < index.size(); ++i) {
+      const auto level = static_cast<std::size_t>(space.control_vertex[i].level);
+      const auto j = static_cast<std::size_t>(index[i]);
+      worst_value =
+          std::max(worst_value, std::abs(control(static_cast<Eigen::Index>(i)) - value[level][j].x));
+      scale = std::max(scale, std::abs(value[level][j].x));
+      for (int k = 0; k < 3; ++k)
+        worst_point = std::max(worst_point, std::abs(space.cells.control[i][k] -
+                                                     coordinate[static_cast<std::size_t>(k)][level][j].x));
+      // The RGB vertex a control vertex names is OpenSubdiv's vertex there.
+      if (space.control_vertex[i].vertex.valid() && space.control_vertex[i].level == deepest) {
+        const auto it = osd.find(space.control_vertex[i].vertex.idx);
+        ASSERT_TRUE(it != osd.end());
+        EXPECT_EQ(it->second, index[i]);
+      }
+    }
+    std::printf(
+        "  %s: %zu coefficients, %zu control vertices to level %d, %zu cells; worst |difference| %.1e "
+        "(values up to %.1f), %.1e (points)\n",
+        base.name.c_str(), space.num_dofs(), space.control_vertex.size(), deepest,
+        space.cells.elements.size(), worst_value, scale, worst_point);
+    EXPECT_LT(worst_value, 1e-12 * scale) << base.name;
+    EXPECT_LT(worst_point, 1e-12) << base.name;
+  }
+}
+
+RgbMesh uniform(const testing::BaseMesh& base, int level) {
+  RgbMesh mesh = base.build();
+  selective_refinement(mesh, UniformLevel(level));
+  return mesh;
+}
+
+// On a uniformly refined mesh the hierarchical space is the uniform space of
+// build_loop_space in another basis: the same cells, and the same discrete solution.
+TEST(AdaptiveLoopSpace, UniformMeshGivesTheUniformSpace) {
+  const fem::Problem problem = fem::sphere_harmonic();
+  RgbMesh mesh = uniform(testing::icosahedron(), 3);
+  // The two number each triangle's corners differently (the hierarchy's child order, the
+  // canonical one), so their quadrature points differ: with a fine rule the difference is
+  // below the rules' error (measured: 1.8e-7 of the solution's size with the default rule,
+  // 1.4e-9 with 7 x 7 points).
+  fem::LoopQuadratureOptions rule;
+  rule.points_per_direction = 7;
+  const fem::AdaptiveLoopSpace adaptive = fem::build_adaptive_loop_space(mesh, kSphere, rule);
+  const fem::LoopSpace nodal = fem::build_loop_space(mesh, kSphere, rule);
+  ASSERT_EQ(adaptive.cells.elements.size(), nodal.elements.size());
+  for (const int level : adaptive.cell_level) ASSERT_EQ(level, 3);
+  const fem::Solution a = fem::solve_loop(adaptive, problem), b = fem::solve_loop(nodal, problem);
+  const Eigen::VectorXd control = adaptive.control_values(a.u);
+  double worst = 0, scale = b.u.cwiseAbs().maxCoeff();
+  std::size_t compared = 0;
+  for (std::size_t i = 0; i < adaptive.control_vertex.size(); ++i) {
+    const auto& cv = adaptive.control_vertex[i];
+    if (cv.level != 3) continue;
+    ASSERT_TRUE(cv.vertex.valid());
+    worst = std::max(worst, std::abs(control(static_cast<Eigen::Index>(i)) -
+                                     b.u(nodal.dof_of_vertex[static_cast<std::size_t>(cv.vertex.idx)])));
+    ++compared;
+  }
+  const fem::ErrorNorms ea = fem::loop_error_norms(adaptive.cells, control, *problem.exact, true),
+                        eb = fem::loop_error_norms(nodal, b.u, *problem.exact, true);
+  std::printf("  %zu control values, worst difference %.2e (of %.2e); H1 %.6e against %.6e\n", compared,
+              worst, scale, ea.h1, eb.h1);
+  EXPECT_EQ(compared, mesh.num_vertices());
+  EXPECT_LT(worst, 1e-8 * scale);
+  EXPECT_NEAR(ea.h1, eb.h1, 1e-7 * eb.h1);
+}
+
+// -Δu + u = 1 has the solution 1 on any closed surface; the space holds it (the base
+// functions sum to one, the details are zero), on graded meshes with cells of five levels.
+TEST(AdaptiveLoopSpace, ReproducesConstants) {
+  fem::Problem one;
+  one.name = "one";
+  one.c = 1;
+  one.source = [](const Vec3&) { return 1.0; };
+  for (const testing::BaseMesh& base : {testing::icosahedron(), testing::torus(6, 8)}) {
+    RgbMesh mesh = graded(base, 1, 4, 0.5);
+    const fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh);
+    const fem::Solution s = fem::solve_loop(space, one);
+    EXPECT_LT((s.u - space.constant()).cwiseAbs().maxCoeff(), 1e-11) << base.name;
+    EXPECT_LT((space.control_values(s.u).array() - 1.0).abs().maxCoeff(), 1e-11) << base.name;
+  }
+}
+
+// Refinement keeps the function: the coefficients of the coarse mesh's vertices, with zero
+// details at the new ones, give the same values everywhere (compared at points of every base
+// triangle, through the two spaces' different cells). Coarsening the refined mesh back drops
+// exactly those details: the coefficients are the first ones again.
+TEST(AdaptiveLoopSpace, RefineThenCoarsenGivesTheFunctionBack) {
+  const testing::BaseMesh base = testing::icosahedron();
+  RgbMesh mesh = graded(base, 2, 3, 0.5);
+  const fem::AdaptiveLoopSpace coarse = fem::build_adaptive_loop_space(mesh);
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::map<std::int32_t, double> by_vertex;  // slot -> coefficient
+  Eigen::VectorXd u(static_cast<Eigen::Index>(coarse.num_dofs()));
+  for (std::size_t i = 0; i < coarse.num_dofs(); ++i)
+    by_vertex[coarse.vertex[i].idx] = u(static_cast<Eigen::Index>(i)) = unit(random);
+
+  mesh.compute_limits();
+  selective_refinement(mesh, BallLevel(mesh.limit_position(VertexHandle(5)), 0.6, 5));
+  const fem::AdaptiveLoopSpace fine = fem::build_adaptive_loop_space(mesh);
+  ASSERT_GT(fine.num_dofs(), coarse.num_dofs() + 100);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(fine.num_dofs()));
+  for (std::size_t i = 0; i < fine.num_dofs(); ++i) {
+    const auto it = by_vertex.find(fine.vertex[i].idx);
+    if (it != by_vertex.end()) v(static_cast<Eigen::Index>(i)) = it->second;
+  }
+  const Eigen::VectorXd cu = coarse.control_values(u), cv = fine.control_values(v);
+  double worst = 0;
+  for (std::size_t t = 0; t < base.triangles.size(); ++t) {
+    for (int sample = 0; sample < 50; ++sample) {
+      double a = (unit(random) + 1) / 2, b = (unit(random) + 1) / 2;
+      if (a + b > 1) a = 1 - a, b = 1 - b;
+      worst = std::max(
+          worst, std::abs(fem::loop_value_at(coarse, cu, t, a, b) - fem::loop_value_at(fine, cv, t, a, b)));
+    }
+  }
+  std::printf("  %zu -> %zu coefficients, %zu -> %zu cells: worst difference %.1e\n", coarse.num_dofs(),
+              fine.num_dofs(), coarse.cells.elements.size(), fine.cells.elements.size(), worst);
+  EXPECT_LT(worst, 1e-13);
+
+  // Coarsening: every vertex the refinement inserted is removed again.
+  struct RemoveNew final : LodCriterion {
+    const std::map<std::int32_t, double>* old = nullptr;
+    double vertex_priority(const RgbMesh& m, VertexHandle x) const override {
+      return old->count(x.idx) ? 0.0 : 1.0 + m.level(x);
+    }
+  } remove_new;
+  remove_new.old = &by_vertex;
+  selective_refinement(mesh, remove_new);
+  const fem::AdaptiveLoopSpace back = fem::build_adaptive_loop_space(mesh);
+  ASSERT_EQ(back.num_dofs(), coarse.num_dofs());
+  EXPECT_EQ(back.cells.elements.size(), coarse.cells.elements.size());
+  for (std::size_t i = 0; i < back.num_dofs(); ++i) {
+    const auto it = by_vertex.find(back.vertex[i].idx);
+    ASSERT_TRUE(it != by_vertex.end());
+    EXPECT_EQ(it->second, u(static_cast<Eigen::Index>(i)));  // the same vertex, the same place
+  }
+}
+
+}  // namespace
+}  // namespace rgbmesh
