@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <string>
 #include <unordered_map>
 
@@ -44,7 +46,20 @@ struct ControlNet {
 struct Cell {
   LoopPatch patch;
   std::int32_t node = -1;  // in AdaptiveLoopSpace::tree
+  std::array<VertexHandle, 3> anchors;
 };
+
+// The RGB vertices among a cell's corners, packed first; the parent's if there are none.
+std::array<VertexHandle, 3> anchors_of(const LoopPatch& patch, const ControlNet& net,
+                                       const std::array<VertexHandle, 3>& parent) {
+  std::array<VertexHandle, 3> out;
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const VertexHandle v = net.vertex[static_cast<std::size_t>(patch.vertices[k])].vertex;
+    if (v.valid()) out[n++] = v;
+  }
+  return n > 0 ? out : parent;
+}
 
 }  // namespace
 
@@ -105,6 +120,7 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
       throw InputError(std::string(e.what()) +
                        " (adaptive Loop elements build on the base mesh: give a base mesh refined once)");
     }
+    c.anchors = anchors_of(c.patch, net, {});
     c.node = static_cast<std::int32_t>(space.tree.size());
     space.tree.emplace_back();
     level_cells.push_back(std::move(c));
@@ -135,6 +151,7 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
       }
       if (!split) {
         space.tree[static_cast<std::size_t>(cell.node)].cell = static_cast<std::int32_t>(leaves.size());
+        space.anchors.push_back(cell.anchors);
         leaves.push_back(std::move(cell));
         leaf_level.push_back(level);
         continue;
@@ -181,6 +198,7 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
           }
           child.patch.vertices[i] = cv;
         }
+        child.anchors = anchors_of(child.patch, net, cell.anchors);
         next.push_back(std::move(child));
       }
     }
@@ -256,6 +274,64 @@ double loop_value_at(const AdaptiveLoopSpace& space, const Eigen::VectorXd& cont
   for (std::size_t i = 0; i < cell.dofs.size(); ++i)
     sum += w(static_cast<Eigen::Index>(i)) * control(cell.dofs[i]);
   return sum;
+}
+
+std::vector<double> loop_indicators_on_triangles(const AdaptiveLoopSpace& space, const RgbMesh& mesh,
+                                                 const std::vector<double>& per_cell) {
+  if (per_cell.size() != space.cells.elements.size())
+    throw std::invalid_argument("loop_indicators_on_triangles: one value per cell");
+  std::vector<double> squares(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
+  VertexStar star;
+  std::vector<TriangleHandle> around, coarse;
+  for (std::size_t c = 0; c < per_cell.size(); ++c) {
+    around.clear();
+    coarse.clear();
+    for (const VertexHandle v : space.anchors[c]) {
+      if (!v.valid()) continue;
+      if (!mesh.alive(v)) throw std::invalid_argument("loop_indicators_on_triangles: not the space's mesh");
+      mesh.star(v, star);
+      for (const TriangleHandle t : star.triangles) {
+        if (std::find(around.begin(), around.end(), t) != around.end()) continue;
+        around.push_back(t);
+        if (mesh.level(t) <= space.cell_level[c]) coarse.push_back(t);
+      }
+    }
+    const std::vector<TriangleHandle>& share = coarse.empty() ? around : coarse;
+    for (const TriangleHandle t : share)
+      squares[static_cast<std::size_t>(t.idx)] +=
+          per_cell[c] * per_cell[c] / static_cast<double>(share.size());
+  }
+  for (double& x : squares) x = std::sqrt(x);
+  return squares;
+}
+
+Eigen::VectorXd loop_values_on(const AdaptiveLoopSpace& space, const Eigen::VectorXd& coefficients,
+                               const SurfaceMesh& p1) {
+  if (coefficients.size() != static_cast<Eigen::Index>(space.num_dofs()))
+    throw std::invalid_argument("loop_values_on: coefficients of another space");
+  const Eigen::VectorXd control = space.control_values(coefficients);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> by_slot(space.coefficient_of_vertex.size(), nan);
+  for (const LoopSpace::Element& cell : space.cells.elements) {
+    for (int k = 0; k < 3; ++k) {
+      const VertexHandle v =
+          space.control_vertex[static_cast<std::size_t>(cell.dofs[static_cast<std::size_t>(k)])].vertex;
+      if (!v.valid() || !std::isnan(by_slot[static_cast<std::size_t>(v.idx)])) continue;
+      const Eigen::VectorXd w = loop_corner_limit(cell.rule->patch, k);
+      double sum = 0;
+      for (std::size_t i = 0; i < cell.dofs.size(); ++i)
+        sum += w(static_cast<Eigen::Index>(i)) * control(cell.dofs[i]);
+      by_slot[static_cast<std::size_t>(v.idx)] = sum;
+    }
+  }
+  Eigen::VectorXd out(static_cast<Eigen::Index>(p1.vertex.size()));
+  for (std::size_t i = 0; i < p1.vertex.size(); ++i) {
+    const auto slot = static_cast<std::size_t>(p1.vertex[i].idx);
+    if (slot >= by_slot.size() || std::isnan(by_slot[slot]))
+      throw std::invalid_argument("loop_values_on: a P1 mesh of another RGB mesh");
+    out(static_cast<Eigen::Index>(i)) = by_slot[slot];
+  }
+  return out;
 }
 
 Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options) {

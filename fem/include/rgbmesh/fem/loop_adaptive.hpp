@@ -44,6 +44,10 @@ struct AdaptiveLoopSpace {
     std::int32_t first_child = -1, cell = -1;
   };
   std::vector<Node> tree;
+  /// Per cell, the RGB vertices among its corners, or, where none is one (a cell outside the
+  /// refined region that a finer function reaches), among the corners of its nearest ancestor
+  /// that has some (invalid handles fill the rest): where marking a cell acts on the RGB mesh.
+  std::vector<std::array<VertexHandle, 3>> anchors;
   /// Per control vertex (DOF of `cells`): its level, and the RGB vertex it is, if any.
   struct ControlVertex {
     int level = 0;
@@ -70,6 +74,20 @@ struct AdaptiveLoopSpace {
 /// values (AdaptiveLoopSpace::control_values) are given: Loop's limit, exactly.
 double loop_value_at(const AdaptiveLoopSpace& space, const Eigen::VectorXd& control,
                      std::size_t base_triangle, double u, double v);
+
+/// An estimate's indicators per cell moved onto the RGB mesh, for marking: each cell's η²
+/// is shared equally by the triangles of its level or coarser around its anchors (all of
+/// their triangles if none is that coarse), so that Σ η_T² is the estimate's, and a marked
+/// triangle rising one level puts finer functions where the cell is. Per triangle slot (0
+/// where no cell reaches).
+std::vector<double> loop_indicators_on_triangles(const AdaptiveLoopSpace& space, const RgbMesh& mesh,
+                                                 const std::vector<double>& per_cell);
+
+/// The function at the limit positions of the vertices, in the DOF order of a P1 mesh of the
+/// same RGB mesh (build_surface_mesh, order 1): each vertex is a corner of some cell, where
+/// Loop's limit mask gives its value.
+Eigen::VectorXd loop_values_on(const AdaptiveLoopSpace& space, const Eigen::VectorXd& coefficients,
+                               const SurfaceMesh& p1);
 
 /// The hierarchical Loop space of a closed RGB mesh in any state of selective refinement. Throws InputError
 /// on an open mesh, or where a base triangle's patch folds onto itself (the base mesh is too coarse: refine
