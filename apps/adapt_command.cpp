@@ -139,13 +139,10 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   if (a.order != 1 && a.order != 2) throw InputError("--order " + std::to_string(a.order) + ": 1 or 2");
   o.order = a.order;
   if (a.element == "loop") {
-    // Loop-basis elements: so far on uniformly refined closed meshes, on one process.
+    // Loop-basis elements: the hierarchical space of the RGB mesh (closed), on one process.
     o.element = adapt::AdaptOptions::Element::loop;
     o.loop_view_levels = 2;  // cycle_NNN_smooth.vtp, which the series lists
-    if (o.strategy != adapt::Strategy::uniform)
-      throw InputError(
-          "--element loop: only with --strategy uniform for now (adaptive refinement of the Loop space "
-          "is not implemented yet)");
+    if (s.moving) throw InputError("--element loop: not for moving problems yet (use p1 or p2)");
     if (a.processes > 1) throw InputError("--element loop: runs on one process for now");
     if (a.given.count("--estimator") && a.estimator != "residual")
       throw InputError("--estimator " + a.estimator + ": Loop elements have the residual estimator only");
@@ -910,7 +907,7 @@ void AdaptCommand::add(CLI::App& tool, CompressionOption& compression) {
   app->add_option(
          "--element", args.element,
          "finite elements: p1, p2 (as --order 1, 2) or loop (Loop-basis: smooth, one unknown per vertex, on "
-         "the Loop limit surface; closed meshes with --strategy uniform for now)")
+         "the Loop limit surface; closed meshes, one process)")
       ->check(CLI::IsMember({"p1", "p2", "loop"}));
   app->add_option(
          "--coarsen", args.coarsen,

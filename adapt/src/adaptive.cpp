@@ -12,7 +12,7 @@
 #include "rgbmesh/adapt/solution_transfer.hpp"
 #include "rgbmesh/canonical.hpp"
 #include "rgbmesh/errors.hpp"
-#include "rgbmesh/fem/loop_elements.hpp"
+#include "rgbmesh/fem/loop_adaptive.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/rgb_state.hpp"
 #include "rgbmesh/timing.hpp"
@@ -81,21 +81,28 @@ SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const A
   SolvedCycle c;
   const auto t_mesh = std::chrono::steady_clock::now();
   c.fe = fem::build_surface_mesh(mesh, options.projection, 1);
-  const fem::LoopSpace space = fem::build_loop_space(mesh, options.projection);
+  // The hierarchical space of the RGB mesh (on a uniform mesh, build_loop_space's space in
+  // another basis): its cells are integrated, its coefficients solved for.
+  const fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh, options.projection);
   c.report.mesh_seconds = seconds_since(t_mesh);
   if (options.control.interruption_point) options.control.interruption_point();
   const fem::Solution loop = fem::solve_loop(space, problem, options.solve);
   if (options.control.interruption_point) options.control.interruption_point();
+  const Eigen::VectorXd control = space.control_values(loop.u);
   c.solution = loop;
   c.solution.u = fem::loop_values_on(space, loop.u, c.fe);
   int levels = options.loop_view_levels;
-  while (levels > 0 && (space.elements.size() << (2 * levels)) > 3000000) --levels;
+  while (levels > 0 && (space.cells.elements.size() << (2 * levels)) > 3000000) --levels;
   if (levels > 0)
-    c.loop_view = std::make_shared<const MeshSnapshot>(fem::loop_refined_view(space, loop.u, levels));
+    c.loop_view = std::make_shared<const MeshSnapshot>(fem::loop_refined_view(space.cells, control, levels));
   const auto t_estimate = std::chrono::steady_clock::now();
-  const fem::Estimate estimate = fem::loop_residual_estimate(space, problem, loop.u);
+  const fem::Estimate estimate = fem::loop_residual_estimate(space.cells, problem, control);
   c.estimate.total = estimate.total;
-  c.estimate.eta = fem::loop_element_values_on(space, estimate.eta, c.fe);
+  // Per RGB triangle, for marking and output (Σ η_T² is the estimate's).
+  const std::vector<double> by_slot = fem::loop_indicators_on_triangles(space, mesh, estimate.eta);
+  c.estimate.eta.clear();
+  for (const TriangleHandle t : c.fe.triangle)
+    c.estimate.eta.push_back(by_slot[static_cast<std::size_t>(t.idx)]);
   c.estimate.geometric.assign(c.estimate.eta.size(), 0.0);
   c.report.estimate_seconds = seconds_since(t_estimate);
   c.report.triangles = c.fe.triangles.size();
@@ -107,7 +114,7 @@ SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const A
   c.report.solver_iterations = loop.iterations;
   if (problem.exact) {
     const auto t_errors = std::chrono::steady_clock::now();
-    const fem::ErrorNorms e = fem::loop_error_norms(space, loop.u, *problem.exact, loop.zero_mean);
+    const fem::ErrorNorms e = fem::loop_error_norms(space.cells, control, *problem.exact, loop.zero_mean);
     c.report.error_l2 = e.l2;
     c.report.error_h1 = e.h1;
     c.report.error_seconds = seconds_since(t_errors);
@@ -381,10 +388,8 @@ const char* to_string(StopReason reason) {
 AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
                     const CycleCallback& on_cycle) {
   if (options.element == AdaptOptions::Element::loop &&
-      (options.strategy != Strategy::uniform || options.distribution.partition || options.order != 1))
-    throw InputError(
-        "Loop elements run with uniform refinement on one process for now (adaptive refinement of "
-        "the Loop space is not implemented yet)");
+      (options.distribution.partition || options.order != 1))
+    throw InputError("Loop elements run on one process, with one unknown per vertex (order 1)");
   refine_to_floor(mesh, options);
   SolutionTransfer transfer(mesh);
   AdaptRun run;
@@ -452,6 +457,8 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
   // A distributed mesh knows its size when a cycle is solved (its parts decided): a step
   // whose mesh would pass max_dofs stops the run at its solve instead of after its adaptation.
   const bool distributed = options.distribution.distributed_mesh;
+  if (options.element == AdaptOptions::Element::loop)
+    throw InputError("Loop elements are not for moving problems yet (use Lagrange elements)");
   refine_to_floor(mesh, options);
   AdaptRun run;
   const bool resuming = dynamic.first_step > 0;

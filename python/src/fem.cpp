@@ -327,7 +327,7 @@ py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strateg
   if (!(target_error >= 0)) throw InputError("target_error: must be >= 0");
   o.estimator = named_row(fem::estimator_table(), estimator, "estimator").make();
   o.order = order;
-  if (loop) {  // run_cycles refuses it unless uniform
+  if (loop) {  // the hierarchical Loop space of each cycle's mesh (run_cycles)
     o.element = adapt::AdaptOptions::Element::loop;
     o.loop_view_levels = kCycleViewLevels;
   }
@@ -548,8 +548,9 @@ void bind_fem(py::module_& m) {
       "Solution of that cycle; the mesh is already adapted for the next); stop(report) -> True ends the run "
       "with "
       "that cycle. Returns {'cycles': [report, ...], 'stopped': why}. Ctrl-C interrupts between steps. "
-      "element='loop' (with strategy='uniform'): Loop-basis elements, each cycle's Solution keeping its "
-      "picture for write_smooth().");
+      "element='loop': Loop-basis elements (the hierarchical space of the adaptive mesh; closed meshes), "
+      "each "
+      "cycle's Solution keeping its picture for write_smooth().");
 }
 
 }  // namespace rgbmesh::python

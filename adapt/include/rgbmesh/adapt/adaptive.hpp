@@ -121,10 +121,12 @@ struct AdaptOptions {
   /// adaptation (SolutionTransfer) as the next solve's initial guess, and writes each cycle's
   /// solution at the vertices (quadratic_snapshot: every node).
   int order = 1;
-  /// lagrange: P1 or P2 by `order`. loop: Loop-basis elements (fem/loop_elements.hpp), one
-  /// unknown per vertex (order 1), each cycle's solution written as its values at the limit
-  /// positions and estimated by fem::loop_residual_estimate. For now with Strategy::uniform on
-  /// one process, on a closed mesh (run_cycles throws InputError otherwise).
+  /// lagrange: P1 or P2 by `order`. loop: Loop-basis elements in the hierarchical basis of the
+  /// RGB mesh (fem/loop_adaptive.hpp), one unknown per vertex (order 1), each cycle's solution
+  /// written as its values at the limit positions and estimated by fem::loop_residual_estimate
+  /// per cell, the indicators moved onto the RGB triangles for marking
+  /// (fem::loop_indicators_on_triangles). On one process, on a closed mesh, not in run_dynamic
+  /// (InputError otherwise).
   enum class Element { lagrange, loop } element = Element::lagrange;
   /// Loop elements: also a picture of each cycle's solution finer than the mesh
   /// (fem::loop_refined_view with this many levels, CycleState::loop_view); 0 for none. Reduced
@@ -148,10 +150,12 @@ enum class StopReason {
 /// estimate, output) with Lagrange elements, measured: 1.25 GB at 655,362 unknowns (1.9 kB
 /// each) for uniform sphere-peak; with a margin.
 inline constexpr double kSolveBytesPerDof = 2500.0;
-/// The same for Loop-basis elements, whose rows couple 37 unknowns rather than about 7 and
-/// whose quadrature keeps 12 functions at 16 points per element: measured 1.2 GB at 163,842
-/// unknowns (7.3 kB each, CHOLMOD or AMG) for uniform sphere-peak; with a margin.
-inline constexpr double kLoopSolveBytesPerDof = 9000.0;
+/// The same for Loop-basis elements: their rows couple 37 unknowns rather than about 7 on a
+/// uniform mesh, more in the hierarchical basis of an adaptive one (a coarse function overlaps
+/// every finer one in its support), and the cells keep 12 functions at 16 points each.
+/// Measured: 1.2 GB at 163,842 unknowns (7.3 kB each) for uniform sphere-peak, 773 MB at
+/// 48,164 (16 kB each) for adaptive sphere-peak; with a margin over the larger.
+inline constexpr double kLoopSolveBytesPerDof = 18000.0;
 /// "cycles", "target-error", "max-dofs", "steps", "memory", "requested".
 const char* to_string(StopReason reason);
 
