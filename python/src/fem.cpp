@@ -19,7 +19,7 @@
 #include "rgbmesh/adapt/adaptive.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/fem/estimators.hpp"
-#include "rgbmesh/fem/loop_elements.hpp"
+#include "rgbmesh/fem/loop_adaptive.hpp"
 #include "rgbmesh/fem/problem.hpp"
 #include "rgbmesh/fem/solver.hpp"
 #include "rgbmesh/vtk_io.hpp"
@@ -141,7 +141,7 @@ struct Solution {
   adapt::CycleReport report;
   bool is_cycle = false;
   std::string element = "p1";  // "p1", "p2" or "loop"
-  // Loop elements: the space and the coefficients, for pictures finer than the mesh (solve);
+  // Loop elements: the cells and their control values, for pictures finer than the mesh (solve);
   // a cycle of adapt keeps the picture the cycle made instead (AdaptOptions::loop_view_levels).
   std::shared_ptr<const fem::LoopSpace> loop_space;
   Eigen::VectorXd loop_coefficients;
@@ -198,20 +198,21 @@ std::shared_ptr<Solution> solve_loop_elements(RgbMesh& mesh, const PyProblem& p,
   s->problem = std::make_shared<const fem::Problem>(p.problem);
   s->element = "loop";
   py::gil_scoped_release release;
-  auto shared_space = std::make_shared<const fem::LoopSpace>(fem::build_loop_space(mesh, setup.projection));
-  const fem::LoopSpace& space = *shared_space;
+  // The hierarchical space of the mesh as it is (on a uniform mesh, the uniform space).
+  fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh, setup.projection);
   check_signals();
   fem::SolveOptions o;
   o.solver = setup.solver;
   const fem::Solution solution = fem::solve_loop(space, p.problem, o);
   check_signals();
   s->fe = fem::build_surface_mesh(mesh, setup.projection, 1, fem::DofOrder::mesh);
-  s->loop_space = shared_space;
-  s->loop_coefficients = solution.u;
   s->u = fem::loop_values_on(space, solution.u, s->fe);
-  const fem::Estimate estimate = fem::loop_residual_estimate(space, p.problem, solution.u);
+  s->loop_coefficients = space.control_values(solution.u);  // the cells' control values
+  const fem::Estimate estimate = fem::loop_residual_estimate(space.cells, p.problem, s->loop_coefficients);
   s->estimate.total = estimate.total;
-  s->estimate.eta = fem::loop_element_values_on(space, estimate.eta, s->fe);
+  const std::vector<double> by_slot = fem::loop_indicators_on_triangles(space, mesh, estimate.eta);
+  for (const TriangleHandle t : s->fe.triangle)
+    s->estimate.eta.push_back(by_slot[static_cast<std::size_t>(t.idx)]);
   s->estimate.geometric.assign(s->estimate.eta.size(), 0.0);
   s->report.triangles = s->fe.triangles.size();
   s->report.dofs = space.num_dofs();
@@ -220,10 +221,12 @@ std::shared_ptr<Solution> solve_loop_elements(RgbMesh& mesh, const PyProblem& p,
   s->report.solver_iterations = solution.iterations;
   s->report.solve_seconds = solution.assembly_seconds + solution.solve_seconds;
   if (p.problem.exact) {
-    const fem::ErrorNorms e = fem::loop_error_norms(space, solution.u, *p.problem.exact, solution.zero_mean);
+    const fem::ErrorNorms e =
+        fem::loop_error_norms(space.cells, s->loop_coefficients, *p.problem.exact, solution.zero_mean);
     s->report.error_l2 = e.l2;
     s->report.error_h1 = e.h1;
   }
+  s->loop_space = std::make_shared<const fem::LoopSpace>(std::move(space.cells));
   s->solved = levels_of(mesh, s->fe);
   s->marked.assign(s->fe.triangles.size(), 0);
   return s;
@@ -533,8 +536,8 @@ void bind_fem(py::module_& m) {
         "onto the unit sphere with geometry='sphere', the default for built-in problems) and estimates the "
         "error per "
         "triangle ('residual' or 'zz'). element='loop': Loop-basis (smooth) elements, one unknown per "
-        "vertex, on a "
-        "closed mesh refined uniformly (residual estimator). Returns a Solution.");
+        "vertex (the hierarchical space of the mesh as refined), on a closed mesh (residual estimator). "
+        "Returns a Solution.");
   m.def(
       "adapt", &run_adapt, py::arg("mesh"), py::arg("problem"), py::kw_only(),
       py::arg("strategy") = "adaptive", py::arg("marking") = "dorfler", py::arg("theta") = 0.5,
