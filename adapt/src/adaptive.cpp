@@ -390,6 +390,15 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
   if (options.element == AdaptOptions::Element::loop &&
       (options.distribution.partition || options.order != 1))
     throw InputError("Loop elements run on one process, with one unknown per vertex (order 1)");
+  // Coarsening by the indicators, as for Lagrange elements, is not for Loop elements yet: their
+  // indicators fall as h³ where the solution is resolved, so whole resolved regions fell below
+  // the threshold and went, and came back (sphere-peak with coarsen_below 0.2: 2,188 unknowns,
+  // then 827, then 410, the error up 50 times; a threshold 4 times lower did the same).
+  // Coarsening by the size of the details is to come.
+  if (options.element == AdaptOptions::Element::loop && options.coarsen_below > 0)
+    throw InputError(
+        "Loop elements do not coarsen yet (coarsening by indicators removes resolved regions); "
+        "run them without coarsening");
   refine_to_floor(mesh, options);
   SolutionTransfer transfer(mesh);
   AdaptRun run;

@@ -125,8 +125,8 @@ struct AdaptOptions {
   /// RGB mesh (fem/loop_adaptive.hpp), one unknown per vertex (order 1), each cycle's solution
   /// written as its values at the limit positions and estimated by fem::loop_residual_estimate
   /// per cell, the indicators moved onto the RGB triangles for marking
-  /// (fem::loop_indicators_on_triangles). On one process, on a closed mesh, not in run_dynamic
-  /// (InputError otherwise).
+  /// (fem::loop_indicators_on_triangles). On one process, on a closed mesh, without coarsening
+  /// (coarsen_below 0), not in run_dynamic (InputError otherwise).
   enum class Element { lagrange, loop } element = Element::lagrange;
   /// Loop elements: also a picture of each cycle's solution finer than the mesh
   /// (fem::loop_refined_view with this many levels, CycleState::loop_view); 0 for none. Reduced
