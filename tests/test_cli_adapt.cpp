@@ -342,7 +342,6 @@ TEST_F(Cli, LoopElementsRunUniformlyAndResume) {
   for (const auto& [args, message] :
        {std::pair{"adapt --element loop --problem moving-peak",
                   "--element loop: not for moving problems yet"},
-        {"adapt --element loop --coarsen 0.2", "--element loop: no --coarsen yet"},
         {"adapt --element loop --strategy uniform --estimator zz",
          "Loop elements have the residual estimator only"},
         {"adapt --element p2 --order 1", "--order 1: disagrees with --element p2"},

@@ -413,6 +413,12 @@ Eigen::VectorXd loop_values_on(const AdaptiveLoopSpace& space, const Eigen::Vect
 }
 
 Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options) {
+  Eigen::VectorXd energies;
+  return solve_loop(space, problem, options, energies);
+}
+
+Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options,
+                    Eigen::VectorXd& energies) {
   if (!(problem.c >= 0) || !std::isfinite(problem.c))
     throw InputError("problem '" + problem.name + "': the coefficient c must be finite and >= 0");
   if (!problem.source && !problem.source_values)
@@ -422,6 +428,7 @@ Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, cons
   const auto t0 = std::chrono::steady_clock::now();
   const SparseMatrix& e = space.expansion;
   s.a = galerkin_product(s.a, e);
+  energies = s.a.diagonal();  // before the zero-mean condition fixes a row
   s.b = e.transpose() * s.b;
   s.area = e.transpose() * s.area;  // ∫ of each coefficient's function
   s.seconds += seconds_since(t0);

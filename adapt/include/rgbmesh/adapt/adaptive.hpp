@@ -100,7 +100,8 @@ struct AdaptOptions {
   /// smallest indicator marked for refinement; with equidistribution the limit
   /// target_estimate / sqrt(N)) are removed. The same scale for both halves puts the coarsest
   /// fine triangles where refinement would stop, so that a moving feature leaves as much
-  /// refinement behind as it finds ahead. 0: none.
+  /// refinement behind as it finds ahead. (Loop elements compare their details' cost instead
+  /// of the indicators: see `element`.) 0: none.
   double coarsen_below = 0.0;
   /// Stops: after max_cycles, when the estimate is at most target_estimate, or when the mesh
   /// would exceed max_dofs (uniform refinement predicts the next size and stops before it;
@@ -125,8 +126,10 @@ struct AdaptOptions {
   /// RGB mesh (fem/loop_adaptive.hpp), one unknown per vertex (order 1), each cycle's solution
   /// written as its values at the limit positions and estimated by fem::loop_residual_estimate
   /// per cell, the indicators moved onto the RGB triangles for marking
-  /// (fem::loop_indicators_on_triangles). On one process, on a closed mesh, without coarsening
-  /// (coarsen_below 0), not in run_dynamic (InputError otherwise).
+  /// (fem::loop_indicators_on_triangles); coarsening compares what removing a vertex's detail
+  /// costs, |u_i| sqrt(a(φ_i, φ_i)), instead of the indicators around it, and keeps the
+  /// vertices of marked triangles. On one process, on a closed mesh, not in run_dynamic
+  /// (InputError otherwise).
   enum class Element { lagrange, loop } element = Element::lagrange;
   /// Loop elements: also a picture of each cycle's solution finer than the mesh
   /// (fem::loop_refined_view with this many levels, CycleState::loop_view); 0 for none. Reduced

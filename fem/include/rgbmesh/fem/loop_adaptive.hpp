@@ -101,4 +101,11 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh,
 /// zero-mean solution. The result's `u` holds the coefficients.
 Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options = {});
 
+/// The same, also returning the energy of each coefficient's function, a(φ_i, φ_i) (the
+/// diagonal of the coefficients' matrix): |u_i| sqrt(a(φ_i, φ_i)) is what dropping a detail
+/// costs in the energy norm, to first order, which is how adaptive runs choose the vertices
+/// to remove.
+Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options,
+                    Eigen::VectorXd& energies);
+
 }  // namespace rgbmesh::fem
