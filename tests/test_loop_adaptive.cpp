@@ -341,5 +341,21 @@ TEST(AdaptiveLoopSpace, AdaptiveRefinementBeatsUniform) {
   }
 }
 
+// The space builds on the base mesh whatever the refinement: a base too coarse for Loop
+// patches (the tetrahedron: a triangle's patch is the whole surface) is refused, with what to
+// do, however far the RGB mesh is refined.
+TEST(AdaptiveLoopSpace, ABaseTooCoarseIsRefusedWithWhatToDo) {
+  RgbMesh mesh = uniform(testing::tetrahedron(), 2);
+  try {
+    fem::build_adaptive_loop_space(mesh);
+    FAIL() << "the tetrahedron's base was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("the base mesh is too coarse there: refine it once and start from that"),
+        std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace rgbmesh

@@ -177,8 +177,16 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
     try {
       base_patches.push_back(gather_loop_patch({t[0], t[1], t[2]}, base_rings));
     } catch (const InputError& e) {
-      throw InputError(std::string(e.what()) +
-                       " (adaptive Loop elements build on the base mesh: give a base mesh refined once)");
+      // The space builds on the base mesh, whatever the refinement: refining the RGB mesh
+      // does not help, a finer base does.
+      std::string why = e.what();
+      const std::string coarse = "(the mesh is too coarse there; refine it once)";
+      const auto at = why.find(coarse);
+      if (at != std::string::npos)
+        why.replace(at, coarse.size(),
+                    "(the base mesh is too coarse there: refine it once and start from that, e.g. "
+                    "rgbmesh refine MESH base.obj --uniform 1, which writes a new base)");
+      throw InputError(why);
     }
   }
   std::vector<Cell> level_cells;
