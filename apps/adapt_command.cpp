@@ -867,7 +867,7 @@ int run_adapt(const AdaptArgs& args) {
   std::cout << "stopped: " << message << "\n"
             << "wrote " << files.files() << " files and " << (files.dir() / "solution.pvd").string()
             << (a.element == "loop"
-                    ? " (open the .pvd in ParaView: the smooth solution, 16 pieces per triangle; color by "
+                    ? " (open the .pvd in ParaView: the smooth solution, 16 pieces per integration cell; color by "
                       "'solution'. "
                       "The cycle_NNN.vtp files hold 'error_indicator' and 'level')\n"
                     : " (open the .pvd in ParaView: color by 'solution', 'error_indicator' or 'level')\n");
