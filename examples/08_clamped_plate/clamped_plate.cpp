@@ -17,9 +17,8 @@
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 
-#include "rgbmesh/errors.hpp"
+#include "../exit_codes.hpp"
 #include "rgbmesh/fem/loop_plate.hpp"
 #include "rgbmesh/shapes.hpp"
 #include "rgbmesh/vtk_io.hpp"
@@ -38,7 +37,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(2.0, 1e6));
   app.add_option("--out", out, "write the finest plate's deflection here (.vtp)");
   CLI11_PARSE(app, argc, argv);
-  try {
+  return examples::run_reporting_errors([&] {
     fem::PlateOptions options;
     options.penalty = penalty;
     const fem::PlateProblem plate = fem::clamped_square_plate();
@@ -66,15 +65,5 @@ int main(int argc, char** argv) {
                     out.c_str(), cells, cells);
       }
     }
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
-  } catch (const OutputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 3;
-  }
-  return 0;
+  });
 }

@@ -15,10 +15,9 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
-#include <exception>
 
+#include "../exit_codes.hpp"
 #include "rgbmesh/adapt/marking.hpp"
-#include "rgbmesh/errors.hpp"
 #include "rgbmesh/fem/loop_adaptive.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/shapes.hpp"
@@ -37,7 +36,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.05, 1.0));
   app.add_option("--out", out, "write the last cycle's smooth solution here (.vtp)");
   CLI11_PARSE(app, argc, argv);
-  try {
+  return examples::run_reporting_errors([&] {
     const fem::Problem problem = fem::sphere_peak();
     const fem::Projection sphere(fem::project_to_unit_sphere);
     const TriangleMeshData ico = icosahedron();
@@ -75,15 +74,5 @@ int main(int argc, char** argv) {
         if (marked[i]) raise[static_cast<std::size_t>(triangles[i].idx)] = 1.0;
       selective_refinement(mesh, FieldCriterion(std::move(raise), 0.5, {}, 0.0));
     }
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
-  } catch (const OutputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 3;
-  }
-  return 0;
+  });
 }

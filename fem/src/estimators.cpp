@@ -6,6 +6,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "edge_key.hpp"
 #include "for_each_index.hpp"
 #include "rgbmesh/errors.hpp"
 #include "source_samples.hpp"
@@ -29,10 +30,7 @@ double longest_edge(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
   return std::max({distance(p0, p1), distance(p1, p2), distance(p2, p0)});
 }
 
-std::uint64_t edge_key(std::int32_t a, std::int32_t b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-}
+using detail::edge_key;
 
 // One side of an edge: a triangle and its local edge k (from corner k to corner k + 1).
 struct Side {

@@ -9,6 +9,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "edge_key.hpp"
 #include "for_each_index.hpp"
 #include "loop_assembly.hpp"
 #include "rgbmesh/canonical.hpp"
@@ -18,11 +19,6 @@
 namespace rgbmesh::fem {
 
 namespace {
-
-std::uint64_t pair_key(std::int32_t a, std::int32_t b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
-}
 
 // The control vertices as they are found, level by level: each one's rule (weights of
 // control vertices one level up) and point of the surface's control net.
@@ -157,7 +153,7 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
       ++space.num_base;
     } else {
       const auto& p = mesh.parents(v);
-      midpoint.emplace(pair_key(p[0].idx, p[1].idx), v.idx);
+      midpoint.emplace(detail::edge_key(p[0].idx, p[1].idx), v.idx);
     }
   }
 
@@ -208,7 +204,7 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
     const VertexHandle va = net.vertex[static_cast<std::size_t>(a)].vertex,
                        vb = net.vertex[static_cast<std::size_t>(b)].vertex;
     if (!va.valid() || !vb.valid()) return -1;
-    const auto it = midpoint.find(pair_key(va.idx, vb.idx));
+    const auto it = midpoint.find(detail::edge_key(va.idx, vb.idx));
     return it == midpoint.end() ? -1 : it->second;
   };
   // The children of each connectivity met, asked once (the lookups by connectivity copy it).
@@ -247,7 +243,7 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
           const std::int32_t b = o[1] < 0 ? -1 : cell.vertices[static_cast<std::size_t>(o[1])];
           std::int32_t cv = b < 0 ? net.even_child[static_cast<std::size_t>(a)] : -1;
           if (b >= 0) {
-            const auto it = net.odd_child.find(pair_key(a, b));
+            const auto it = net.odd_child.find(detail::edge_key(a, b));
             if (it != net.odd_child.end()) cv = it->second;
           }
           if (cv < 0) {
@@ -272,7 +268,7 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
             if (b < 0)
               net.even_child[static_cast<std::size_t>(a)] = cv;
             else
-              net.odd_child.emplace(pair_key(a, b), cv);
+              net.odd_child.emplace(detail::edge_key(a, b), cv);
           }
           child.vertices[i] = cv;
         }
