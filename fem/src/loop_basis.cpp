@@ -62,11 +62,28 @@ class NetRings {
         next_[static_cast<std::size_t>(t[k])].push_back({t[(k + 1) % 3], t[(k + 2) % 3]});
     }
   }
-  // False for a vertex whose fan does not close.
+  // True for a closed fan. False for a vertex on the boundary, with the path of its
+  // neighbours counter-clockwise from one boundary neighbour to the other (empty, or not a
+  // path of all its triangles, where the vertex is no fan: gather_loop_patch refuses it).
   bool ring(std::int32_t v, std::vector<std::int32_t>& out) const {
     out.clear();
     const auto& next = next_[static_cast<std::size_t>(v)];
     if (next.empty()) return false;
+    // A fan is open where some triangle's first neighbour follows no triangle's second.
+    for (const auto& p : next) {
+      if (std::any_of(next.begin(), next.end(), [&p](const std::array<int, 2>& q) { return q[1] == p[0]; }))
+        continue;
+      std::int32_t x = p[0];
+      out.push_back(x);
+      for (std::size_t step = 0; step < next.size(); ++step) {
+        const auto it =
+            std::find_if(next.begin(), next.end(), [x](const std::array<int, 2>& q) { return q[0] == x; });
+        if (it == next.end()) break;
+        x = (*it)[1];
+        out.push_back(x);
+      }
+      return false;
+    }
     std::int32_t x = next.front()[0];
     for (std::size_t step = 0; step <= next.size(); ++step) {
       out.push_back(x);
@@ -200,19 +217,30 @@ Child subdivide(const LoopPatch& parent, int child) {
     out.origin.push_back(w < n ? std::array<int, 2>{w, -1}
                                : std::array<int, 2>{edges[static_cast<std::size_t>(w - n)].a,
                                                     edges[static_cast<std::size_t>(w - n)].b});
-    if (w < n) {  // even: Loop's vertex rule over the parent ring (Eq. 3)
-      if (!rings.ring(w, ring))
-        throw std::logic_error("subdivide: an even vertex of a child patch has no ring");
-      const int k = static_cast<int>(ring.size());
-      const double a = loop::even_neighbor_weight(k);
-      r(w) = 1.0 - k * a;
-      for (const std::int32_t x : ring) r(x) += a;
-    } else {  // odd: the edge rule (Eq. 1)
+    // The even vertices are the parent's corners, whose fans the patch holds whole, and the
+    // odd ones lie on edges at the corners, whose triangles it holds: a fan that does not
+    // close and an edge with one triangle are the surface's boundary, not the patch's.
+    if (w < n) {
+      if (rings.ring(w, ring)) {  // Loop's vertex rule over the parent ring (Eq. 3)
+        const int k = static_cast<int>(ring.size());
+        const double a = loop::even_neighbor_weight(k);
+        r(w) = 1.0 - k * a;
+        for (const std::int32_t x : ring) r(x) += a;
+      } else {  // the boundary's vertex rule: its two boundary neighbours only
+        if (ring.size() < 2) throw std::logic_error("subdivide: an even vertex of a child patch has no fan");
+        r(w) = 0.75;
+        r(ring.front()) += 0.125, r(ring.back()) += 0.125;
+      }
+    } else {
       const Edge& e = edges[static_cast<std::size_t>(w - n)];
-      if (e.opposite.size() != 2)
+      if (e.opposite.size() == 2) {  // the edge rule (Eq. 1)
+        r(e.a) += 0.375, r(e.b) += 0.375;
+        r(e.opposite[0]) += 0.125, r(e.opposite[1]) += 0.125;
+      } else if (e.opposite.size() == 1) {  // a boundary edge: its midpoint
+        r(e.a) += 0.5, r(e.b) += 0.5;
+      } else {
         throw std::logic_error("subdivide: an odd vertex of a child patch lacks a triangle");
-      r(e.a) += 0.375, r(e.b) += 0.375;
-      r(e.opposite[0]) += 0.125, r(e.opposite[1]) += 0.125;
+      }
     }
   }
   return out;
@@ -336,6 +364,82 @@ Eigen::Matrix<double, kRows, 12> regular_basis(double u, double v) {
   return monomials(u, v) * regular_polynomials();
 }
 
+// The control values of the regular lattice patch (12, canonical order) as a matrix times
+// those of a regular patch with corners on the boundary: the patch completed beyond each
+// boundary edge ab at a corner, of triangle abt, by the ghost vertex g = a + b - t, and by
+// the triangle of two ghosts that closes the corner's fan. Loop's boundary rules are the
+// interior rules applied to the completion, whose ghosts subdivide into the ghosts of the
+// next level (the boundary vertex rule 3/4, 1/8, 1/8 is the interior one with these ghosts,
+// and the boundary edge rule 1/2, 1/2 the edge rule), so the limit is the box spline of the
+// completion. Built once per connectivity.
+Eigen::MatrixXd boundary_completion(const LoopPatch& patch);
+
+const Eigen::MatrixXd& cached_boundary_completion(const LoopPatch& patch) {
+  static std::mutex mutex;
+  static std::map<Triangles, std::shared_ptr<const Eigen::MatrixXd>> cache;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    const auto it = cache.find(patch.triangles);
+    if (it != cache.end()) return *it->second;
+  }
+  auto made = std::make_shared<const Eigen::MatrixXd>(boundary_completion(patch));
+  const std::lock_guard<std::mutex> lock(mutex);
+  // Entries are never dropped (callers hold references); a boundary has few connectivities.
+  return *cache.emplace(patch.triangles, std::move(made)).first->second;
+}
+
+// The map from a regular patch's values to the box spline's 12 control values.
+Eigen::MatrixXd to_lattice(const LoopPatch& patch, const Eigen::MatrixXd& to_local) {
+  if (patch.closed()) return to_local;
+  return cached_boundary_completion(patch) * to_local;
+}
+
+Eigen::MatrixXd boundary_completion(const LoopPatch& patch) {
+  const int n = static_cast<int>(patch.vertices.size());
+  const NetRings rings(n, patch.triangles);
+  Triangles completed = patch.triangles;
+  std::map<std::pair<int, int>, int> ghost_of_edge;
+  std::vector<std::array<int, 3>> ghost_sum;  // a + b - t
+  const auto ghost = [&](int a, int b, int t) {
+    const auto [it, inserted] =
+        ghost_of_edge.emplace(std::minmax(a, b), n + static_cast<int>(ghost_sum.size()));
+    if (inserted) ghost_sum.push_back({a, b, t});
+    return it->second;
+  };
+  const auto add = [&completed](std::array<int, 3> t) {
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    if (std::find(completed.begin(), completed.end(), t) == completed.end()) completed.push_back(t);
+  };
+  std::vector<std::int32_t> path;
+  for (int k = 0; k < 3; ++k) {
+    if (!patch.open[static_cast<std::size_t>(k)]) continue;
+    if (rings.ring(k, path) || path.size() != 4)
+      throw std::logic_error("boundary_completion: a boundary corner is not regular");
+    // Triangles (k, p_j, p_j+1) counter-clockwise; the boundary edges are k p0 and k p3.
+    const int g_last = ghost(k, path[3], path[2]), g_first = ghost(k, path[0], path[1]);
+    add({k, path[3], g_last});
+    add({k, g_last, g_first});
+    add({k, g_first, path[0]});
+  }
+  const int total = n + static_cast<int>(ghost_sum.size());
+  const LoopPatch lattice = gather_loop_patch({0, 1, 2}, triangle_rings(total, completed));
+  if (!lattice.regular() || !lattice.closed() || lattice.vertices.size() != 12)
+    throw InputError(
+        "Loop elements: a patch at the boundary closes up on itself (the mesh is too coarse there; "
+        "refine it once)");
+  Eigen::MatrixXd map = Eigen::MatrixXd::Zero(12, n);
+  for (Eigen::Index i = 0; i < 12; ++i) {
+    const int w = lattice.vertices[static_cast<std::size_t>(i)];
+    if (w < n) {
+      map(i, w) = 1;
+    } else {
+      const auto& g = ghost_sum[static_cast<std::size_t>(w - n)];
+      map(i, g[0]) += 1, map(i, g[1]) += 1, map(i, g[2]) -= 1;
+    }
+  }
+  return map;
+}
+
 // The basis of a patch `factor` times finer (each derivative scaled by factor per order) seen
 // from the root patch whose control values map to this one's by `to_local`.
 void set_from(LoopBasisAt& out, const Eigen::Matrix<double, kRows, 12>& local,
@@ -393,9 +497,10 @@ struct RuleBuilder {
       for (auto it = path.rbegin(); it != path.rend(); ++it) to_parent(*it, s, t);
     };
     if (patch.regular()) {
+      const Eigen::MatrixXd lattice = to_lattice(patch, to_local);
       add_points(levels, [&](double s, double t, double& ru, double& rv) {
         LoopBasisAt at;
-        set_from(at, regular_basis(s, t), to_local, factor);
+        set_from(at, regular_basis(s, t), lattice, factor);
         root_params(ru, rv);
         return at;
       });
@@ -429,15 +534,39 @@ LoopPatch gather_loop_patch(const std::array<std::int32_t, 3>& corners, const Ri
   // vertex where the mesh is small around the triangle (a neighbour of valence 3 next to two
   // corners, a ring wrapping round a thin torus). Loop's rules act on the disc, so the limit
   // on the triangle is the disc's, with each slot holding its vertex's value.
+  //
+  // A corner on the boundary has an open fan: its ring is kept cyclic, with a gap after entry
+  // gap[k] (no triangle between that entry and the next), and the boundary rules apply to it.
   LoopPatch patch;
   std::array<std::vector<std::int32_t>, 3> rings;
+  std::array<int, 3> gap = {-1, -1, -1};
   for (int k = 0; k < 3; ++k) {
     const std::int32_t next = corners[static_cast<std::size_t>((k + 1) % 3)],
                        prev = corners[static_cast<std::size_t>((k + 2) % 3)];
     std::vector<std::int32_t>& r = rings[static_cast<std::size_t>(k)];
-    if (!ring_of(corners[static_cast<std::size_t>(k)], r))
-      patch_error(corners, "reaches the boundary: Loop elements need a closed surface");
-    if (r.size() < 3 || !orient_ring(r, next, prev)) patch_error(corners, "is not a triangle fan");
+    if (ring_of(corners[static_cast<std::size_t>(k)], r)) {
+      if (r.size() < 3 || !orient_ring(r, next, prev)) patch_error(corners, "is not a triangle fan");
+    } else {
+      // The path's ends are the boundary neighbours; the central triangle is one of its steps.
+      std::vector<std::int32_t> path = r;
+      const std::size_t m = path.size();
+      std::size_t at = m;
+      bool forward = true;
+      for (std::size_t j = 0; j < m && at == m; ++j) {
+        if (path[j] != next) continue;
+        if (j + 1 < m && path[j + 1] == prev) at = j, forward = true;
+        else if (j > 0 && path[j - 1] == prev) at = j, forward = false;
+      }
+      if (m < 2 || at == m) patch_error(corners, "is not a triangle fan");
+      r.clear();
+      for (std::size_t i = 0; i < m; ++i) {
+        const std::size_t j = forward ? (at + i) % m : (at + m - i) % m;
+        r.push_back(path[j]);
+        // The gap follows the path's last entry going forward, its first going backward.
+        if (j == (forward ? m - 1 : 0)) gap[static_cast<std::size_t>(k)] = static_cast<int>(i);
+      }
+      patch.open[static_cast<std::size_t>(k)] = true;
+    }
     patch.valence[static_cast<std::size_t>(k)] = static_cast<int>(r.size());
   }
   // Provisional slots: the corners, then every ring entry past the two corners it starts with.
@@ -461,10 +590,14 @@ LoopPatch gather_loop_patch(const std::array<std::int32_t, 3>& corners, const Ri
     return x;
   };
   // The triangle beyond edge c_k c_{k+1} is in both fans: the last entry of ring k is the
-  // entry after c_k in ring k + 1.
+  // entry after c_k in ring k + 1. On the boundary there is none, and both fans say so.
   for (int k = 0; k < 3; ++k) {
     const auto& here = slot[static_cast<std::size_t>(k)];
     const auto& there = slot[static_cast<std::size_t>((k + 1) % 3)];
+    const bool open_here = gap[static_cast<std::size_t>(k)] == static_cast<int>(here.size()) - 1;
+    const bool open_there = gap[static_cast<std::size_t>((k + 1) % 3)] == 1;
+    if (open_here != open_there) patch_error(corners, "is not a manifold neighbourhood (two fans disagree)");
+    if (open_here) continue;
     const int a = find(here.back()), b = find(there[2]);
     if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
   }
@@ -488,6 +621,7 @@ LoopPatch gather_loop_patch(const std::array<std::int32_t, 3>& corners, const Ri
   for (int k = 0; k < 3; ++k) {
     const auto& sk = slot[static_cast<std::size_t>(k)];
     for (std::size_t j = 0; j < sk.size(); ++j) {
+      if (static_cast<int>(j) == gap[static_cast<std::size_t>(k)]) continue;
       std::array<int, 3> t = {k, number[static_cast<std::size_t>(find(sk[j]))],
                               number[static_cast<std::size_t>(find(sk[(j + 1) % sk.size()]))]};
       std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
@@ -515,8 +649,13 @@ LoopPatch gather_loop_patch(const std::array<std::int32_t, 3>& corners, const Ri
 Eigen::VectorXd loop_corner_limit(const LoopPatch& patch, int corner) {
   const NetRings rings(static_cast<int>(patch.vertices.size()), patch.triangles);
   std::vector<std::int32_t> ring;
-  if (!rings.ring(corner, ring))
-    throw std::logic_error("loop_corner_limit: the corner's ring is not in the patch");
+  if (!rings.ring(corner, ring)) {  // the boundary's limit mask: its two boundary neighbours
+    if (ring.size() < 2) throw std::logic_error("loop_corner_limit: the corner's fan is not in the patch");
+    Eigen::VectorXd w = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(patch.vertices.size()));
+    w(corner) = 2.0 / 3.0;
+    w(ring.front()) += 1.0 / 6.0, w(ring.back()) += 1.0 / 6.0;
+    return w;
+  }
   const int k = static_cast<int>(ring.size());
   const double b = loop::limit_neighbor_weight(k);
   Eigen::VectorXd w = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(patch.vertices.size()));
@@ -532,7 +671,7 @@ LoopBasisAt evaluate_loop_basis(const LoopPatch& patch, double u, double v) {
   for (int k = 0; k < 3; ++k) {
     const bool here =
         (k == 0 && u == 0 && v == 0) || (k == 1 && u == 1 && v == 0) || (k == 2 && u == 0 && v == 1);
-    if (here && patch.valence[static_cast<std::size_t>(k)] != 6) {
+    if (here && patch.valence[static_cast<std::size_t>(k)] != (patch.open[static_cast<std::size_t>(k)] ? 4 : 6)) {
       out.value = loop_corner_limit(patch, k);
       const double nan = std::numeric_limits<double>::quiet_NaN();
       out.du = out.dv = out.duu = out.duv = out.dvv = Eigen::VectorXd::Constant(n, nan);
@@ -555,7 +694,7 @@ LoopBasisAt evaluate_loop_basis(const LoopPatch& patch, double u, double v) {
     factor *= child_derivative_factor(c);
     current = std::move(child.patch);
   }
-  set_from(out, regular_basis(u, v), to_local, factor);
+  set_from(out, regular_basis(u, v), to_lattice(current, to_local), factor);
   return out;
 }
 

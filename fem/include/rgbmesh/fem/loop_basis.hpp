@@ -10,6 +10,14 @@
 /// extraordinary corners: a point is evaluated by subdividing the patch until the point lies
 /// in a sub-triangle whose corners are regular (what Stam's eigenbasis does in closed form).
 ///
+/// On a mesh with a boundary Loop's boundary rules apply: a boundary edge's midpoint is the
+/// mean of its ends, a boundary vertex moves by its two boundary neighbours only (3/4, 1/8,
+/// 1/8), so that the boundary's limit is the cubic B-spline of its vertices. A corner with
+/// four neighbours (three triangles) is the boundary's regular vertex: there the limit is the
+/// box spline of the patch completed across the boundary by the ghost vertices g = a + b - t,
+/// one for each boundary edge ab of a triangle abt, which the boundary rules keep so at every
+/// level (tests/test_loop_basis.cpp checks both against OpenSubdiv).
+///
 /// Parameters: a point of the triangle (c0, c1, c2) is c0 + u (c1 - c0) + v (c2 - c0), with u,
 /// v >= 0 and u + v <= 1, and the four triangles of one subdivision step split this domain at
 /// its edges' midpoints, as the triangles of the uniform refinement do.
@@ -33,21 +41,32 @@ namespace rgbmesh::fem {
 /// connectivity numbers its vertices the same way and shares one table of weights: the
 /// corners c0, c1, c2 first, then the other neighbours of c0 counter-clockwise from c1, then
 /// those of c1 from c2, then those of c2 from c0, each vertex where it first appears.
+/// On the boundary, a corner's ring is its neighbours counter-clockwise from the boundary
+/// neighbour after the central triangle's edge round to the other one.
 struct LoopPatch {
   std::vector<std::int32_t> vertices;         ///< the caller's vertex ids, in canonical order
   std::vector<std::array<int, 3>> triangles;  ///< local numbering, counter-clockwise, [0] = {0, 1, 2}
-  std::array<int, 3> valence{};               ///< of the corners
-  bool regular() const { return valence[0] == 6 && valence[1] == 6 && valence[2] == 6; }
+  std::array<int, 3> valence{};               ///< of the corners: their numbers of neighbours
+  std::array<bool, 3> open{};                 ///< the corner is on the boundary (its fan is open)
+  bool closed() const { return !open[0] && !open[1] && !open[2]; }
+  /// Every corner regular: valence 6 inside, 4 on the boundary. The limit on the triangle is
+  /// then one box spline (through ghost vertices beyond the boundary).
+  bool regular() const {
+    for (int k = 0; k < 3; ++k)
+      if (valence[static_cast<std::size_t>(k)] != (open[static_cast<std::size_t>(k)] ? 4 : 6)) return false;
+    return true;
+  }
 };
 
-/// The neighbours of a vertex of a closed mesh in cyclic order (either direction); `ring`
-/// returns false if the vertex is on a boundary.
+/// The neighbours of a vertex in cyclic order (either direction): `ring` returns true. For a
+/// vertex on the boundary it returns false, with the ring the path of its neighbours from one
+/// boundary neighbour to the other, each step a triangle (as RgbMesh::star lists them).
 using RingOracle = std::function<bool(std::int32_t vertex, std::vector<std::int32_t>& ring)>;
 
 /// The patch of the counter-clockwise triangle (c0, c1, c2). Throws InputError if a corner is
-/// on a boundary (Loop elements are for closed surfaces), or if the patch folds onto itself
-/// (a vertex reached twice: meshes so coarse that two corners' rings overlap beyond the
-/// triangle; one uniform refinement removes that).
+/// no triangle fan or the fans disagree (a non-manifold neighbourhood), or if the patch folds
+/// onto itself (a vertex reached twice: meshes so coarse that two corners' rings overlap
+/// beyond the triangle; one uniform refinement removes that).
 LoopPatch gather_loop_patch(const std::array<std::int32_t, 3>& corners, const RingOracle& ring);
 
 /// Weights of the patch's control values at one point: the limit value and its first, second
