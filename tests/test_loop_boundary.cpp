@@ -299,6 +299,34 @@ TEST(LoopDirichlet, SphericalCapConverges) {
   }
 }
 
+// Loop's own boundary rules (LoopBoundary::loop_rules): every triangle an element, the domain
+// the mesh's limit surface, whose boundary is the B-spline of the boundary vertices (the
+// square's corners rounded off). The exact solution holds on any domain, so the errors are
+// measured on that one.
+TEST(LoopDirichlet, LoopsBoundaryRulesConverge) {
+  const fem::Problem wave = plane_problem(
+      "wave", [](double x, double y) { return std::sin(2 * x + y) + x * y * y; },
+      [](double x, double y) {
+        return Vec3{2 * std::cos(2 * x + y) + y * y, std::cos(2 * x + y) + 2 * x * y, 0};
+      },
+      [](double x, double y) { return 5 * std::sin(2 * x + y) - 2 * x; });
+  double previous_l2 = 0, previous_h1 = 0;
+  for (const int cells : {8, 16, 32, 64}) {
+    const TriangleMeshData m = square_lattice(cells, 1, 0);
+    RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);
+    const fem::LoopSpace space = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::loop_rules);
+    EXPECT_EQ(space.num_dofs(), static_cast<std::size_t>((cells + 1) * (cells + 1)));
+    EXPECT_EQ(space.boundary.size(), static_cast<std::size_t>(4 * cells));
+    const fem::Solution u = fem::solve_loop(space, wave);
+    const fem::ErrorNorms e = fem::loop_error_norms(space, u.u, *wave.exact);
+    std::printf("  Loop's boundary rules, %2d cells: L2 %.2e, H1 %.2e", cells, e.l2, e.h1);
+    if (previous_h1 > 0)
+      std::printf(", rates %.2f, %.2f", std::log2(previous_l2 / e.l2), std::log2(previous_h1 / e.h1));
+    std::printf("\n");
+    previous_l2 = e.l2, previous_h1 = e.h1;
+  }
+}
+
 TEST(LoopDirichlet, WhatCannotBeSolvedIsRefusedWithAdvice) {
   fem::Problem p;
   p.name = "one";

@@ -131,10 +131,6 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
       quadrature.extraordinary_depth < 0 || quadrature.extraordinary_depth > 20)
     throw std::invalid_argument(
         "build_adaptive_loop_space: points per direction in [1, 20], depth in [0, 20]");
-  for (const VertexHandle v : mesh.vertices())
-    if (mesh.is_boundary(v))
-      throw InputError("Loop elements on an adaptive mesh need a closed surface, but vertex " +
-                       std::to_string(v.idx) + " is on a boundary");
   AdaptiveLoopSpace space;
   space.cells.projection = std::move(projection);
   space.cells.level = -1;
@@ -335,6 +331,18 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
     auto [found, fresh] = rule_of.try_emplace(leaves[e].shape);
     if (fresh) found->second = loop_quadrature(*leaves[e].shape, quadrature);
     el.rule = found->second;
+    // A side of the cell on the surface's boundary: both ends on it, one triangle beside it.
+    const LoopPatch& shape = *leaves[e].shape;
+    for (int k = 0; k < 3; ++k) {
+      const int a = k, b = (k + 1) % 3;
+      if (!shape.open[static_cast<std::size_t>(a)] || !shape.open[static_cast<std::size_t>(b)]) continue;
+      const auto beside = std::count_if(shape.triangles.begin(), shape.triangles.end(),
+                                        [a, b](const std::array<int, 3>& t) {
+                                          return std::find(t.begin(), t.end(), a) != t.end() &&
+                                                 std::find(t.begin(), t.end(), b) != t.end();
+                                        });
+      if (beside == 1) space.cells.boundary.push_back({e, k});
+    }
   }
   space.cell_level = std::move(leaf_level);
   return space;
@@ -416,13 +424,14 @@ Eigen::VectorXd loop_values_on(const AdaptiveLoopSpace& space, const Eigen::Vect
   return out;
 }
 
-Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options) {
+Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options,
+                    const LoopNitscheOptions& nitsche) {
   Eigen::VectorXd energies;
-  return solve_loop(space, problem, options, energies);
+  return solve_loop(space, problem, options, energies, nitsche);
 }
 
 Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options,
-                    Eigen::VectorXd& energies) {
+                    Eigen::VectorXd& energies, const LoopNitscheOptions& nitsche) {
   if (!(problem.c >= 0) || !std::isfinite(problem.c))
     throw InputError("problem '" + problem.name + "': the coefficient c must be finite and >= 0");
   if (!problem.source && !problem.source_values)
@@ -430,12 +439,18 @@ Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, cons
   detail::LoopSystem s = detail::assemble_loop_system(space.cells, false, problem.c, problem.source,
                                                       problem.source_values, problem.name);
   const auto t0 = std::chrono::steady_clock::now();
+  // Nitsche's terms on the cells' boundary sides, as for the uniform space: the cells' control
+  // values are the coefficients' expansion, so the terms carry over with it.
+  if (!space.cells.boundary.empty()) detail::add_loop_boundary_terms(space.cells, problem, nitsche, s);
   const SparseMatrix& e = space.expansion;
   s.a = galerkin_product(s.a, e);
   energies = s.a.diagonal();  // before the zero-mean condition fixes a row
   s.b = e.transpose() * s.b;
   s.area = e.transpose() * s.area;  // ∫ of each coefficient's function
   s.seconds += seconds_since(t0);
+  if (!space.cells.boundary.empty())
+    return detail::solve_nitsche_system(s, options, problem.name, nitsche.penalty,
+                                        "LoopNitscheOptions::penalty, 4 by default");
   return detail::solve_closed_loop_system(s, problem, options, space.constant());
 }
 

@@ -53,6 +53,11 @@ void add_local(SparseMatrix& a, const std::vector<std::int32_t>& dofs, const Eig
 Solution solve_closed_loop_system(LoopSystem& s, const Problem& problem, const SolveOptions& options,
                                   const Eigen::VectorXd& constant);
 
+/// Adds Nitsche's terms for u = g on the space's boundary sides (Neumann sides take their flux)
+/// to the system of -Δu + c u = f (see LoopNitscheOptions).
+void add_loop_boundary_terms(const LoopSpace& space, const Problem& problem, const LoopNitscheOptions& options,
+                             LoopSystem& s);
+
 /// Solves a system with Nitsche's boundary terms. Below a mesh-dependent penalty their form is
 /// not coercive, which the factorization detects: InputError naming the penalty and the option
 /// that raises it.

@@ -304,14 +304,19 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
     return !star.boundary;
   };
   const bool ghosts = boundary == LoopBoundary::ghost_ring;
+  const bool sides = boundary != LoopBoundary::refuse;
   std::vector<std::array<VertexHandle, 3>> element_corners;
   std::vector<TriangleHandle> element_triangles;
   std::vector<std::int32_t> element_of_slot(static_cast<std::size_t>(mesh.triangle_slots()), -1);
   for (const TriangleHandle t : canonical_triangle_order(mesh, vertex_order)) {
     auto corners = mesh.triangle_vertices(t);
-    if (ghosts &&
-        (mesh.is_boundary(corners[0]) || mesh.is_boundary(corners[1]) || mesh.is_boundary(corners[2])))
-      continue;
+    const bool at_boundary =
+        mesh.is_boundary(corners[0]) || mesh.is_boundary(corners[1]) || mesh.is_boundary(corners[2]);
+    if (at_boundary && boundary == LoopBoundary::refuse)
+      throw InputError("Loop elements: the triangle of vertices " + std::to_string(corners[0].idx) + ", " +
+                       std::to_string(corners[1].idx) + ", " + std::to_string(corners[2].idx) +
+                       " reaches the boundary, and this space is for closed surfaces");
+    if (ghosts && at_boundary) continue;
     const auto by_rank = [&](VertexHandle a, VertexHandle b) {
       return rank[static_cast<std::size_t>(a.idx)] < rank[static_cast<std::size_t>(b.idx)];
     };
@@ -354,7 +359,7 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
   for (std::size_t e = 0; e < patches.size(); ++e) {
     LoopPatch& patch = patches[e];
     const TriangleHandle t = element_triangles[e];
-    if (ghosts) {  // the element's sides towards triangles that are no elements
+    if (sides) {  // the element's sides towards triangles that are no elements
       for (int k = 0; k < 3; ++k) {
         const VertexHandle a(patch.vertices[static_cast<std::size_t>(k)]),
             b(patch.vertices[static_cast<std::size_t>((k + 1) % 3)]);
@@ -541,6 +546,18 @@ void require_closed(const LoopSpace& space, const std::string& name) {
 // with m = y_t × n / |y_t| (outward: the parameter triangle runs counter-clockwise about the
 // normal n = y_u × y_v / |y_u × y_v|), and g. A Neumann side (problem.is_neumann at its
 // midpoint) takes the flux instead: ∫_Γ h v, no Nitsche terms.
+void add_boundary_terms(const LoopSpace& space, const Problem& problem, const LoopNitscheOptions& o,
+                        detail::LoopSystem& s);
+
+}  // namespace
+
+void detail::add_loop_boundary_terms(const LoopSpace& space, const Problem& problem,
+                                     const LoopNitscheOptions& options, LoopSystem& s) {
+  add_boundary_terms(space, problem, options, s);
+}
+
+namespace {
+
 void add_boundary_terms(const LoopSpace& space, const Problem& problem, const LoopNitscheOptions& o,
                         detail::LoopSystem& s) {
   detail::check_nitsche_options(problem.name, o.penalty, 1, "LoopNitscheOptions::penalty, 4 by default",

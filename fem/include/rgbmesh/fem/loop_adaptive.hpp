@@ -21,6 +21,11 @@
 /// vertex is the midpoint of an edge with a level l + 1 end in that patch). On each cell every
 /// function is a combination of the cell's level-l patch functions, whose control values are
 /// the `expansion` of the coefficients. RGB's red and blue triangles decide nothing here.
+///
+/// On a mesh with a boundary the space follows Loop's boundary rules, as the surface does
+/// (LoopBoundary::loop_rules): its domain is the limit surface, bounded by the B-spline of the
+/// boundary vertices, and Dirichlet data are imposed weakly (Nitsche) on the cells' sides
+/// there (cells.boundary).
 
 #include <Eigen/SparseCore>
 #include <optional>
@@ -89,23 +94,26 @@ std::vector<double> loop_indicators_on_triangles(const AdaptiveLoopSpace& space,
 Eigen::VectorXd loop_values_on(const AdaptiveLoopSpace& space, const Eigen::VectorXd& coefficients,
                                const SurfaceMesh& p1);
 
-/// The hierarchical Loop space of a closed RGB mesh in any state of selective refinement. Throws InputError
-/// on an open mesh, or where a base triangle's patch folds onto itself (the base mesh is too coarse: refine
-/// it once and use that as the base).
+/// The hierarchical Loop space of an RGB mesh in any state of selective refinement. Throws InputError where
+/// a base triangle's patch folds onto itself (the base mesh is too coarse: refine it once and use that as
+/// the base).
 AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh,
                                             std::optional<Projection> projection = std::nullopt,
                                             const LoopQuadratureOptions& quadrature = {});
 
-/// -Δu + c u = f on the closed surface, as solve_loop: the cells' matrices assembled on their
-/// control values (K), then the coefficients' system expansionᵀ K expansion. With c = 0, the
-/// zero-mean solution. The result's `u` holds the coefficients.
-Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options = {});
+/// -Δu + c u = f on the surface, as solve_loop: the cells' matrices assembled on their control
+/// values (K), then the coefficients' system expansionᵀ K expansion. On a closed surface with
+/// c = 0, the zero-mean solution; on a surface with a boundary, u = g there by Nitsche's
+/// method, except on the Neumann sides (as solve_loop on a LoopSpace). The result's `u` holds
+/// the coefficients.
+Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options = {},
+                    const LoopNitscheOptions& nitsche = {});
 
 /// The same, also returning the energy of each coefficient's function, a(φ_i, φ_i) (the
 /// diagonal of the coefficients' matrix): |u_i| sqrt(a(φ_i, φ_i)) is what dropping a detail
 /// costs in the energy norm, to first order, which is how adaptive runs choose the vertices
 /// to remove.
 Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options,
-                    Eigen::VectorXd& energies);
+                    Eigen::VectorXd& energies, const LoopNitscheOptions& nitsche = {});
 
 }  // namespace rgbmesh::fem

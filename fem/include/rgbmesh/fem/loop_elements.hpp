@@ -60,6 +60,12 @@ enum class LoopBoundary {
   /// domain is the limit image of the elements, not the RGB mesh's limit surface near the
   /// boundary (which follows Loop's boundary rules): for a flat mesh both are the plane.
   ghost_ring,
+  /// Every triangle is an element and every vertex a DOF, under Loop's boundary rules
+  /// (loop_basis.hpp): the domain is the RGB mesh's limit surface, whose boundary is the cubic
+  /// B-spline of the boundary vertices, and the functions are subdivided as the surface is.
+  /// Boundary conditions are imposed weakly on LoopSpace::boundary, the mesh's boundary edges.
+  /// A corner of one triangle is rounded off, as the surface is there.
+  loop_rules,
 };
 
 /// The Loop space of a mesh refined uniformly (every triangle green at one level). The limits
