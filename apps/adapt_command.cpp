@@ -139,7 +139,8 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   if (a.order != 1 && a.order != 2) throw InputError("--order " + std::to_string(a.order) + ": 1 or 2");
   o.order = a.order;
   if (a.element == "loop") {
-    // Loop-basis elements: the hierarchical space of the RGB mesh (closed), on one process.
+    // Loop-basis elements: the hierarchical space of the RGB mesh (Loop's boundary rules and
+    // Nitsche's Dirichlet terms on open meshes), on one process.
     o.element = adapt::AdaptOptions::Element::loop;
     o.loop_view_levels = 2;  // cycle_NNN_smooth.vtp, which the series lists
     if (s.moving) throw InputError("--element loop: not for moving problems yet (use p1 or p2)");
@@ -907,7 +908,8 @@ void AdaptCommand::add(CLI::App& tool, CompressionOption& compression) {
   app->add_option(
          "--element", args.element,
          "finite elements: p1, p2 (as --order 1, 2) or loop (Loop-basis: smooth, one unknown per vertex, on "
-         "the Loop limit surface; closed meshes, one process)")
+         "the Loop limit surface, whose boundary rounds off corners of open meshes; Dirichlet data imposed "
+         "weakly; one process)")
       ->check(CLI::IsMember({"p1", "p2", "loop"}));
   app->add_option(
          "--coarsen", args.coarsen,

@@ -549,6 +549,55 @@ void require_closed(const LoopSpace& space, const std::string& name) {
 void add_boundary_terms(const LoopSpace& space, const Problem& problem, const LoopNitscheOptions& o,
                         detail::LoopSystem& s);
 
+// The basis along a boundary side at the Gauss points gauss_t (in [0, 1] along the side):
+// the values, the co-normal derivatives ∂ₘφ = ∇_Γφ · m with m = y_t × n / |y_t| (outward: the
+// parameter triangle runs counter-clockwise about the normal n = y_u × y_v / |y_u × y_v|),
+// the speed |y_t| and the point (projected, if the space has a projection).
+struct SidePoint {
+  Eigen::VectorXd value, dm;
+  double speed = 0;
+  Vec3 y;
+};
+std::vector<SidePoint> side_points(const LoopSpace& space, const LoopSpace::Side& side,
+                                   const std::vector<double>& gauss_t) {
+  const LoopSpace::Element& e = space.elements[side.element];
+  std::vector<SidePoint> out;
+  for (const double t : gauss_t) {
+    const detail::SideParameters at = detail::side_parameters(side.edge, t);
+    const LoopBasisAt basis = evaluate_loop_basis(e.rule->patch, at.u, at.v);
+    Vec3 x, xu, xv;
+    for (std::size_t i = 0; i < e.dofs.size(); ++i) {
+      const Vec3& c = space.control[static_cast<std::size_t>(e.dofs[i])];
+      const Eigen::Index k = static_cast<Eigen::Index>(i);
+      x += basis.value(k) * c, xu += basis.du(k) * c, xv += basis.dv(k) * c;
+    }
+    Vec3 y = x, yu = xu, yv = xv;
+    if (space.projection) {
+      y = (*space.projection)(x);
+      yu = projected_tangent(*space.projection, x, xu);
+      yv = projected_tangent(*space.projection, x, xv);
+    }
+    const double a = dot(yu, yu), b = dot(yu, yv), c = dot(yv, yv), det = a * c - b * b;
+    const Vec3 tangent = at.du * yu + at.dv * yv;
+    SidePoint p;
+    p.speed = norm(tangent);
+    const Vec3 normal = (1.0 / std::sqrt(det)) * cross(yu, yv);
+    const Vec3 m = (1.0 / p.speed) * cross(tangent, normal);
+    // ∇_Γφ · m = (g^{1b} φ_b) y_u · m + (g^{2b} φ_b) y_v · m.
+    const double um = dot(yu, m), vm = dot(yv, m);
+    p.dm = ((c * um - b * vm) / det) * basis.du + ((a * vm - b * um) / det) * basis.dv;
+    p.value = basis.value;
+    p.y = y;
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+// Whether a boundary side takes a flux (problem.is_neumann at its midpoint).
+bool neumann_side(const LoopSpace& space, const LoopSpace::Side& side, const Problem& problem) {
+  return problem.is_neumann && problem.is_neumann(side_points(space, side, {0.5}).front().y);
+}
+
 }  // namespace
 
 void detail::add_loop_boundary_terms(const LoopSpace& space, const Problem& problem,
@@ -567,10 +616,7 @@ void add_boundary_terms(const LoopSpace& space, const Problem& problem, const Lo
                      "': both dirichlet and dirichlet_values are set (give one)");
   std::vector<double> gauss_t, gauss_w;
   gauss_legendre(o.edge_points, gauss_t, gauss_w);
-  struct Point {
-    Eigen::VectorXd value, dm;
-    double speed = 0;
-  };
+  using Point = SidePoint;
   struct SideTerms {
     std::size_t element = 0;
     std::vector<Point> points;
@@ -578,68 +624,28 @@ void add_boundary_terms(const LoopSpace& space, const Problem& problem, const Lo
     std::vector<double> g;
     double length = 0;
   };
-  const auto surface_point = [&space](const LoopSpace::Element& e, const LoopBasisAt& basis, Vec3& x,
-                                      Vec3& xu, Vec3& xv) {
-    x = xu = xv = Vec3{};
-    for (std::size_t i = 0; i < e.dofs.size(); ++i) {
-      const Vec3& c = space.control[static_cast<std::size_t>(e.dofs[i])];
-      const Eigen::Index k = static_cast<Eigen::Index>(i);
-      x += basis.value(k) * c, xu += basis.du(k) * c, xv += basis.dv(k) * c;
-    }
-  };
   // The Dirichlet sides of each element, with their points; Neumann sides go to the load.
   std::map<std::size_t, std::vector<SideTerms>> dirichlet_sides;
-  std::vector<Vec3> where;
   for (const LoopSpace::Side& side : space.boundary) {
     const LoopSpace::Element& e = space.elements[side.element];
     const Eigen::Index n = static_cast<Eigen::Index>(e.dofs.size());
     SideTerms terms;
     terms.element = side.element;
-    where.clear();
+    terms.points = side_points(space, side, gauss_t);
     for (std::size_t q = 0; q < gauss_t.size(); ++q) {
-      const detail::SideParameters at = detail::side_parameters(side.edge, gauss_t[q]);
-      const LoopBasisAt basis = evaluate_loop_basis(e.rule->patch, at.u, at.v);
-      Vec3 x, xu, xv;
-      surface_point(e, basis, x, xu, xv);
-      Vec3 y = x, yu = xu, yv = xv;
-      if (space.projection) {
-        y = (*space.projection)(x);
-        yu = projected_tangent(*space.projection, x, xu);
-        yv = projected_tangent(*space.projection, x, xv);
-      }
-      const double a = dot(yu, yu), b = dot(yu, yv), c = dot(yv, yv), det = a * c - b * b;
-      const Vec3 tangent = at.du * yu + at.dv * yv;
-      Point p;
-      p.speed = norm(tangent);
-      const Vec3 normal = (1.0 / std::sqrt(det)) * cross(yu, yv);
-      const Vec3 m = (1.0 / p.speed) * cross(tangent, normal);
-      // ∇_Γφ · m = (g^{1b} φ_b) y_u · m + (g^{2b} φ_b) y_v · m.
-      const double um = dot(yu, m), vm = dot(yv, m);
-      p.dm = ((c * um - b * vm) / det) * basis.du + ((a * vm - b * um) / det) * basis.dv;
-      p.value = basis.value;
-      terms.length += gauss_w[q] * p.speed;
-      where.push_back(y);
-      terms.points.push_back(std::move(p));
+      terms.length += gauss_w[q] * terms.points[q].speed;
+      terms.where.push_back(terms.points[q].y);
     }
-    const auto add_load = [&](const Eigen::VectorXd& load) {
-      for (Eigen::Index i = 0; i < n; ++i) s.b(e.dofs[static_cast<std::size_t>(i)]) += load(i);
-    };
-    if (problem.is_neumann) {
-      const detail::SideParameters mid = detail::side_parameters(side.edge, 0.5);
-      Vec3 x, xu, xv;
-      surface_point(e, evaluate_loop_basis(e.rule->patch, mid.u, mid.v), x, xu, xv);
-      if (problem.is_neumann(space.projection ? (*space.projection)(x) : x)) {
-        for (std::size_t q = 0; q < terms.points.size(); ++q) {
-          const double h = problem.neumann_flux ? problem.neumann_flux(where[q]) : 0.0;
-          if (!std::isfinite(h))
-            throw InputError("problem '" + problem.name +
-                             "': the Neumann flux is not finite on the boundary");
-          add_load((gauss_w[q] * terms.points[q].speed * h) * terms.points[q].value);
-        }
-        continue;
+    if (neumann_side(space, side, problem)) {
+      for (std::size_t q = 0; q < terms.points.size(); ++q) {
+        const double h = problem.neumann_flux ? problem.neumann_flux(terms.where[q]) : 0.0;
+        if (!std::isfinite(h))
+          throw InputError("problem '" + problem.name + "': the Neumann flux is not finite on the boundary");
+        const Eigen::VectorXd load = (gauss_w[q] * terms.points[q].speed * h) * terms.points[q].value;
+        for (Eigen::Index i = 0; i < n; ++i) s.b(e.dofs[static_cast<std::size_t>(i)]) += load(i);
       }
+      continue;
     }
-    terms.where = where;
     dirichlet_sides[side.element].push_back(std::move(terms));
   }
   // g at every Dirichlet point, in one call of a batch function.
@@ -851,6 +857,46 @@ Estimate loop_residual_estimate(const LoopSpace& space, const Problem& problem, 
     const double h2 = 4 * area / std::sqrt(3.0);  // the squared side of the equilateral triangle of this area
     out.eta[e] = std::sqrt(h2 * residual);
   });
+  // On the boundary, what the weak conditions leave: h_E⁻¹ ‖g - u_h‖² on a Dirichlet side
+  // (Nitsche's solution does not interpolate g) and h_E ‖h - ∂ₘu_h‖² on a Neumann side.
+  if (!space.boundary.empty()) {
+    std::vector<double> gauss_t, gauss_w;
+    gauss_legendre(6, gauss_t, gauss_w);
+    std::vector<std::vector<SidePoint>> points(space.boundary.size());
+    std::vector<char> neumann(space.boundary.size(), 0);
+    detail::for_each_index(space.boundary.size(), [&](std::size_t k) {
+      points[k] = side_points(space, space.boundary[k], gauss_t);
+      neumann[k] = neumann_side(space, space.boundary[k], problem) ? 1 : 0;
+    });
+    std::vector<Vec3> at;
+    for (std::size_t k = 0; k < points.size(); ++k)
+      if (!neumann[k])
+        for (const SidePoint& p : points[k]) at.push_back(p.y);
+    std::vector<double> g(at.size(), 0.0);
+    if (problem.dirichlet_values)
+      g = detail::point_values(problem.dirichlet_values, at);
+    else if (problem.dirichlet)
+      for (std::size_t i = 0; i < at.size(); ++i) g[i] = problem.dirichlet(at[i]);
+    std::size_t next = 0;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const LoopSpace::Element& el = space.elements[space.boundary[k].element];
+      double length = 0, squares = 0;
+      for (std::size_t q = 0; q < points[k].size(); ++q) {
+        const SidePoint& p = points[k][q];
+        double uh = 0, dm = 0;
+        for (std::size_t i = 0; i < el.dofs.size(); ++i) {
+          uh += p.value(static_cast<Eigen::Index>(i)) * u(el.dofs[i]);
+          dm += p.dm(static_cast<Eigen::Index>(i)) * u(el.dofs[i]);
+        }
+        const double r =
+            neumann[k] ? (problem.neumann_flux ? problem.neumann_flux(p.y) : 0.0) - dm : g[next++] - uh;
+        length += gauss_w[q] * p.speed;
+        squares += gauss_w[q] * p.speed * r * r;
+      }
+      double& eta = out.eta[space.boundary[k].element];
+      eta = std::sqrt(eta * eta + (neumann[k] ? length * squares : squares / length));
+    }
+  }
   double sum = 0;
   for (const double x : out.eta) sum += x * x;
   out.total = std::sqrt(sum);

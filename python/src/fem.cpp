@@ -536,7 +536,9 @@ void bind_fem(py::module_& m) {
         "onto the unit sphere with geometry='sphere', the default for built-in problems) and estimates the "
         "error per "
         "triangle ('residual' or 'zz'). element='loop': Loop-basis (smooth) elements, one unknown per "
-        "vertex (the hierarchical space of the mesh as refined), on a closed mesh (residual estimator). "
+        "vertex (the hierarchical space of the mesh as refined; on an open mesh Loop's boundary rules, with "
+        "the "
+        "Dirichlet data imposed weakly), residual estimator. "
         "Returns a Solution.");
   m.def(
       "adapt", &run_adapt, py::arg("mesh"), py::arg("problem"), py::kw_only(),
@@ -551,7 +553,7 @@ void bind_fem(py::module_& m) {
       "Solution of that cycle; the mesh is already adapted for the next); stop(report) -> True ends the run "
       "with "
       "that cycle. Returns {'cycles': [report, ...], 'stopped': why}. Ctrl-C interrupts between steps. "
-      "element='loop': Loop-basis elements (the hierarchical space of the adaptive mesh; closed meshes), "
+      "element='loop': Loop-basis elements (the hierarchical space of the adaptive mesh), "
       "each "
       "cycle's Solution keeping its picture for write_smooth().");
 }
