@@ -143,7 +143,6 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
     // Nitsche's Dirichlet terms on open meshes), on one process.
     o.element = adapt::AdaptOptions::Element::loop;
     o.loop_view_levels = 2;  // cycle_NNN_smooth.vtp, which the series lists
-    if (s.moving) throw InputError("--element loop: not for moving problems yet (use p1 or p2)");
     if (a.processes > 1) throw InputError("--element loop: runs on one process for now");
     if (a.given.count("--estimator") && a.estimator != "residual")
       throw InputError("--estimator " + a.estimator + ": Loop elements have the residual estimator only");

@@ -199,9 +199,14 @@ Vec3 peak_at(double t) {
   return std::cos(phi) * Vec3(0.6, 0.0, 0.8) + std::sin(phi) * Vec3(0.0, 1.0, 0.0);
 }
 
-TEST(Adapt, MeshFollowsAMovingPeakAtASteadySizeCentredOnIt) {
+// With P1 and with Loop elements (which coarsen by their details' energies): measured, P1
+// keeps about 1,100 unknowns at H1 0.11, Loop about 540 at H1 3e-3.
+class MovingPeak : public ::testing::TestWithParam<AdaptOptions::Element> {};
+
+TEST_P(MovingPeak, MeshFollowsItAtASteadySizeCentredOnIt) {
   RgbMesh mesh = icosphere();
   AdaptOptions o = sphere_options(Strategy::adaptive);
+  o.element = GetParam();
   o.coarsen_below = 0.25;
   o.marking = std::make_shared<EquidistributionMarking>();  // towards the estimate reached at the start
   DynamicOptions d;                       // 24 steps of 3.75 degrees
@@ -232,10 +237,24 @@ TEST(Adapt, MeshFollowsAMovingPeakAtASteadySizeCentredOnIt) {
     // The finest patch sits on the peak, not behind it: well within half a step's travel
     // (1.875 degrees). Coarsening on the refinement's own scale leaves behind as much fine
     // mesh as refinement creates ahead.
-    EXPECT_LT(offset[k], 0.75) << "step " << k << ": the finest patch is " << offset[k] << " degrees off the peak";
+    // Loop elements' indicators follow the solution's fourth derivatives, largest on a ring
+    // around the peak's top: their finest patch stays within the peak's width (1/sqrt(100)
+    // rad, 5.7 degrees) instead.
+    const bool smooth = GetParam() == AdaptOptions::Element::loop;
+    EXPECT_LT(offset[k], smooth ? 5.7 : 0.75)
+        << "step " << k << ": the finest patch is " << offset[k] << " degrees off the peak";
   }
-  EXPECT_LT(double(hi) / double(lo), 1.3) << "triangles between " << lo << " and " << hi;
+  const bool loop = GetParam() == AdaptOptions::Element::loop;
+  EXPECT_LT(double(hi) / double(lo), loop ? 1.4 : 1.3) << "triangles between " << lo << " and " << hi;
+  for (const CycleReport& step : steps) EXPECT_LT(*step.error_h1, loop ? 5e-3 : 0.15);
+  EXPECT_LT(steps.back().dofs, loop ? 700u : 1400u);
 }
+
+INSTANTIATE_TEST_SUITE_P(Adapt, MovingPeak,
+                         ::testing::Values(AdaptOptions::Element::lagrange, AdaptOptions::Element::loop),
+                         [](const ::testing::TestParamInfo<AdaptOptions::Element>& p) {
+                           return std::string(p.param == AdaptOptions::Element::loop ? "Loop" : "P1");
+                         });
 
 TEST(Adapt, UniformStrategyOnAMovingPeakKeepsOneMeshWithinMaxDofs) {
   RgbMesh mesh = icosphere();

@@ -346,7 +346,7 @@ TEST_F(Cli, LoopElementsRunOnAnOpenMesh) {
 
 // --element loop (issue 26): Loop-basis elements on the uniform levels, with the report's
 // settings, far below P1's H1 error at the same unknowns, resumable; the combinations it does
-// not support yet are refused in one line.
+// not support are refused in one line.
 TEST_F(Cli, LoopElementsRunUniformlyAndResume) {
   const RunResult r = run("adapt --element loop --strategy uniform --cycles 5 --out " + path("loop"));
   ASSERT_EQ(r.code, 0) << r.err;
@@ -380,10 +380,8 @@ TEST_F(Cli, LoopElementsRunUniformlyAndResume) {
     EXPECT_EQ(parts[i].error_h1, loop[i].error_h1);
   }
   for (const auto& [args, message] :
-       {std::pair{"adapt --element loop --problem moving-peak",
-                  "--element loop: not for moving problems yet"},
-        {"adapt --element loop --strategy uniform --estimator zz",
-         "Loop elements have the residual estimator only"},
+       {std::pair{"adapt --element loop --strategy uniform --estimator zz",
+                  "Loop elements have the residual estimator only"},
         {"adapt --element p2 --order 1", "--order 1: disagrees with --element p2"},
         {"adapt --element q2", "--element: q2 not in {p1,p2,loop}"}}) {
     const RunResult bad = run(std::string(args) + " --out " + path("bad"));

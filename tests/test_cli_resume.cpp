@@ -110,11 +110,14 @@ TEST_F(Resume, AMaxDofsStopExtendsWithMoreUnknowns) {
   EXPECT_EQ(report_of(part).find("max_dofs")->number, 1500);
 }
 
-TEST_F(Resume, AMovingPeakRunResumedRepeatsTheUninterruptedRun) {
+// With P1 and with Loop elements (whose steps also write the smooth picture).
+class MovingResume : public Resume, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(MovingResume, AMovingPeakRunResumedRepeatsTheUninterruptedRun) {
   // Equidistribution with coarsening (0.25, the default) above a floor at level 2, 8 steps;
   // interrupted after 3.
   const std::string full = path("mfull"), part = path("mpart");
-  ASSERT_EQ(run("adapt --problem moving-peak --steps 8 --min-level 2 --out " + full).code, 0);
+  ASSERT_EQ(run("adapt --problem moving-peak --steps 8 --min-level 2 --out " + full + GetParam()).code, 0);
   fs::copy(full, part);
   interrupt_after(part, 3, "step_");
   ASSERT_FALSE(fs::exists(part + "/step_003.vtp"));
@@ -133,11 +136,19 @@ TEST_F(Resume, AMovingPeakRunResumedRepeatsTheUninterruptedRun) {
   EXPECT_EQ(b.find("min_level")->number, 2);
   EXPECT_EQ(triangles_of(full + "/step_008.vtp"), triangles_of(part + "/step_008.vtp"));
   EXPECT_EQ(b.find("stopped")->string, "steps");
+  if (std::string(GetParam()).find("loop") != std::string::npos)
+    for (int step = 0; step <= 8; ++step)
+      EXPECT_TRUE(fs::exists(part + "/step_00" + std::to_string(step) + "_smooth.vtp")) << step;
   // All steps done: a moving run does not extend.
   const RunResult more = run("adapt --resume " + part);
   EXPECT_EQ(more.code, 2);
   EXPECT_EQ(lines(more.err), 1) << more.err;
 }
+
+INSTANTIATE_TEST_SUITE_P(Resume, MovingResume, ::testing::Values("", " --element loop"),
+                         [](const ::testing::TestParamInfo<const char*>& p) {
+                           return std::string(*p.param == '\0' ? "P1" : "Loop");
+                         });
 
 TEST_F(Resume, ConflictingOptionsAndDamagedFoldersAreRefused) {
   const std::string dir = path("run");

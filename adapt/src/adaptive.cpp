@@ -478,8 +478,6 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
   // A distributed mesh knows its size when a cycle is solved (its parts decided): a step
   // whose mesh would pass max_dofs stops the run at its solve instead of after its adaptation.
   const bool distributed = options.distribution.distributed_mesh;
-  if (options.element == AdaptOptions::Element::loop)
-    throw InputError("Loop elements are not for moving problems yet (use Lagrange elements)");
   refine_to_floor(mesh, options);
   AdaptRun run;
   const bool resuming = dynamic.first_step > 0;
@@ -597,7 +595,8 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     const SolvedMesh solved = describe(mesh, c, o.control.resumable,
                                        o.distribution.distributed_mesh ? o.distribution.share.process : -1);
     if (on_step)
-      on_step({run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved, nullptr});
+      on_step(
+          {run.cycles.back(), mesh, c.fe, problem, c.solution.u, c.estimate, marked, &solved, c.loop_view});
   }
   return run;
 }
