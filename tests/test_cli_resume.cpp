@@ -136,9 +136,11 @@ TEST_P(MovingResume, AMovingPeakRunResumedRepeatsTheUninterruptedRun) {
   EXPECT_EQ(b.find("min_level")->number, 2);
   EXPECT_EQ(triangles_of(full + "/step_008.vtp"), triangles_of(part + "/step_008.vtp"));
   EXPECT_EQ(b.find("stopped")->string, "steps");
-  if (std::string(GetParam()).find("loop") != std::string::npos)
-    for (int step = 0; step <= 8; ++step)
+  if (std::string(GetParam()).find("loop") != std::string::npos) {
+    for (int step = 0; step <= 8; ++step) {
       EXPECT_TRUE(fs::exists(part + "/step_00" + std::to_string(step) + "_smooth.vtp")) << step;
+    }
+  }
   // All steps done: a moving run does not extend.
   const RunResult more = run("adapt --resume " + part);
   EXPECT_EQ(more.code, 2);
