@@ -782,6 +782,7 @@ std::shared_ptr<const LoopChildPatch> loop_child_patch(const LoopPatch& parent, 
   using Key = std::pair<int, Triangles>;
   static std::mutex mutex;
   static std::map<Key, std::shared_ptr<const LoopChildPatch>> cache;
+  static std::size_t cached_bytes = 0;
   Key key{child, parent.triangles};
   {
     const std::lock_guard<std::mutex> lock(mutex);
@@ -796,8 +797,17 @@ std::shared_ptr<const LoopChildPatch> loop_child_patch(const LoopPatch& parent, 
   out->from_parent = std::move(c.from_parent);
   out->origin = std::move(c.origin);
   const std::lock_guard<std::mutex> lock(mutex);
-  if (cache.size() > 4096) cache.clear();  // bounded over a long session of many meshes
-  return cache.emplace(std::move(key), std::move(out)).first->second;
+  // Bounded over a long session of many meshes, and above what one irregular base mesh asks
+  // for (every base connectivity's four children: 7,200 for elephant-with-holes, 10 MB).
+  const std::size_t bytes = sizeof(double) * static_cast<std::size_t>(out->from_parent.size()) +
+                            16 * (out->patch.vertices.size() + out->patch.triangles.size()) + 256;
+  if (cached_bytes + bytes > (std::size_t{64} << 20)) {
+    cache.clear();
+    cached_bytes = 0;
+  }
+  const auto [it, inserted] = cache.emplace(std::move(key), std::move(out));
+  if (inserted) cached_bytes += bytes;
+  return it->second;
 }
 
 int loop_descend(double& u, double& v) {
