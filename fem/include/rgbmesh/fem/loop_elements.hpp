@@ -6,9 +6,10 @@
 /// One unknown per vertex, as P1; each triangle's functions depend on the control values of
 /// its patch (loop_basis.hpp), 12 of them where its corners are regular.
 ///
-/// This first space is that of a uniformly refined closed mesh: every triangle green at one
-/// level L, the unknowns the level-L control values of its vertices. (The adaptive space of an
-/// RGB mesh, where each inserted vertex carries a detail, builds on it.)
+/// This first space is that of a uniformly refined mesh: every triangle green at one level L,
+/// the unknowns the level-L control values of its vertices; a boundary takes a ghost ring or
+/// Loop's boundary rules (LoopBoundary). (The adaptive space of an RGB mesh, where each
+/// inserted vertex carries a detail, builds on it: loop_adaptive.hpp.)
 
 #include <Eigen/Core>
 #include <memory>
