@@ -384,7 +384,9 @@ const Eigen::MatrixXd& cached_boundary_completion(const LoopPatch& patch) {
   }
   auto made = std::make_shared<const Eigen::MatrixXd>(boundary_completion(patch));
   const std::lock_guard<std::mutex> lock(mutex);
-  // Entries are never dropped (callers hold references); a boundary has few connectivities.
+  // Entries are never dropped (callers hold references). A regular patch at the boundary is a
+  // piece of the half lattice: which corners are on the boundary and where the central
+  // triangle sits in their fans, a few dozen connectivities in all.
   return *cache.emplace(patch.triangles, std::move(made)).first->second;
 }
 
