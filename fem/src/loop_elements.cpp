@@ -864,10 +864,11 @@ Estimate loop_residual_estimate(const LoopSpace& space, const Problem& problem, 
     gauss_legendre(6, gauss_t, gauss_w);
     std::vector<std::vector<SidePoint>> points(space.boundary.size());
     std::vector<char> neumann(space.boundary.size(), 0);
-    detail::for_each_index(space.boundary.size(), [&](std::size_t k) {
-      points[k] = side_points(space, space.boundary[k], gauss_t);
+    detail::for_each_index(space.boundary.size(),
+                           [&](std::size_t k) { points[k] = side_points(space, space.boundary[k], gauss_t); });
+    // The problem's own functions are called on one thread, as the solve calls them.
+    for (std::size_t k = 0; k < points.size(); ++k)
       neumann[k] = neumann_side(space, space.boundary[k], problem) ? 1 : 0;
-    });
     std::vector<Vec3> at;
     for (std::size_t k = 0; k < points.size(); ++k)
       if (!neumann[k])
