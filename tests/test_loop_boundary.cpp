@@ -193,6 +193,16 @@ fem::Problem plane_problem(const std::string& name, std::function<double(double,
   return p;
 }
 
+// u = sin(2x + y) + x y², -Δu = 5 sin(2x + y) - 2x.
+fem::Problem wave_problem() {
+  return plane_problem(
+      "wave", [](double x, double y) { return std::sin(2 * x + y) + x * y * y; },
+      [](double x, double y) {
+        return Vec3{2 * std::cos(2 * x + y) + y * y, std::cos(2 * x + y) + 2 * x * y, 0};
+      },
+      [](double x, double y) { return 5 * std::sin(2 * x + y) - 2 * x; });
+}
+
 TEST(LoopDirichlet, HarmonicCubicIsReproducedExactly) {
   const fem::Problem cubic = plane_problem(
       "harmonic-cubic", [](double x, double y) { return x * x * x - 3 * x * y * y + 2 * x - y + 1; },
@@ -209,12 +219,7 @@ TEST(LoopDirichlet, HarmonicCubicIsReproducedExactly) {
 }
 
 TEST(LoopDirichlet, SmoothSolutionConvergesAtTheCubicsRates) {
-  const fem::Problem wave = plane_problem(
-      "wave", [](double x, double y) { return std::sin(2 * x + y) + x * y * y; },
-      [](double x, double y) {
-        return Vec3{2 * std::cos(2 * x + y) + y * y, std::cos(2 * x + y) + 2 * x * y, 0};
-      },
-      [](double x, double y) { return 5 * std::sin(2 * x + y) - 2 * x; });
+  const fem::Problem wave = wave_problem();
   // The same with the side x = 1 given its flux instead (Neumann).
   fem::Problem mixed = wave;
   mixed.is_neumann = [](const Vec3& x) { return x.x > 1 - 1e-9; };
@@ -245,12 +250,7 @@ TEST(LoopDirichlet, SmoothSolutionConvergesAtTheCubicsRates) {
 // reproduce only linear ones anywhere: P1's rates, O(h) in H1 and O(h²) in L2 (measured 1.00
 // and 2.00), not the cubics' of the regular lattice.
 TEST(LoopDirichlet, ExtraordinaryVerticesOnTheBoundaryConverge) {
-  const fem::Problem wave = plane_problem(
-      "wave", [](double x, double y) { return std::sin(2 * x + y) + x * y * y; },
-      [](double x, double y) {
-        return Vec3{2 * std::cos(2 * x + y) + y * y, std::cos(2 * x + y) + 2 * x * y, 0};
-      },
-      [](double x, double y) { return 5 * std::sin(2 * x + y) - 2 * x; });
+  const fem::Problem wave = wave_problem();
   double previous = 0;
   for (const int cells : {8, 16, 32}) {
     const TriangleMeshData m = alternating_lattice(cells);
@@ -308,12 +308,7 @@ TEST(LoopDirichlet, SphericalCapConverges) {
 // and 2.48), between P1's and P2's, against the cubics' h^3 and h^4 of the ghost ring above;
 // adaptive refinement grades towards the boundary (Adapt.LoopElementsOnAnOpenMesh).
 TEST(LoopDirichlet, LoopsBoundaryRulesConverge) {
-  const fem::Problem wave = plane_problem(
-      "wave", [](double x, double y) { return std::sin(2 * x + y) + x * y * y; },
-      [](double x, double y) {
-        return Vec3{2 * std::cos(2 * x + y) + y * y, std::cos(2 * x + y) + 2 * x * y, 0};
-      },
-      [](double x, double y) { return 5 * std::sin(2 * x + y) - 2 * x; });
+  const fem::Problem wave = wave_problem();
   double previous_l2 = 0, previous_h1 = 0;
   for (const int cells : {8, 16, 32, 64}) {
     const TriangleMeshData m = square_lattice(cells, 1, 0);

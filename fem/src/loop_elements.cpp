@@ -593,6 +593,15 @@ std::vector<SidePoint> side_points(const LoopSpace& space, const LoopSpace::Side
   return out;
 }
 
+// The Dirichlet data g at points, in one call of a batch function (zero if the problem has none).
+std::vector<double> dirichlet_at(const Problem& problem, const std::vector<Vec3>& points) {
+  if (problem.dirichlet_values) return detail::point_values(problem.dirichlet_values, points);
+  std::vector<double> g(points.size(), 0.0);
+  if (problem.dirichlet)
+    for (std::size_t i = 0; i < points.size(); ++i) g[i] = problem.dirichlet(points[i]);
+  return g;
+}
+
 // Whether a boundary side takes a flux (problem.is_neumann at its midpoint).
 bool neumann_side(const LoopSpace& space, const LoopSpace::Side& side, const Problem& problem) {
   return problem.is_neumann && problem.is_neumann(side_points(space, side, {0.5}).front().y);
@@ -658,11 +667,7 @@ void add_boundary_terms(const LoopSpace& space, const Problem& problem, const Lo
         "problem '" + problem.name +
         "': every boundary side is Neumann and c = 0, so the solution is defined up to a constant; "
         "make a side Dirichlet or use c > 0");
-  std::vector<double> all_g(all_points.size(), 0.0);
-  if (problem.dirichlet_values)
-    all_g = detail::point_values(problem.dirichlet_values, all_points);
-  else if (problem.dirichlet)
-    for (std::size_t i = 0; i < all_points.size(); ++i) all_g[i] = problem.dirichlet(all_points[i]);
+  const std::vector<double> all_g = dirichlet_at(problem, all_points);
   std::size_t next = 0;
   for (auto& [element, sides] : dirichlet_sides)
     for (SideTerms& side : sides)
@@ -873,11 +878,7 @@ Estimate loop_residual_estimate(const LoopSpace& space, const Problem& problem, 
     for (std::size_t k = 0; k < points.size(); ++k)
       if (!neumann[k])
         for (const SidePoint& p : points[k]) at.push_back(p.y);
-    std::vector<double> g(at.size(), 0.0);
-    if (problem.dirichlet_values)
-      g = detail::point_values(problem.dirichlet_values, at);
-    else if (problem.dirichlet)
-      for (std::size_t i = 0; i < at.size(); ++i) g[i] = problem.dirichlet(at[i]);
+    const std::vector<double> g = dirichlet_at(problem, at);
     std::size_t next = 0;
     for (std::size_t k = 0; k < points.size(); ++k) {
       const LoopSpace::Element& el = space.elements[space.boundary[k].element];
