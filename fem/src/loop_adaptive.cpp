@@ -117,7 +117,87 @@ SparseMatrix galerkin_product(const SparseMatrix& k, const SparseMatrix& e) {
   return a;
 }
 
+// The control values' expansion in the coefficients, row by row in the order the control
+// vertices were found (every rule refers to earlier rows). Hierarchical: an inserted vertex adds
+// its coefficient (a detail) to the value its rule gives it. Truncated: an inserted vertex's
+// value is its coefficient, so coarser functions stop where finer ones take over.
+SparseMatrix expand(const ControlNet& net, const std::vector<std::int32_t>& coefficient_control,
+                    bool truncated) {
+  const std::size_t m = net.vertex.size(), n = coefficient_control.size();
+  std::vector<std::int32_t> own(m, -1);  // control vertex -> the coefficient inserted there
+  for (std::size_t i = 0; i < n; ++i)
+    if (coefficient_control[i] >= 0)
+      own[static_cast<std::size_t>(coefficient_control[i])] = static_cast<std::int32_t>(i);
+  // Built as rows (compressed, each in column order), read back by the rows after them.
+  std::vector<SparseMatrix::StorageIndex> row_start{0}, columns;
+  std::vector<double> values;
+  std::vector<double> dense(n, 0.0);
+  std::vector<char> seen(n, 0);
+  std::vector<std::int32_t> touched;
+  for (std::size_t r = 0; r < m; ++r) {
+    touched.clear();
+    const auto add = [&](std::int32_t col, double w) {
+      const auto c = static_cast<std::size_t>(col);
+      if (!seen[c]) touched.push_back(col), seen[c] = 1;
+      dense[c] += w;
+    };
+    if (!truncated || own[r] < 0)
+      for (std::size_t k = net.rule_start[r]; k < net.rule_start[r + 1]; ++k) {
+        const auto from = static_cast<std::size_t>(net.rule[k].first);
+        for (auto at = static_cast<std::size_t>(row_start[from]);
+             at < static_cast<std::size_t>(row_start[from + 1]); ++at)
+          add(columns[at], net.rule[k].second * values[at]);
+      }
+    // A level-0 vertex is its coefficient; an inserted vertex adds its detail at the level it
+    // was inserted at (or, truncated, is its coefficient there).
+    if (own[r] >= 0) add(own[r], 1.0);
+    std::sort(touched.begin(), touched.end());
+    for (const std::int32_t col : touched) {
+      const auto c = static_cast<std::size_t>(col);
+      columns.push_back(col);
+      values.push_back(dense[c]);
+      dense[c] = 0, seen[c] = 0;
+    }
+    row_start.push_back(static_cast<SparseMatrix::StorageIndex>(columns.size()));
+  }
+  return Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>>(
+      static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(values.size()),
+      row_start.data(), columns.data(), values.data());
+}
+
+// The diagonal of Eᵀ K E without the product: each column's eⱼᵀ K eⱼ.
+Eigen::VectorXd galerkin_diagonal(const SparseMatrix& k, const SparseMatrix& e) {
+  Eigen::VectorXd d(e.cols());
+  detail::for_each_index(static_cast<std::size_t>(e.cols()), [&](std::size_t j) {
+    thread_local std::vector<double> dense;
+    if (dense.size() < static_cast<std::size_t>(e.rows()))
+      dense.assign(static_cast<std::size_t>(e.rows()), 0.0);
+    for (SparseMatrix::InnerIterator ej(e, static_cast<Eigen::Index>(j)); ej; ++ej)
+      dense[static_cast<std::size_t>(ej.row())] = ej.value();
+    double sum = 0;
+    for (SparseMatrix::InnerIterator ej(e, static_cast<Eigen::Index>(j)); ej; ++ej)
+      for (SparseMatrix::InnerIterator kk(k, ej.row()); kk; ++kk)
+        sum += ej.value() * kk.value() * dense[static_cast<std::size_t>(kk.row())];
+    for (SparseMatrix::InnerIterator ej(e, static_cast<Eigen::Index>(j)); ej; ++ej)
+      dense[static_cast<std::size_t>(ej.row())] = 0;
+    d(static_cast<Eigen::Index>(j)) = sum;
+  });
+  return d;
+}
+
 }  // namespace
+
+Eigen::VectorXd AdaptiveLoopSpace::hierarchical_coefficients(const Eigen::VectorXd& truncated) const {
+  return truncated - prediction * (truncated_expansion * truncated);
+}
+
+Eigen::VectorXd AdaptiveLoopSpace::truncated_coefficients(const Eigen::VectorXd& hierarchical) const {
+  const Eigen::VectorXd control = expansion * hierarchical;
+  Eigen::VectorXd out(hierarchical.size());
+  for (Eigen::Index i = 0; i < out.size(); ++i)
+    out(i) = control(coefficient_control[static_cast<std::size_t>(i)]);
+  return out;
+}
 
 Eigen::VectorXd AdaptiveLoopSpace::constant() const {
   Eigen::VectorXd one = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(num_dofs()));
@@ -285,52 +365,39 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
     level_cells = std::move(next);
   }
 
-  // The expansion, row by row in the order found (every rule refers to earlier rows). Every
+  // The expansions, row by row in the order found (every rule refers to earlier rows). Every
   // control vertex is kept, those only the split cells use too: they are the chain from the
   // base that each value comes down (ControlVertex::origin), and cost no matrix entries.
-  const std::size_t m = net.vertex.size();
-  // Built as rows (compressed, each in column order), read back by the rows after them.
-  std::vector<SparseMatrix::StorageIndex> row_start{0}, columns;
-  std::vector<double> values;
+  space.coefficient_control.assign(space.num_dofs(), -1);
+  for (std::size_t r = 0; r < net.vertex.size(); ++r) {
+    const AdaptiveLoopSpace::ControlVertex& v = net.vertex[r];
+    if (v.vertex.valid() && mesh.level(v.vertex) == v.level)
+      space.coefficient_control[static_cast<std::size_t>(
+          space.coefficient_of_vertex[static_cast<std::size_t>(v.vertex.idx)])] =
+          static_cast<std::int32_t>(r);
+  }
+  space.expansion = expand(net, space.coefficient_control, false);
+  space.truncated_expansion = expand(net, space.coefficient_control, true);
   {
-    std::vector<double> dense(space.num_dofs(), 0.0);
-    std::vector<char> seen(space.num_dofs(), 0);
-    std::vector<std::int32_t> touched;
-    for (std::size_t r = 0; r < m; ++r) {
-      const AdaptiveLoopSpace::ControlVertex& v = net.vertex[r];
-      touched.clear();
-      const auto add = [&](std::int32_t col, double w) {
-        const auto c = static_cast<std::size_t>(col);
-        if (!seen[c]) touched.push_back(col), seen[c] = 1;
-        dense[c] += w;
-      };
-      for (std::size_t k = net.rule_start[r]; k < net.rule_start[r + 1]; ++k) {
-        const auto from = static_cast<std::size_t>(net.rule[k].first);
-        for (auto at = static_cast<std::size_t>(row_start[from]);
-             at < static_cast<std::size_t>(row_start[from + 1]); ++at)
-          add(columns[at], net.rule[k].second * values[at]);
-      }
-      // A level-0 vertex is its coefficient; an inserted vertex adds its detail at the level
-      // it was inserted at.
-      if (v.vertex.valid() && mesh.level(v.vertex) == v.level)
-        add(space.coefficient_of_vertex[static_cast<std::size_t>(v.vertex.idx)], 1.0);
-      std::sort(touched.begin(), touched.end());
-      for (const std::int32_t col : touched) {
-        const auto c = static_cast<std::size_t>(col);
-        columns.push_back(col);
-        values.push_back(dense[c]);
-        dense[c] = 0, seen[c] = 0;
-      }
-      row_start.push_back(static_cast<SparseMatrix::StorageIndex>(columns.size()));
+    // The prediction of each inserted vertex: the rule of its control vertex.
+    std::vector<Eigen::Triplet<double, SparseMatrix::StorageIndex>> entries;
+    for (std::size_t i = 0; i < space.num_dofs(); ++i) {
+      if (space.coefficient_control[i] < 0)
+        throw std::logic_error("build_adaptive_loop_space: an inserted vertex without its control vertex");
+      if (i < space.num_base) continue;
+      const auto r = static_cast<std::size_t>(space.coefficient_control[i]);
+      for (std::size_t k = net.rule_start[r]; k < net.rule_start[r + 1]; ++k)
+        entries.emplace_back(static_cast<SparseMatrix::StorageIndex>(i), net.rule[k].first,
+                             net.rule[k].second);
     }
+    space.prediction.resize(static_cast<Eigen::Index>(space.num_dofs()),
+                            static_cast<Eigen::Index>(net.vertex.size()));
+    space.prediction.setFromTriplets(entries.begin(), entries.end());
   }
   space.control_vertex = std::move(net.vertex);
   for (const AdaptiveLoopSpace::ControlVertex& v : space.control_vertex)
     space.cells.vertex.push_back(v.vertex);
   space.cells.control = std::move(net.point);
-  space.expansion = Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>>(
-      static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(space.num_dofs()),
-      static_cast<Eigen::Index>(values.size()), row_start.data(), columns.data(), values.data());
 
   // The cells, with their rules (one per connectivity, shared).
   space.cells.elements.resize(leaves.size());
@@ -452,16 +519,29 @@ Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, cons
   // Nitsche's terms on the cells' boundary sides, as for the uniform space: the cells' control
   // values are the coefficients' expansion, so the terms carry over with it.
   if (!space.cells.boundary.empty()) detail::add_loop_boundary_terms(space.cells, problem, nitsche, s);
-  const SparseMatrix& e = space.expansion;
+  // The system is solved in the truncated basis (the same space; its coarse functions stop
+  // where finer ones take over, so far fewer pairs of functions meet), the result converted
+  // to the hierarchical coefficients.
+  energies = galerkin_diagonal(s.a, space.expansion);
+  const SparseMatrix& e = space.truncated_expansion;
   s.a = galerkin_product(s.a, e);
-  energies = s.a.diagonal();  // before the zero-mean condition fixes a row
   s.b = e.transpose() * s.b;
-  s.area = e.transpose() * s.area;  // ∫ of each coefficient's function
+  s.area = e.transpose() * s.area;  // ∫ of each truncated function
   s.seconds += seconds_since(t0);
-  if (!space.cells.boundary.empty())
-    return detail::solve_nitsche_system(s, options, problem.name, nitsche.penalty,
-                                        "LoopNitscheOptions::penalty, 4 by default");
-  return detail::solve_closed_loop_system(s, problem, options, space.constant());
+  SolveOptions truncated_options = options;
+  Eigen::VectorXd guess;
+  if (options.initial_guess != nullptr &&
+      options.initial_guess->size() == static_cast<Eigen::Index>(space.num_dofs())) {
+    guess = space.truncated_coefficients(*options.initial_guess);
+    truncated_options.initial_guess = &guess;
+  }
+  Solution sol = !space.cells.boundary.empty()
+                     ? detail::solve_nitsche_system(s, truncated_options, problem.name, nitsche.penalty,
+                                                    "LoopNitscheOptions::penalty, 4 by default")
+                     : detail::solve_closed_loop_system(s, problem, truncated_options,
+                                                        Eigen::VectorXd::Ones(s.a.rows()));
+  sol.u = space.hierarchical_coefficients(sol.u);
+  return sol;
 }
 
 }  // namespace rgbmesh::fem

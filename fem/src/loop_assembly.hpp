@@ -23,8 +23,9 @@ struct LoopSystem {
 LoopSystem assemble_loop_system(const LoopSpace& space, bool fourth_order, double c,
                                 const ScalarField& source, const PointValues& batch, const std::string& name);
 
-/// The solver SolverKind::automatic means for a Loop system of n unknowns.
-SolveOptions loop_solver(const SolveOptions& options, Eigen::Index n);
+/// The solver SolverKind::automatic means for a Loop system: CHOLMOD, or BoomerAMG for
+/// large ones (by unknowns and matrix entries).
+SolveOptions loop_solver(const SolveOptions& options, const SparseMatrix& a);
 
 /// A point of an element's side `edge` (from corner edge to corner edge + 1 of its parameter
 /// triangle) at t in [0, 1]: its parameters (u, v) and their derivatives along the side.

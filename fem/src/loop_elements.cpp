@@ -439,17 +439,21 @@ detail::LoopSystem assemble_loop(const LoopSpace& space, const Form& form, const
 
 }  // namespace
 
-// The automatic choice differs from P1's and P2's: the wider stencil (37 entries a row) fills
-// a simplicial LDLT factor far more (10,242 unknowns: 0.52 s against CHOLMOD's supernodal
-// 0.16 s), and BoomerAMG pays off later (40,962 unknowns: CHOLMOD 0.8 s, AMG 1.05 s; 163,842:
-// CHOLMOD 6.4 s, AMG 5.2 s).
-SolveOptions detail::loop_solver(const SolveOptions& options, Eigen::Index n) {
+// The automatic choice differs from P1's and P2's: the wider stencil fills a simplicial LDLT
+// factor far more (uniform space, 37 entries a row, 10,242 unknowns: 0.52 s against CHOLMOD's
+// supernodal 0.16 s), and BoomerAMG pays off later, by the matrix's entries rather than its
+// rows. Uniform space: 40,962 unknowns, CHOLMOD 0.8 s, AMG 1.05 s; 163,842: CHOLMOD 6.4 s, AMG
+// 5.2 s. Adaptive (truncated basis, ~190 entries a row; 2026-12-05): 35,582 unknowns, CHOLMOD
+// 5.9 s, AMG 8.6 s; 48,164: 9.4 s, 8.3 s; 66,078: 14.8 s, 11.0 s.
+SolveOptions detail::loop_solver(const SolveOptions& options, const SparseMatrix& a) {
   SolveOptions chosen = options;
+  const Eigen::Index n = a.rows();
+  const bool large = n >= 100000 || (n >= 20000 && a.nonZeros() >= 8000000);
   if (chosen.solver == SolverKind::automatic && !chosen.linear_solver) {
-    if (cholmod_available() && n < 100000)
-      chosen.solver = SolverKind::cholmod;
-    else if (amg_available() && n >= 20000)
+    if (amg_available() && large)
       chosen.solver = SolverKind::amg;
+    else if (cholmod_available() && n < 100000)
+      chosen.solver = SolverKind::cholmod;
   }
   return chosen;
 }
@@ -511,7 +515,7 @@ Solution detail::solve_nitsche_system(LoopSystem& s, const SolveOptions& options
                                       double penalty, const std::string& option) {
   Solution sol;
   try {
-    sol = solve_linear_system(s.a, s.b, loop_solver(options, s.a.rows()), name);
+    sol = solve_linear_system(s.a, s.b, loop_solver(options, s.a), name);
   } catch (const std::runtime_error& e) {
     if (std::string(e.what()).find("not positive definite") == std::string::npos) throw;
     throw InputError("problem '" + name + "': with Nitsche's penalty " + std::to_string(penalty) +
@@ -754,7 +758,7 @@ Solution detail::solve_closed_loop_system(LoopSystem& s, const Problem& problem,
         if (it.row() == pinned || j == pinned) it.valueRef() = it.row() == j ? 1.0 : 0.0;
     s.b(pinned) = 0;
   }
-  Solution sol = solve_linear_system(s.a, s.b, detail::loop_solver(options, s.a.rows()), problem.name);
+  Solution sol = solve_linear_system(s.a, s.b, detail::loop_solver(options, s.a), problem.name);
   sol.assembly_seconds = s.seconds;
   sol.zero_mean = zero_mean;
   if (zero_mean) sol.u -= (s.area.dot(sol.u) / s.area.dot(constant)) * constant;
@@ -770,7 +774,7 @@ Solution solve_loop_biharmonic(const LoopSpace& space, const BiharmonicProblem& 
                      "solution on a closed surface is defined up to a constant)");
   if (!problem.source) throw InputError("problem '" + problem.name + "' has no source");
   detail::LoopSystem s = assemble_loop(space, {true, problem.c, problem.source}, PointSource(), problem.name);
-  Solution sol = solve_linear_system(s.a, s.b, detail::loop_solver(options, s.a.rows()), problem.name);
+  Solution sol = solve_linear_system(s.a, s.b, detail::loop_solver(options, s.a), problem.name);
   sol.assembly_seconds = s.seconds;
   return sol;
 }

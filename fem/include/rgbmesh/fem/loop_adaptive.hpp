@@ -69,8 +69,22 @@ struct AdaptiveLoopSpace {
   std::size_t num_base = 0;          ///< coefficients 0 .. num_base - 1 are the base vertices' values
   std::vector<std::int32_t> coefficient_of_vertex;  ///< vertex slot -> coefficient (-1 if none)
 
+  /// The same space's truncated basis, which the solvers use: there an inserted vertex's
+  /// control value at its level is its coefficient (rather than the value its rule predicts
+  /// plus a detail), so coarser functions are cut off where finer ones take over (as truncated
+  /// hierarchical B-splines are) and far fewer pairs of functions overlap: the system is much
+  /// sparser. control values = truncated_expansion * truncated coefficients.
+  SparseMatrix truncated_expansion;
+  /// Per inserted vertex's coefficient, the rule that predicts its value from the control
+  /// values one level up (rows: coefficients, empty for base vertices; columns: control vertices).
+  SparseMatrix prediction;
+  std::vector<std::int32_t> coefficient_control;  ///< coefficient -> its control vertex at its level
+
   std::size_t num_dofs() const { return vertex.size(); }
   Eigen::VectorXd control_values(const Eigen::VectorXd& u) const { return expansion * u; }
+  /// Hierarchical coefficients (details) from truncated ones (values), and back: the same function.
+  Eigen::VectorXd hierarchical_coefficients(const Eigen::VectorXd& truncated) const;
+  Eigen::VectorXd truncated_coefficients(const Eigen::VectorXd& hierarchical) const;
   /// The coefficients of the function 1 (the base vertices' functions sum to one).
   Eigen::VectorXd constant() const;
 };
