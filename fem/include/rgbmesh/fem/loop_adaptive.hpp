@@ -72,8 +72,9 @@ struct AdaptiveLoopSpace {
   /// The same space's truncated basis, which the solvers use: there an inserted vertex's
   /// control value at its level is its coefficient (rather than the value its rule predicts
   /// plus a detail), so coarser functions are cut off where finer ones take over (as truncated
-  /// hierarchical B-splines are) and far fewer pairs of functions overlap: the system is much
-  /// sparser. control values = truncated_expansion * truncated coefficients.
+  /// hierarchical B-splines are). The matrix has as many entries (the ghost control vertices
+  /// of partly refined levels carry coarse coefficients down), but it is far better
+  /// conditioned for multigrid. control values = truncated_expansion * truncated coefficients.
   SparseMatrix truncated_expansion;
   /// Per inserted vertex's coefficient, the rule that predicts its value from the control
   /// values one level up (rows: coefficients, empty for base vertices; columns: control vertices).
