@@ -298,8 +298,15 @@ void compare(const Series& ours, const Series& theirs, const char* target) {
   std::printf("(unknowns: deal.II's DoFs less the hanging-node constrained ones; 'H1 by all': the H1 ratio\n"
               " against deal.II's error at as many DoFs, constrained ones included)\n");
   const double reached = theirs.rows.back().h1;
-  std::printf("to %s's last H1 error (%.3e): %.3f s of cycles here, %.3f s there\n", theirs.name.c_str(),
-              reached, seconds_to_reach(ours, reached), seconds_to_reach(theirs, reached));
+  const double ours_seconds = seconds_to_reach(ours, reached);
+  if (std::isnan(ours_seconds))
+    std::printf(
+        "to %s's last H1 error (%.3e): not reached here within --max-dofs (last error %.3e), %.3f s "
+        "there\n",
+        theirs.name.c_str(), reached, ours.rows.back().h1, seconds_to_reach(theirs, reached));
+  else
+    std::printf("to %s's last H1 error (%.3e): %.3f s of cycles here, %.3f s there\n", theirs.name.c_str(),
+                reached, ours_seconds, seconds_to_reach(theirs, reached));
   std::printf("target: H1 ratio %s, time ratio <= 1\n", target);
 }
 

@@ -443,12 +443,15 @@ detail::LoopSystem assemble_loop(const LoopSpace& space, const Form& form, const
 // factor far more (uniform space, 37 entries a row, 10,242 unknowns: 0.52 s against CHOLMOD's
 // supernodal 0.16 s), and BoomerAMG pays off later, by the matrix's entries rather than its
 // rows. Uniform space: 40,962 unknowns, CHOLMOD 0.8 s, AMG 1.05 s; 163,842: CHOLMOD 6.4 s, AMG
-// 5.2 s. Adaptive (truncated basis, ~190 entries a row; 2026-12-05): 35,582 unknowns, CHOLMOD
-// 5.9 s, AMG 8.6 s; 48,164: 9.4 s, 8.3 s; 66,078: 14.8 s, 11.0 s.
+// 5.2 s. Adaptive (truncated basis, ~190 entries a row; sphere-peak, 2026-12-05, whole cycles
+// of `rgbmesh adapt`, same script): 35,582 unknowns, CHOLMOD 7.7 s, AMG 9.0 s; 48,164: 11.8 s,
+// 13.4 s; 66,078 (12.5·10^6 entries): 17.5 s, 19.1 s, the run's peak memory 993 MB against
+// 752 MB. CHOLMOD's time grows as N^1.4 there and AMG's as N^1.2, so they cross near 10^5
+// unknowns (~1.9·10^7 entries); from 1.5·10^7 entries AMG is about as fast and lighter.
 SolveOptions detail::loop_solver(const SolveOptions& options, const SparseMatrix& a) {
   SolveOptions chosen = options;
   const Eigen::Index n = a.rows();
-  const bool large = n >= 100000 || (n >= 20000 && a.nonZeros() >= 8000000);
+  const bool large = n >= 100000 || (n >= 20000 && a.nonZeros() >= 15000000);
   if (chosen.solver == SolverKind::automatic && !chosen.linear_solver) {
     if (amg_available() && large)
       chosen.solver = SolverKind::amg;
