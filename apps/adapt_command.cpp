@@ -78,6 +78,7 @@ std::string cycles_json(const std::vector<adapt::CycleReport>& reports, bool dyn
         .add("removals", static_cast<std::uint64_t>(r.removals))
         .add("solver", r.solver)
         .add("solver_iterations", r.solver_iterations);
+    if (!r.note.empty()) o.add("note", r.note);
     out += (i ? ", " : "") + o.str();
   }
   return out + "]";
@@ -316,6 +317,7 @@ std::vector<adapt::CycleReport> cycles_from(const JsonValue& list, const fs::pat
     r.solver = text(c, "solver", file);
     // Reports written before the field existed have none.
     if (c.find("solver_iterations")) r.solver_iterations = static_cast<int>(count(c, "solver_iterations", file));
+    if (c.find("note")) r.note = text(c, "note", file);
     if (c.find("bytes_sent")) r.bytes_sent = count(c, "bytes_sent", file);
     if (c.find("bytes_sent_largest")) r.bytes_sent_largest = count(c, "bytes_sent_largest", file);
     out.push_back(std::move(r));
@@ -552,13 +554,15 @@ void refuse_first_mesh_above_max_dofs(const RgbMesh& mesh, const AdaptArgs& a) {
   const double max_dofs = static_cast<double>(a.max_dofs);
   const FirstMesh first = first_mesh(mesh, a.min_level, a.order, max_dofs);
   if (first.unknowns(a.order) <= max_dofs) return;
-  throw InputError("--max-dofs " + std::to_string(a.max_dofs) + ": the starting mesh" +
-                   (a.min_level > 0 ? " refined to --min-level " + std::to_string(a.min_level) : std::string()) +
-                   (first.at_least ? " has at least " : " has ") + count_text(first.unknowns(a.order)) +
-                   " unknowns for --order " + std::to_string(a.order) +
-                   (a.order == 2 ? " (" + count_text(first.vertices) + " vertices and " + count_text(first.edges) + " edges)"
-                                 : " (its vertices)") +
-                   "; nothing was solved");
+  throw InputError(
+      "--max-dofs " + std::to_string(a.max_dofs) + ": the starting mesh" +
+      (a.min_level > 0 ? " refined to --min-level " + std::to_string(a.min_level) : std::string()) +
+      (first.at_least ? " has at least " : " has ") + count_text(first.unknowns(a.order)) + " unknowns for " +
+      (a.element == "loop" ? std::string("--element loop") : "--order " + std::to_string(a.order)) +
+      (a.order == 2
+           ? " (" + count_text(first.vertices) + " vertices and " + count_text(first.edges) + " edges)"
+           : " (its vertices)") +
+      "; nothing was solved");
 }
 
 bool is_vtk_xml(const std::string& path) {
@@ -655,6 +659,11 @@ class RunFiles {
               << (r.error_l2 ? number(*r.error_l2, "%12.4e") : std::string(12, ' '))
               << (r.error_h1 ? number(*r.error_h1, "%12.4e") : std::string(12, ' '))
               << number(r.seconds, "%9.3f") << std::endl;
+    // A cycle's note once per run (the next cycles usually repeat it), on rank 0.
+    if (!r.note.empty() && !noted_ && a_.writes) {
+      std::cerr << "rgbmesh: note: cycle " << r.cycle << ": " << one_line(r.note) << "\n";
+      noted_ = true;
+    }
   }
 
   void finished(const adapt::AdaptRun& run, const std::string& message) {
@@ -727,6 +736,7 @@ class RunFiles {
   fs::path dir_;
   std::vector<std::pair<double, std::string>> series_;
   adapt::AdaptRun progress_;
+  bool noted_ = false;  // a cycle's note was printed
   std::vector<std::string> resumed_;
 };
 

@@ -14,7 +14,7 @@
 #   MESH_DIR  where the meshes are (CGAL's data/meshes: scripts/fetch-test-data.sh fetches a
 #             few of them, the libcgal-demo package has all)
 #   BUILD_DIR default build (the tool is BUILD_DIR/bin/rgbmesh; RGBMESH=path overrides)
-#   ORDERS    default "2 1"
+#   ORDERS    default "2 1"; "loop" runs Loop-basis elements (--element loop)
 #   MESH ...  file names in MESH_DIR (default: the CAD-like list below); a mesh that does not
 #             load (not a manifold surface) gets a row saying why
 # MAX_DOFS and CYCLES (environment) change --max-dofs (30000) and --cycles (20).
@@ -41,7 +41,9 @@ for m in "${meshes[@]}"; do
   for order in $orders; do
     out="$work/run"
     code=0
-    nice -n 10 "$tool" adapt --mesh "$dir/$m" --triangulate --order "$order" --max-dofs "${MAX_DOFS:-30000}" \
+    element=(--order "$order")
+    [ "$order" = loop ] && element=(--element loop)
+    nice -n 10 "$tool" adapt --mesh "$dir/$m" --triangulate "${element[@]}" --max-dofs "${MAX_DOFS:-30000}" \
       --cycles "${CYCLES:-20}" --out "$out" > "$work/stdout" 2> "$work/stderr" || code=$?
     if [ "$code" -ne 0 ]; then
       why=$(grep -m1 -i "error" "$work/stderr" | sed 's/^rgbmesh: error: //; s/;.*//; s/|/\\|/g')

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/fem/loop_elements.hpp"
 #include "rgbmesh/refinement.hpp"
+#include "rgbmesh/shapes.hpp"
 #include "test_meshes.hpp"
 
 namespace rgbmesh {
@@ -264,6 +266,60 @@ TEST(LoopElements, RefinedViewIsTheSmoothSolution) {
           ASSERT_EQ(eta[t], estimate.eta[e]);
         }
   }
+}
+
+// loop_parametrization_ratio where the limit map is known: on a flat regular lattice a
+// box-spline patch reproduces linear functions, so an interior element's map is affine,
+// x = p0 + u (p1 - p0) + v (p2 - p0) over its corners, and the ratio is that of the singular
+// values of [p1 - p0, p2 - p0]. On the sphere's uniform levels no element comes near singular.
+// loop_singular_estimate finds an estimate that sits on such elements, and only then.
+TEST(LoopElements, ParametrizationRatioIsTheTangentMapsConditioning) {
+  const TriangleMeshData m = square_lattice(8, 1, 0);
+  RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);
+  const fem::LoopSpace flat = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::loop_rules);
+  std::size_t interior = 0;
+  for (std::size_t e = 0; e < flat.elements.size(); ++e) {
+    const auto& dofs = flat.elements[e].dofs;
+    if (dofs.size() != 12) continue;  // a regular patch: all corners of valence 6, away from the boundary
+    bool inside = true;
+    for (const std::int32_t d : dofs) {
+      const Vec3& p = flat.control[static_cast<std::size_t>(d)];
+      inside = inside && p.x > 1e-9 && p.x < 1 - 1e-9 && p.y > 1e-9 && p.y < 1 - 1e-9;
+    }
+    if (!inside) continue;
+    ++interior;
+    const Vec3 p0 = flat.control[static_cast<std::size_t>(dofs[0])];
+    const Vec3 a = flat.control[static_cast<std::size_t>(dofs[1])] - p0,
+               b = flat.control[static_cast<std::size_t>(dofs[2])] - p0;
+    Eigen::Matrix2d metric;
+    metric << dot(a, a), dot(a, b), dot(a, b), dot(b, b);
+    const Eigen::Vector2d lambda = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(metric).eigenvalues();
+    EXPECT_NEAR(fem::loop_parametrization_ratio(flat, e), std::sqrt(lambda(0) / lambda(1)), 1e-9) << e;
+  }
+  EXPECT_GE(interior, 30u);  // 32: those whose two-rings stay inside
+
+  RgbMesh sphere = uniform(testing::icosahedron(), 2);
+  const fem::LoopSpace round = fem::build_loop_space(sphere, kSphere);
+  double least = 1;
+  for (std::size_t e = 0; e < round.elements.size(); ++e)
+    least = std::min(least, fem::loop_parametrization_ratio(round, e));
+  std::printf("  sphere, level 2: smallest ratio %.3f\n", least);
+  EXPECT_GT(least, 0.3);  // measured 0.56
+
+  // An estimate on one element: reported when that element's ratio is below the threshold.
+  std::vector<double> eta(round.elements.size(), 1e-3);
+  eta[7] = 1;
+  const double ratio = fem::loop_parametrization_ratio(round, 7);
+  const fem::LoopSingularEstimate on = fem::loop_singular_estimate(round, eta, 2 * ratio);
+  EXPECT_GT(on.share, 0.99);
+  EXPECT_EQ(on.elements, 1u);
+  EXPECT_DOUBLE_EQ(on.ratio, ratio);
+  EXPECT_LT(norm(on.where - fem::loop_point(round, 7, 0).x), 1e-12);
+  const fem::LoopSingularEstimate off = fem::loop_singular_estimate(round, eta, 0.5 * ratio);
+  EXPECT_EQ(off.share, 0);
+  EXPECT_EQ(off.elements, 0u);
+  // Spread evenly, an estimate is not on the few singular elements: none below the default.
+  EXPECT_EQ(fem::loop_singular_estimate(round, std::vector<double>(round.elements.size(), 1.0)).elements, 0u);
 }
 
 TEST(LoopElements, RefusesMeshesItCannotHandleYet) {

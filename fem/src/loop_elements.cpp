@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -169,6 +170,7 @@ struct LocalParts {
   Eigen::VectorXd load, area;
   double integral = 0, magnitude = 0;
   bool degenerate = false;  // a point where the surface's metric is singular (or not finite)
+  Vec3 where;               // that point
 };
 
 // N: the patch's size when known at compile time (12, regular corners: most elements), so
@@ -196,6 +198,7 @@ void accumulate(const LoopSpace& space, const LoopSpace::Element& e, const Form&
     const Frame fr = frame_at(space, e, p);
     if (!(fr.density > 0) || !std::isfinite(fr.g11 + fr.g12 + fr.g22)) {
       out.degenerate = true;
+      out.where = fr.x;
       return;
     }
     const double w = r.weight[static_cast<std::size_t>(p)] * fr.density;
@@ -393,6 +396,24 @@ LoopPoint loop_point(const LoopSpace& space, std::size_t element, std::size_t po
 
 namespace {
 
+// Where the limit surface's tangents are parallel (or not finite) the Loop basis has no
+// gradient. On a base mesh that passed the input checks this is the limit surface itself being
+// singular: Loop's smoothing folds cap or needle triangles that lie across a crease (openscad's
+// bad-stl-wing.stl reaches it after 48 adaptive cycles, the cells gathering on such a point).
+std::string degenerate_surface_message(const LoopSpace& space, const LoopSpace::Element& e,
+                                       const Vec3& where) {
+  std::ostringstream text;
+  text << "Loop elements: the limit surface is singular (its tangents parallel, or not finite) near ("
+       << where.x << ", " << where.y << ", " << where.z << "), on the cell whose corners are vertices "
+       << space.vertex[static_cast<std::size_t>(e.dofs[0])].idx << ", "
+       << space.vertex[static_cast<std::size_t>(e.dofs[1])].idx << ", "
+       << space.vertex[static_cast<std::size_t>(e.dofs[2])].idx
+       << ". Usual causes: coincident or collinear control points (--repair removes them), or cap or needle "
+          "triangles across a crease of the input, which Loop's smoothing folds: --element p2 copes with "
+          "those; or remesh the input";
+  return text.str();
+}
+
 detail::LoopSystem assemble_loop(const LoopSpace& space, const Form& form, const PointSource& f,
                                  const std::string& name) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -411,14 +432,7 @@ detail::LoopSystem assemble_loop(const LoopSpace& space, const Form& form, const
     for (std::size_t i = 0; i < count; ++i) {  // in element order: the same sums on any number of cores
       const LoopSpace::Element& e = space.elements[begin + i];
       const LocalParts& lp = parts[i];
-      if (lp.degenerate)
-        throw InputError(
-            "Loop elements: the limit surface is degenerate (zero area or not finite) on the triangle of "
-            "vertices " +
-            std::to_string(space.vertex[static_cast<std::size_t>(e.dofs[0])].idx) + ", " +
-            std::to_string(space.vertex[static_cast<std::size_t>(e.dofs[1])].idx) + ", " +
-            std::to_string(space.vertex[static_cast<std::size_t>(e.dofs[2])].idx) +
-            " (coincident or collinear control points; --repair removes them)");
+      if (lp.degenerate) throw InputError(degenerate_surface_message(space, e, lp.where));
       finite = finite && std::isfinite(lp.integral) && std::isfinite(lp.magnitude);
       out.integral += lp.integral;
       out.magnitude += lp.magnitude;

@@ -154,6 +154,12 @@ struct Solution {
   }
 };
 
+// A result's note (adapt::CycleReport::note) as a UserWarning, which the caller may silence or
+// turn into an error; the GIL held.
+void warn_note(const std::string& note) {
+  if (!note.empty() && PyErr_WarnEx(PyExc_UserWarning, note.c_str(), 1) < 0) throw py::error_already_set();
+}
+
 py::dict report_dict(const adapt::CycleReport& r) {
   py::dict d;
   d["cycle"] = r.cycle;
@@ -167,6 +173,7 @@ py::dict report_dict(const adapt::CycleReport& r) {
   d["removals"] = r.removals;
   d["solver"] = r.solver;
   d["solver_iterations"] = r.solver_iterations;
+  d["note"] = r.note;
   d["seconds"] = r.seconds;
   d["mesh_seconds"] = r.mesh_seconds;
   d["solve_seconds"] = r.solve_seconds;
@@ -214,6 +221,7 @@ std::shared_ptr<Solution> solve_loop_elements(RgbMesh& mesh, const PyProblem& p,
   for (const TriangleHandle t : s->fe.triangle)
     s->estimate.eta.push_back(by_slot[static_cast<std::size_t>(t.idx)]);
   s->estimate.geometric.assign(s->estimate.eta.size(), 0.0);
+  s->report.note = adapt::loop_singular_note(space, estimate.eta);
   s->report.triangles = s->fe.triangles.size();
   s->report.dofs = space.num_dofs();
   s->report.estimate = estimate.total;
@@ -249,8 +257,12 @@ std::shared_ptr<Solution> solve(RgbMesh& mesh, const PyProblem& p, int order,
                                 const std::optional<std::string>& element,
                                 const std::optional<std::string>& geometry, const std::string& solver,
                                 const std::string& estimator) {
-  if (resolve_element(order, element))
-    return solve_loop_elements(mesh, p, settle(mesh, p, 1, geometry, solver), estimator);
+  if (resolve_element(order, element)) {
+    std::shared_ptr<Solution> s =
+        solve_loop_elements(mesh, p, settle(mesh, p, 1, geometry, solver), estimator);
+    warn_note(s->report.note);
+    return s;
+  }
   const Setup setup = settle(mesh, p, order, geometry, solver);
   const std::shared_ptr<const fem::ErrorEstimator> estimate =
       named_row(fem::estimator_table(), estimator, "estimator").make();
@@ -369,6 +381,12 @@ py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strateg
   }
   py::list reports;
   for (const auto& r : run.cycles) reports.append(report_dict(r));
+  // The first note of the run, once (the next cycles usually repeat it; each report keeps its own).
+  for (const auto& r : run.cycles)
+    if (!r.note.empty()) {
+      warn_note("cycle " + std::to_string(r.cycle) + ": " + r.note);
+      break;
+    }
   py::dict out;
   out["cycles"] = reports;
   out["stopped"] = adapt::to_string(run.stopped);

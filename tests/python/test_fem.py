@@ -8,6 +8,7 @@ import os
 import signal
 import threading
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -151,6 +152,31 @@ def test_loop_elements_on_an_open_mesh():
         assert s.estimate.shape == (2 * n * n,) and s.total_estimate > 0
         errors.append(np.abs(s.u - exact(s.points)).max())
     assert errors[0] < 1.5e-3 and errors[1] < errors[0] / 3.5, errors
+
+
+def test_loop_elements_warn_where_the_limit_surface_is_nearly_singular():
+    """A CAD export whose caps lie across creases (openscad's bad-stl-wing.stl): nearly all of
+    the Loop estimate sits on two cells where the limit surface is nearly singular, and refining
+    them converges slowly. solve and adapt say so with a UserWarning (once per run) and in the
+    report; P2 on the same mesh, and Loop elements on a sphere, say nothing."""
+    mesh = rgbmesh.read(public("openscad/bad-stl-wing.stl"))
+    # The tool's default problem there: a Gaussian source at the first vertex's limit position,
+    # a twentieth of the diagonal wide.
+    points = mesh.limit_positions()
+    center, width = points[0], np.linalg.norm(points.max(axis=0) - points.min(axis=0)) / 20
+    gaussian = rgbmesh.Problem(lambda p: np.exp(-((p - center) ** 2).sum(axis=1) / (2 * width**2)), c=1.0)
+    with pytest.warns(UserWarning, match=r"99% of the estimate lies on 2 cells .* nearly singular") as caught:
+        s = rgbmesh.solve(mesh, gaussian, element="loop")
+    assert len(caught) == 1 and "--element p2" in str(caught[0].message)
+    assert s.report["note"].startswith("Loop elements: 99% of the estimate")
+    with pytest.warns(UserWarning, match="cycle 0: Loop elements") as caught:
+        run = rgbmesh.adapt(rgbmesh.read(public("openscad/bad-stl-wing.stl")), gaussian, element="loop", cycles=2)
+    assert len(caught) == 1 and all(c["note"] for c in run["cycles"])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert rgbmesh.solve(mesh, gaussian, element="p2").report["note"] == ""
+        assert rgbmesh.solve(unit_icosphere(2), rgbmesh.Problem.builtin("sphere-peak"),
+                             element="loop").report["note"] == ""
 
 
 def test_loop_cycles_are_the_tool_s(tmp_path):

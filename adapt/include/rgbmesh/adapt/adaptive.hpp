@@ -19,6 +19,10 @@
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/snapshot.hpp"
 
+namespace rgbmesh::fem {
+struct AdaptiveLoopSpace;
+}
+
 namespace rgbmesh::adapt {
 
 enum class Strategy { adaptive, uniform };
@@ -188,6 +192,10 @@ struct CycleReport {
   std::size_t marked = 0, splits = 0, removals = 0;
   bool memory_limit_reached = false;  ///< the adaptation stopped at the memory ceiling
   std::string solver;
+  /// Something the user should know about this cycle's result, in one line (empty: nothing).
+  /// Loop elements: most of the estimate lies where the limit surface's parametrization is
+  /// nearly singular (fem::loop_singular_estimate), where refinement converges slowly.
+  std::string note;
   int solver_iterations = 0;  ///< CG and AMG: the iterations of the cycle's solve (0 for direct solvers)
 };
 
@@ -228,6 +236,11 @@ struct AdaptRun {
   StopReason stopped = StopReason::cycles;
   double target_estimate = 0;       ///< run_dynamic: the equidistribution target used
 };
+
+/// Loop elements: the note (CycleReport::note) for an estimate whose indicators per cell of
+/// the space are `eta`: empty unless half of it or more lies on cells where the limit
+/// surface's parametrization is nearly singular (fem::loop_singular_estimate below 1e-5).
+std::string loop_singular_note(const fem::AdaptiveLoopSpace& space, const std::vector<double>& eta);
 
 /// Runs adaptive (or uniform) cycles on the mesh for a stationary problem. The last solved
 /// mesh stays as it is, except when the run stops at max_dofs after adaptive refinement: the

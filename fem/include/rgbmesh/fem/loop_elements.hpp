@@ -88,6 +88,27 @@ struct LoopPoint {
 };
 LoopPoint loop_point(const LoopSpace& space, std::size_t element, std::size_t point);
 
+/// How far from singular the surface's parametrization is on an element: the smallest ratio
+/// σ₂/σ₁ of the singular values of the tangent map [y_u y_v] over the element's quadrature
+/// points (about 0.5 on the patch of a well-shaped triangle; 0 where the tangents are
+/// parallel). Loop's limit surface is nearly singular where the control mesh has caps or
+/// needles across a crease (a CAD export's T-vertex fans): there the Loop basis, smooth in the
+/// parameters, is not smooth on the surface, so the residual estimator's Laplacian is large
+/// and refinement converges slowly.
+double loop_parametrization_ratio(const LoopSpace& space, std::size_t element);
+
+/// The part of an estimate that lies on elements whose parametrization ratio is below `below`,
+/// looked for down the largest indicators: until the regular elements met carry half of Σ η²
+/// (a smaller share than half is then a lower bound), or 99% of it.
+struct LoopSingularEstimate {
+  double share = 0;          ///< of Σ η², on those elements
+  std::size_t elements = 0;  ///< how many they are
+  double ratio = 1;          ///< the smallest ratio among them
+  Vec3 where;                ///< a point of the one with the largest indicator
+};
+LoopSingularEstimate loop_singular_estimate(const LoopSpace& space, const std::vector<double>& eta,
+                                            double below = 1e-5);
+
 /// Dirichlet data on a space with a boundary, imposed weakly by Nitsche's method: the Loop
 /// basis does not interpolate, and imposing u = g on the control values would also force
 /// ∂²u/∂n² on the boundary (the box splines' traces). With the outward co-normal m,
