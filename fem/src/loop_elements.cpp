@@ -399,18 +399,22 @@ namespace {
 // Where the limit surface's tangents are parallel (or not finite) the Loop basis has no
 // gradient. On a base mesh that passed the input checks this is the limit surface itself being
 // singular: Loop's smoothing folds cap or needle triangles that lie across a crease (openscad's
-// bad-stl-wing.stl reaches it after 48 adaptive cycles, the cells gathering on such a point).
+// bad-stl-wing.stl reaches it after 48 adaptive cycles, the cells gathering on such a point),
+// and its boundary rules fold a coarse boundary that turns sharply (CGAL's triangular_hole.off,
+// a triangle with a triangular hole, has such a point inside the hole's corner).
 std::string degenerate_surface_message(const LoopSpace& space, const LoopSpace::Element& e,
                                        const Vec3& where) {
   std::ostringstream text;
-  text << "Loop elements: the limit surface is singular (its tangents parallel, or not finite) near ("
-       << where.x << ", " << where.y << ", " << where.z << "), on the cell whose corners are vertices "
-       << space.vertex[static_cast<std::size_t>(e.dofs[0])].idx << ", "
-       << space.vertex[static_cast<std::size_t>(e.dofs[1])].idx << ", "
-       << space.vertex[static_cast<std::size_t>(e.dofs[2])].idx
-       << ". Usual causes: coincident or collinear control points (--repair removes them), or cap or needle "
-          "triangles across a crease of the input, which Loop's smoothing folds: --element p2 copes with "
-          "those; or remesh the input";
+  text
+      << "Loop elements: the limit surface is singular (its tangents parallel, or not finite) near ("
+      << where.x << ", " << where.y << ", " << where.z << "), on the cell whose corners are vertices "
+      << space.vertex[static_cast<std::size_t>(e.dofs[0])].idx << ", "
+      << space.vertex[static_cast<std::size_t>(e.dofs[1])].idx << ", "
+      << space.vertex[static_cast<std::size_t>(e.dofs[2])].idx
+      << ". Usual causes: coincident or collinear control points (--repair removes them), cap or needle "
+         "triangles across a crease of the input, or a boundary of few edges that turns sharply (Loop's "
+         "smoothing and boundary rules fold the surface there): --element p2 copes with those; or remesh the "
+         "input finer there";
   return text.str();
 }
 

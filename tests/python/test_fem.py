@@ -164,7 +164,7 @@ def test_loop_elements_warn_where_the_limit_surface_is_nearly_singular():
     # a twentieth of the diagonal wide.
     points = mesh.limit_positions()
     center, width = points[0], np.linalg.norm(points.max(axis=0) - points.min(axis=0)) / 20
-    gaussian = rgbmesh.Problem(lambda p: np.exp(-((p - center) ** 2).sum(axis=1) / (2 * width**2)), c=1.0)
+    gaussian = rgbmesh.Problem.gaussian(center, width)
     with pytest.warns(UserWarning, match=r"99% of the estimate lies on 2 cells .* nearly singular") as caught:
         s = rgbmesh.solve(mesh, gaussian, element="loop")
     assert len(caught) == 1 and "--element p2" in str(caught[0].message)
