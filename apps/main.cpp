@@ -63,14 +63,17 @@ void tune_allocator() {
 // 2-core development machine, rgbmesh adapt, two rounds of one script (docs/performance.md):
 // 0.79-0.88 of the time for P1 and 0.82-0.84 for P2 to 300,000 unknowns, 0.81-0.94 for Loop
 // elements to 30,000; a third of the page faults; peak memory 0.5-3.5% more. Not under an MPI
-// launcher, not where GLIBC_TUNABLES already
-// names malloc.hugetlb (the restarted process, or the user's choice), not with
-// RGBMESH_NO_HUGEPAGES set; if the restart fails the tool goes on as it is. A restart loads the
-// tool's libraries again (about 0.15 s), so only the long subcommands (refine, adapt, fit and
-// the default job) restart: info and convert, run on many files, do not.
+// launcher, not where GLIBC_TUNABLES already names malloc.hugetlb (the user's choice), not with
+// RGBMESH_NO_HUGEPAGES set, and never twice: the restarted process finds
+// RGBMESH_HUGEPAGES_RESTARTED, whatever glibc makes of GLIBC_TUNABLES (one that does not know
+// the tunable may drop it from the environment). If the restart fails the tool goes on as it
+// is. A restart loads the tool's libraries again (about 0.15 s), so only the long subcommands
+// (refine, adapt, fit and the default job) restart: info and convert, run on many files, do
+// not.
 void restart_with_huge_pages(int argc, char** argv) {
 #if defined(__linux__) && defined(__GLIBC__)
-  for (const char* name : {"RGBMESH_NO_HUGEPAGES", "OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"})
+  for (const char* name : {"RGBMESH_NO_HUGEPAGES", "RGBMESH_HUGEPAGES_RESTARTED", "OMPI_COMM_WORLD_SIZE",
+                           "PMIX_RANK", "PMI_RANK"})
     if (std::getenv(name) != nullptr) return;
   for (int i = 1; i < argc; ++i) {
     const std::string word = argv[i];
@@ -85,7 +88,8 @@ void restart_with_huge_pages(int argc, char** argv) {
   std::string modes;
   if (!std::getline(mode, modes) || modes.find("[madvise]") == std::string::npos) return;
   const std::string value = (current.empty() ? "" : current + ":") + "glibc.malloc.hugetlb=1";
-  if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
+  if (setenv("RGBMESH_HUGEPAGES_RESTARTED", "1", 1) != 0 || setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0)
+    return;
   execv("/proc/self/exe", argv);
 #else
   (void)argc, (void)argv;

@@ -81,34 +81,6 @@ void count_over_parts(SolvedCycle& c, const RgbMesh& mesh, const AdaptOptions& o
   c.report.dofs = options.order == 2 ? c.vertices + c.edges : c.vertices;
 }
 
-// Where most of a Loop estimate sits on cells whose limit surface is nearly singular
-// (tangents less than 1e-5 from parallel), the user is told so: there the Loop basis is not
-// smooth on the surface, and refinement gathers on those cells and converges slowly.
-// Measured (2026-12-05, CGAL's 130 meshes and the openscad and assimp test files): cells
-// below 1e-5 occur in 3 meshes and carry most of the estimate in one, openscad's
-// bad-stl-wing.stl (ratios to 2e-7, caps across creases), whose Loop solution stays 8-10%
-// from adaptive P2's after 48 cycles; cylinder_locally_refined.off's first estimate lies 99.5%
-// on cells of ratio 5e-5 to 1e-4, which refinement resolves (Loop and P2 agree to 3e-5).
-// Loop's boundary rules also fold a coarse boundary that turns sharply: triangular_hole.off
-// refined twice gets the note at cycle 4 (99% on one cell inside the hole's corner), and its
-// Loop estimate wanders between 0.5 and 7e3 for 30 cycles where P2's falls to 1.5e-4.
-std::string singular_estimate_note(const fem::AdaptiveLoopSpace& space, const std::vector<double>& eta) {
-  const fem::LoopSingularEstimate s = fem::loop_singular_estimate(space.cells, eta, 1e-5);
-  if (s.share < 0.5) return {};
-  std::ostringstream text;
-  text
-      << "Loop elements: " << static_cast<int>(std::floor(100 * s.share)) << "% of the estimate lies on "
-      << s.elements << " cell" << (s.elements == 1 ? "" : "s")
-      << " where the limit surface's parametrization is nearly singular (tangents " << std::setprecision(1)
-      << std::scientific << s.ratio << " from parallel; the first near (" << std::defaultfloat
-      << std::setprecision(6) << s.where.x << ", " << s.where.y << ", " << s.where.z
-      << ")): the Loop basis converges slowly there, and refinement gathers on them. Usual causes: cap or "
-         "needle triangles across a crease of the input, or a boundary of few edges that turns sharply "
-         "(Loop's boundary rules fold the surface there). --element p2 copes with such meshes; or remesh the "
-         "input finer there";
-  return text.str();
-}
-
 // A cycle with Loop elements: the solve on the Loop space; what the cycle keeps (the P1 mesh
 // of the limit positions, the values there, the indicators per triangle) as for P1.
 SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options) {
@@ -145,7 +117,7 @@ SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const A
   for (const TriangleHandle t : c.fe.triangle)
     c.estimate.eta.push_back(by_slot[static_cast<std::size_t>(t.idx)]);
   c.estimate.geometric.assign(c.estimate.eta.size(), 0.0);
-  c.report.note = singular_estimate_note(space, estimate.eta);
+  c.report.note = loop_singular_note(space, estimate.eta);
   c.report.estimate_seconds = seconds_since(t_estimate);
   c.report.triangles = c.fe.triangles.size();
   c.report.dofs = space.num_dofs();
@@ -419,8 +391,32 @@ bool next_cycle_fits(const RgbMesh& mesh, const AdaptOptions& options, std::size
 
 }  // namespace
 
+// Where most of a Loop estimate sits on cells whose limit surface is nearly singular
+// (tangents less than 1e-5 from parallel), the user is told so: there the Loop basis is not
+// smooth on the surface, and refinement gathers on those cells and converges slowly.
+// Measured (2026-12-05, CGAL's 130 meshes and the openscad and assimp test files): cells
+// below 1e-5 occur in 3 meshes and carry most of the estimate in one, openscad's
+// bad-stl-wing.stl (ratios to 2e-7, caps across creases), whose Loop solution stays 8-10%
+// from adaptive P2's after 48 cycles; cylinder_locally_refined.off's first estimate lies 99.5%
+// on cells of ratio 5e-5 to 1e-4, which refinement resolves (Loop and P2 agree to 3e-5).
+// Loop's boundary rules also fold a coarse boundary that turns sharply: triangular_hole.off
+// refined twice gets the note at cycle 4 (99% on one cell inside the hole's corner), and its
+// Loop estimate wanders between 0.5 and 7e3 for 30 cycles where P2's falls to 1.5e-4.
 std::string loop_singular_note(const fem::AdaptiveLoopSpace& space, const std::vector<double>& eta) {
-  return singular_estimate_note(space, eta);
+  const fem::LoopSingularEstimate s = fem::loop_singular_estimate(space.cells, eta, 1e-5);
+  if (s.share < 0.5) return {};
+  std::ostringstream text;
+  text
+      << "Loop elements: " << static_cast<int>(std::floor(100 * s.share)) << "% of the estimate lies on "
+      << s.elements << " cell" << (s.elements == 1 ? "" : "s")
+      << " where the limit surface's parametrization is nearly singular (tangents " << std::setprecision(1)
+      << std::scientific << s.ratio << " from parallel; the first near (" << std::defaultfloat
+      << std::setprecision(6) << s.where.x << ", " << s.where.y << ", " << s.where.z
+      << ")): the Loop basis converges slowly there, and refinement gathers on them. Usual causes: cap or "
+         "needle triangles across a crease of the input, or a boundary of few edges that turns sharply "
+         "(Loop's boundary rules fold the surface there). --element p2 copes with such meshes; or remesh the "
+         "input finer there";
+  return text.str();
 }
 
 const std::vector<Named<Strategy>>& strategy_table() {
