@@ -6,14 +6,17 @@
 #     parts, point clouds), from libcgal-demo, into DEST;
 #   - meshes as tools export them, with the defects that --repair handles (issue 23): OpenSCAD's
 #     STL exports (openscad-testing-data) into DEST/openscad, geomview's OFF models (geomview)
-#     into DEST/geomview, assimp's test models (assimp-testmodels) into DEST/assimp.
+#     into DEST/geomview, assimp's test models (assimp-testmodels) into DEST/assimp;
+#   - OpenSubdiv's Loop regression shapes with crease and corner tags (issue 42), which Debian
+#     ships only inside the test program bfr_evaluate (opensubdiv-tools): each is cut out of it
+#     by its SHA-256 into DEST/opensubdiv/NAME.obj.
 #   scripts/fetch-test-data.sh [DEST]     (default: build/public-data)
 # DEST/.complete holds the version of this selection: a folder fetched by an older version is
 # fetched again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dest=${1:-build/public-data}
-version=2
+version=3
 [ -f "$dest/.complete" ] && [ "$(cat "$dest/.complete")" = "$version" ] && exit 0
 
 files=(
@@ -65,6 +68,19 @@ assimp_files=(
   OFF/Wuson.off                           # duplicate positions, non-manifold vertices
 )
 
+# OpenSubdiv's shapes (OBJ text with 't crease', 't corner', 't creasemethod' tags), by the
+# SHA-256 of their text as OpenSubdiv 3.5.0 and 3.6.0 hold it.
+opensubdiv_shapes=(
+  loop_cube_creases0=852dfe68d40d6e8d0f5ec3d7c013e17bbfaa3efcd09cae2a0907c659674a6077
+  loop_cube_creases1=b9b49bd9892e44e5d47c7947394fc551e99be0d9bde0484751234beb668786d3
+  loop_cubes_infsharp=fd1c30ced98ef917e6b5a3217e624eb2c27bf2ac23f8b7e402022144a119f2b5
+  loop_cubes_semisharp=ae3f1ca3d5dbdec7efef7c0f6985149e59f3874d64c0878b925968d5ff15fc3b
+  loop_chaikin0=df556cb57df4ddc112ddef19ad8de4abd3862fe316defa633b6dbb1011b42f40
+  loop_chaikin1=a7543d0e4aad022ac83a96c94123accc99c68f08e1687e244817df90becfeb4b
+  loop_icos_infsharp=389eb1b4799839f668361ed244bc4980e3e17d22e6aaf602923bc17ff6837445
+  loop_icos_semisharp=784f10b41b82825582bb7af12c9238d7a0872e18e01ef4eb0c79dd81279077b3
+)
+
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 updated=no
@@ -102,11 +118,32 @@ for f in "${files[@]}"; do cp "$tmp/$f" "$dest/"; done
 extract openscad-testing-data usr/share/openscad/testdata openscad "${openscad_files[@]}"
 extract geomview usr/share/geomview/geom geomview "${geomview_files[@]}"
 extract assimp-testmodels usr/share/assimp/models assimp "${assimp_files[@]}"
+download opensubdiv-tools
+dpkg-deb --fsys-tarfile "$tmp"/opensubdiv-tools_*.deb | tar -x -C "$tmp" ./usr/bin/bfr_evaluate
+mkdir -p "$dest/opensubdiv"
+python3 - "$tmp/usr/bin/bfr_evaluate" "$dest/opensubdiv" "${opensubdiv_shapes[@]}" <<'PY'
+import hashlib, sys
+binary, out, wanted = sys.argv[1], sys.argv[2], dict(a.split("=") for a in sys.argv[3:])
+found = {}
+for text in open(binary, "rb").read().split(b"\0"):
+    digest = hashlib.sha256(text).hexdigest()
+    for name, expected in wanted.items():
+        if digest == expected:
+            found[name] = text
+missing = sorted(set(wanted) - set(found))
+if missing:
+    sys.exit("rgbmesh: OpenSubdiv's shapes not found in bfr_evaluate: " + ", ".join(missing))
+for name, text in found.items():
+    with open(f"{out}/{name}.obj", "wb") as f:
+        f.write(text)
+PY
 
 cat > "$dest/README" <<'TXT'
 Public test data fetched by scripts/fetch-test-data.sh from Debian's packages: libcgal-demo
 (CGAL's data set, data/meshes and data/points_3) here, openscad-testing-data in openscad/,
-geomview in geomview/, assimp-testmodels in assimp/. Not part of rgbmesh; not committed.
+geomview in geomview/, assimp-testmodels in assimp/, OpenSubdiv's Loop shapes with crease
+tags (cut out of opensubdiv-tools' bfr_evaluate) in opensubdiv/. Not part of rgbmesh; not
+committed.
 TXT
 echo "$version" > "$dest/.complete"
 echo "rgbmesh: test data in $dest"

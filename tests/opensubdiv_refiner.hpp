@@ -1,6 +1,6 @@
 // OpenSubdiv's topology refiner for a triangle base mesh under Loop's rules, with boundary
-// vertices interpolated along their edges (as RgbMesh does): the reference that the Loop tests
-// refine, evaluate and limit.
+// vertices interpolated along their edges (as RgbMesh does) and the mesh's creases, corners and
+// creasing method: the reference that the Loop tests refine, evaluate and limit.
 #pragma once
 
 #include <opensubdiv/far/topologyDescriptor.h>
@@ -22,8 +22,27 @@ inline std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> loop_refiner(const Base
   desc.numFaces = static_cast<int>(base.triangles.size());
   desc.numVertsPerFace = counts.data();
   desc.vertIndicesPerFace = indices.data();
+  std::vector<int> crease_ends, corners;
+  std::vector<float> crease_weights, corner_weights;
+  for (const SharpEdge& e : base.sharp.edges) {
+    crease_ends.push_back(e.a);
+    crease_ends.push_back(e.b);
+    crease_weights.push_back(e.sharpness);
+  }
+  for (const SharpVertex& v : base.sharp.vertices) {
+    corners.push_back(v.v);
+    corner_weights.push_back(v.sharpness);
+  }
+  desc.numCreases = static_cast<int>(crease_weights.size());
+  desc.creaseVertexIndexPairs = crease_ends.data();
+  desc.creaseWeights = crease_weights.data();
+  desc.numCorners = static_cast<int>(corners.size());
+  desc.cornerVertexIndices = corners.data();
+  desc.cornerWeights = corner_weights.data();
   Sdc::Options options;
   options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+  options.SetCreasingMethod(base.sharp.method == CreaseMethod::chaikin ? Sdc::Options::CREASE_CHAIKIN
+                                                                        : Sdc::Options::CREASE_UNIFORM);
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
   // Create copies the topology: the descriptor's arrays may go when it returns.
   return std::unique_ptr<Far::TopologyRefiner>(

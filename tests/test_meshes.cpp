@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 
+#include "rgbmesh/geometry.hpp"
+
 namespace rgbmesh::testing {
 
 namespace {
@@ -221,6 +223,44 @@ std::set<std::array<VertexName, 3>> named_triangles(const RgbMesh& m) {
     out.insert(n);
   }
   return out;
+}
+
+// A cube of 12 triangles with every edge infinitely sharp (the 6 face diagonals smooth).
+BaseMesh sharp_cube() {
+  BaseMesh m = cube();
+  m.name = "sharp_cube";
+  const double diagonal = bounding_box_diagonal(m.points);
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t a = t[k], b = t[(k + 1) % 3];
+      // Cube edges have length diagonal / sqrt(3); face diagonals are longer.
+      if (a < b && std::abs(distance(m.points[a], m.points[b]) - diagonal / std::sqrt(3.0)) < 1e-9)
+        m.sharp.edges.push_back({a, b, kInfiniteSharpness});
+    }
+  return m;
+}
+
+// An octahedron with one infinitely sharp edge: its ends are darts.
+BaseMesh octahedron_with_darts() {
+  BaseMesh m = octahedron();
+  m.name = "octahedron_darts";
+  m.sharp.edges.push_back({m.triangles[0][0], m.triangles[0][1], kInfiniteSharpness});
+  return m;
+}
+
+// Semi-sharp creases of varying sharpness along a path with a corner, both methods.
+BaseMesh graded_icosahedron(CreaseMethod method) {
+  BaseMesh m = icosahedron();
+  m.name = method == CreaseMethod::chaikin ? "graded_icosahedron_chaikin" : "graded_icosahedron";
+  const float values[] = {0.4f, 1.0f, 1.7f, 2.5f, 3.3f, 10.0f};
+  int k = 0;
+  for (const auto& t : m.triangles) {
+    if (k >= 6) break;
+    m.sharp.edges.push_back({t[0], t[1], values[k++]});
+  }
+  m.sharp.vertices.push_back({m.triangles[7][2], 2.2f});
+  m.sharp.method = method;
+  return m;
 }
 
 }  // namespace rgbmesh::testing

@@ -17,7 +17,8 @@ struct BaseMesh {
   std::string name;
   std::vector<Vec3> points;
   std::vector<std::array<std::int32_t, 3>> triangles;
-  RgbMesh build() const { return RgbMesh::from_triangles(points, triangles); }
+  SharpFeatures sharp{};  ///< creases and corners (none for most meshes)
+  RgbMesh build() const { return RgbMesh::from_triangles(points, triangles, sharp); }
 };
 
 // GoogleTest prints parameters with this (the name, not the bytes).
@@ -39,6 +40,13 @@ BaseMesh double_torus();                     // closed, genus 2
 // caps of nearly 180° next to the fan's vertex, which has valence n + 1). Not in
 // all_base_meshes: a shape-poor mesh for the finite elements' tests.
 BaseMesh cad_pillbox(int n, double height);
+
+// With sharp features (not in all_base_meshes): a cube whose 12 edges are infinitely sharp; an
+// octahedron with one infinitely sharp edge (its ends are darts); an icosahedron with a path
+// of creases of sharpness 0.4 .. 10 and a semi-sharp corner, by either creasing method.
+BaseMesh sharp_cube();
+BaseMesh octahedron_with_darts();
+BaseMesh graded_icosahedron(CreaseMethod method);
 
 // Every mesh above, for parameterised tests.
 std::vector<BaseMesh> all_base_meshes();

@@ -69,7 +69,8 @@ class StateFile : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(StateFile, RoundTripAfterRandomWalks) {
   const fs::path dir = temp_dir();
-  for (const auto& base : {testing::double_torus(), testing::grid_with_holes(6, 2), testing::icosahedron()}) {
+  for (const auto& base : {testing::double_torus(), testing::grid_with_holes(6, 2), testing::icosahedron(),
+                           testing::graded_icosahedron(CreaseMethod::chaikin), testing::sharp_cube()}) {
     RgbMesh m = base.build();
     random_walk(m, 1500, 3);
     const fs::path file = dir / (base.name + GetParam());
@@ -79,6 +80,7 @@ TEST_P(StateFile, RoundTripAfterRandomWalks) {
     ASSERT_EQ(r.mesh.validate(true), "");
     Keys keys;
     EXPECT_EQ(describe(r.mesh, keys), describe(m, keys)) << base.name;
+    EXPECT_EQ(r.mesh.sharp_features(), m.sharp_features()) << base.name;
     std::map<std::int64_t, VertexHandle> by_key;
     for (VertexHandle v : m.vertices()) by_key[keys(m, v)] = v;
     r.mesh.compute_limits();
@@ -132,6 +134,9 @@ TEST(StateFile, StreamedFromTheMeshIsTheSnapshotsFileByteForByte) {
   random_walk(holes, 4000, 11);
   remove_some(holes);
   cases.push_back({"grid with two holes, level 3, random walk", std::move(holes)});
+  RgbMesh creased = testing::graded_icosahedron(CreaseMethod::chaikin).build();
+  random_walk(creased, 1500, 5);
+  cases.push_back({"icosahedron with Chaikin creases, random walk", std::move(creased)});
   RgbMesh walked = testing::icosahedron().build();
   random_walk(walked, 1500, 3);
   cases.push_back({"icosahedron, random walk", std::move(walked)});

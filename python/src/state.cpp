@@ -59,10 +59,11 @@ py::dict state_of(const RgbMesh& mesh) {
 py::tuple from_state(const DoubleArray& base_points, const Ints& base_triangles, const Ints& base_vertex,
                      const Ints& parents, const std::optional<Ints>& triangles, const std::optional<Bytes>& vertex_levels,
                      const std::optional<Bytes>& triangle_levels, const std::optional<Bytes>& triangle_colors, int version) {
-  if (version != RgbState::kVersion)
-    throw InputError("RGB state version " + std::to_string(version) + ": this rgbmesh reads version " +
+  if (version < 1 || version > RgbState::kVersion)
+    throw InputError("RGB state version " + std::to_string(version) + ": this rgbmesh reads versions 1 to " +
                      std::to_string(RgbState::kVersion));
   RgbState s;
+  s.version = version;
   s.base_points = points_of_array(base_points, "base_points");
   s.base_triangles = rows_of<3>(base_triangles, 0, "base_triangles");
   if (base_vertex.ndim() != 1) throw InputError("base_vertex: one value per point is needed");

@@ -1,8 +1,12 @@
 // RgbMesh::from_triangles: the base mesh Σ0, after the checks that prepare_triangle_mesh makes
 // (triangle_checks.hpp: one copy of them for both entry points).
 
+#include <algorithm>
+#include <cmath>
+#include <map>
 #include <string>
 
+#include "creases.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "triangle_checks.hpp"
 
@@ -112,6 +116,54 @@ RgbMesh RgbMesh::from_triangles(const std::vector<Vec3>& points,
 #endif
   m.base_euler_ = m.euler_characteristic();
   m.init_base_geometry();
+  return m;
+}
+
+RgbMesh RgbMesh::from_triangles(const std::vector<Vec3>& points,
+                                const std::vector<std::array<std::int32_t, 3>>& triangles, const SharpFeatures& sharp,
+                                PointRole role) {
+  RgbMesh m = from_triangles(points, triangles, role);
+  // The normal form: each edge and vertex once (the last entry counts, as in OpenSubdiv's
+  // shape files), no boundary edge, no zero, at most 10.
+  const auto n = static_cast<std::int64_t>(points.size());
+  const auto sharpness_error = [](const std::string& what, float s) {
+    if (!std::isfinite(s) || s < 0.0f)
+      throw InputError(what + " has sharpness " + std::to_string(s) + " (0 or more; 10 is infinitely sharp)");
+  };
+  std::map<std::pair<std::int32_t, std::int32_t>, float> edges;
+  for (std::size_t i = 0; i < sharp.edges.size(); ++i) {
+    const SharpEdge& e = sharp.edges[i];
+    const std::string what =
+        "sharp edge " + std::to_string(i) + " (" + std::to_string(e.a) + ", " + std::to_string(e.b) + ")";
+    if (e.a < 0 || e.a >= n || e.b < 0 || e.b >= n)
+      throw InputError(what + " names a vertex outside 0.." + std::to_string(n - 1));
+    const EdgeHandle h = e.a == e.b ? EdgeHandle() : m.find_edge(VertexHandle(e.a), VertexHandle(e.b));
+    if (!h.valid()) throw InputError(what + " is not an edge of the mesh");
+    sharpness_error(what, e.sharpness);
+    if (m.is_boundary(h)) continue;  // infinitely sharp already
+    edges[{std::min(e.a, e.b), std::max(e.a, e.b)}] = std::min(e.sharpness, kInfiniteSharpness);
+  }
+  std::map<std::int32_t, float> vertices;
+  for (std::size_t i = 0; i < sharp.vertices.size(); ++i) {
+    const SharpVertex& v = sharp.vertices[i];
+    const std::string what = "sharp vertex " + std::to_string(i) + " (" + std::to_string(v.v) + ")";
+    if (v.v < 0 || v.v >= n) throw InputError(what + " is outside 0.." + std::to_string(n - 1));
+    sharpness_error(what, v.sharpness);
+    vertices[v.v] = std::min(v.sharpness, kInfiniteSharpness);
+  }
+  SharpFeatures normal;
+  normal.method = sharp.method;
+  for (const auto& [ends, s] : edges)
+    if (s > 0.0f) normal.edges.push_back({ends.first, ends.second, s});
+  for (const auto& [v, s] : vertices)
+    if (s > 0.0f) normal.vertices.push_back({v, s});
+  if (normal.empty()) return m;
+  m.creases_ = std::make_shared<const detail::CreaseTable>(normal, points.size());
+  m.v_rail_.reserve(m.v_edge_.capacity());  // grows with the other vertex arrays (make_room)
+  m.v_rail_position_.reserve(m.v_edge_.capacity());
+  m.v_rail_.assign(m.v_edge_.size(), -1);
+  m.v_rail_position_.assign(m.v_edge_.size(), 0);
+  m.init_sharp_base_geometry();
   return m;
 }
 

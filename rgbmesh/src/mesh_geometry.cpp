@@ -99,9 +99,10 @@ Vec3 RgbMesh::control_point(VertexHandle v, int k) const {
       fail("control_point", describe(v) + " has no control point at level " + std::to_string(k));
     return v_control_[v.idx];
   }
-  const Vec3 limit = limit_position(v);
-  const double g = loop::eigenvalue_power(eigenvalue(v), steps);
-  return g * v_control_[v.idx] + (1.0 - g) * limit;
+  if (!try_limit(v))
+    fail("control_point", describe(v) + " has an incomplete Loop ring at its level (call complete_limit or "
+                                        "compute_limits first)");
+  return known_control_point(v, k);
 }
 
 bool RgbMesh::has_limit(VertexHandle v) const {
@@ -128,8 +129,9 @@ template <class Known>
 bool RgbMesh::limit_from_ring(VertexHandle v, Vec3& limit, Known known) const {
   const int l = level(v);
   const auto [pa, pb] = v_parents_[v.idx];
-  if (v_flags_[v.idx] & kBoundaryFlag) {
-    // The boundary neighbours of a boundary vertex at its own level are its parents (Eq. 8).
+  if (v_flags_[v.idx] & (kBoundaryFlag | kCreaseFlag)) {
+    // The boundary neighbours of a boundary vertex at its own level are its parents (Eq. 8);
+    // so are the crease neighbours of a vertex on an infinitely sharp edge.
     limit = loop::kBoundaryLimitSelf * v_control_[v.idx] +
             loop::kBoundaryLimitNeighbor * (known_control_point(pa, l) + known_control_point(pb, l));
     return true;
@@ -177,6 +179,7 @@ bool RgbMesh::try_limit(VertexHandle v) const {
   // Both rules use the parents at level l, which are coarser: their limits come first, and
   // those of the coarser ring vertices too (recursively).
   if (!try_limit(pa) || !try_limit(pb)) return false;
+  if (v_flags_[v.idx] & kTransientFlag) return transient_limit(v);
   Vec3 limit;
   if (!limit_from_ring(v, limit, [this](VertexHandle w) { return try_limit(w); })) return false;
   store_limit(v, limit);
@@ -187,6 +190,7 @@ bool RgbMesh::ring_limit(VertexHandle v, Vec3& limit) const {
   // try_limit without its recursion and without storing, so that threads may share the mesh.
   const auto [pa, pb] = v_parents_[v.idx];
   if (!pa.valid() || !pb.valid() || !limit_known(pa) || !limit_known(pb)) return false;
+  if (v_flags_[v.idx] & kTransientFlag) return false;  // its history is stored by try_limit
   return limit_from_ring(v, limit, [this](VertexHandle w) { return limit_known(w); });
 }
 
@@ -253,7 +257,7 @@ void RgbMesh::complete_limit(VertexHandle v) {
   const auto [pa, pb] = v_parents_[v.idx];
   complete_limit(pa);
   complete_limit(pb);
-  if (!(v_flags_[v.idx] & kBoundaryFlag)) raise_star(v);
+  if (!(v_flags_[v.idx] & (kBoundaryFlag | kCreaseFlag))) raise_star(v);
   if (!try_limit(v)) fail("complete_limit", "internal error: the Loop ring of " + describe(v) + " is incomplete");
 }
 
@@ -292,18 +296,21 @@ bool RgbMesh::prepare_stencil(const std::array<VertexHandle, 4>& st, int l) {
 
 Vec3 RgbMesh::odd_control_point(EdgeHandle e) const {
   const int l = level(e);
-  const auto st = loop_stencil(e);
+  auto st = loop_stencil(e);
+  const loop::OddMask mask = odd_mask(e);
+  if (mask.opposite == 0.0) st[2] = st[3] = VertexHandle();  // not used
   for (VertexHandle s : st) {
     if (s.valid() && level(s) < l && !try_limit(s))
       fail("odd_control_point", "the limit position of stencil vertex " + describe(s) + " is not known");
   }
-  return stencil_point(st, l);
+  return stencil_point(st, l, odd_mask(e));
 }
 
-Vec3 RgbMesh::stencil_point(const std::array<VertexHandle, 4>& st, int l) const {
+Vec3 RgbMesh::stencil_point(const std::array<VertexHandle, 4>& st, int l, const loop::OddMask& mask) const {
   const Vec3 ends = known_control_point(st[0], l) + known_control_point(st[1], l);
-  if (!st[3].valid()) return 0.5 * ends;  // boundary edge (Eq. 2)
-  return 0.375 * ends + 0.125 * (known_control_point(st[2], l) + known_control_point(st[3], l));  // Eq. 1
+  // Boundary edges (Eq. 2) and creases: the midpoint; else Eq. 1, or a semi-sharp blend.
+  if (mask.opposite == 0.0) return mask.end * ends;
+  return mask.end * ends + mask.opposite * (known_control_point(st[2], l) + known_control_point(st[3], l));
 }
 
 std::vector<Vec3> RgbMesh::split_limits(const std::vector<EdgeHandle>& edges) {

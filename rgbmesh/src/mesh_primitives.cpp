@@ -55,6 +55,10 @@ VertexHandle RgbMesh::new_vertex() {
     v_control_.emplace_back();
     v_limit_index_.push_back(-1);
     v_flags_.push_back(0);
+    if (creases_) {
+      v_rail_.push_back(-1);
+      v_rail_position_.push_back(0);
+    }
 #if RGBMESH_CHECKED_HANDLES
     v_generation_.push_back(1);
 #endif
@@ -120,6 +124,7 @@ void next_generation(std::vector<std::uint32_t>& g, std::int32_t slot) {
 void RgbMesh::free_vertex(VertexHandle v) {
   v_edge_[v.idx] = EdgeHandle();
   v_parents_[v.idx] = {VertexHandle(v_free_), VertexHandle()};
+  if (v_flags_[v.idx] & kHistoryFlag) history_.erase(v.idx);
   v_flags_[v.idx] = 0;
   release_limit(v);
   v_free_ = v.idx;
@@ -205,6 +210,7 @@ VertexHandle RgbMesh::bisect(EdgeHandle e, const Vec3& control) {
   v_parents_[m.idx] = {v0, v1};
   v_control_[m.idx] = control;
   v_flags_[m.idx] = boundary ? kBoundaryFlag : 0;
+  if (creases_) place_on_rail(m, v0, v1, l);
 
   const std::uint8_t half_info = edge_info(false, l + 1);
   const EdgeHandle e1 = new_edge(m, v1, half_info);  // e keeps (v0, m)

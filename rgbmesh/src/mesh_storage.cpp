@@ -31,6 +31,10 @@ RgbMesh::RgbMesh(const RgbMesh& o)
       limits_free_(o.limits_free_),
       v_flags_(o.v_flags_),
       base_eigenvalue_(o.base_eigenvalue_),
+      creases_(o.creases_),
+      v_rail_(o.v_rail_),
+      v_rail_position_(o.v_rail_position_),
+      history_(o.history_),
       v_free_(o.v_free_),
       v_generation_(o.v_generation_),
       e_vert_(o.e_vert_),
@@ -72,6 +76,10 @@ void RgbMesh::grow_vertex_arrays(std::size_t capacity) {
   v_control_.reserve(capacity);
   v_limit_index_.reserve(capacity);
   v_flags_.reserve(capacity);
+  if (creases_) {
+    v_rail_.reserve(capacity);
+    v_rail_position_.reserve(capacity);
+  }
 #if RGBMESH_CHECKED_HANDLES
   v_generation_.reserve(capacity);
 #endif
@@ -105,7 +113,8 @@ std::size_t RgbMesh::memory_bytes() const {
   return bytes(v_edge_) + bytes(v_level_) + bytes(v_parents_) + bytes(v_control_) + bytes(v_limit_index_) +
          bytes(limits_) + bytes(limits_free_) + bytes(v_flags_) + bytes(e_vert_) + bytes(e_tri_) +
          bytes(e_info_) + bytes(t_edge_) + bytes(t_info_) + bytes(base_eigenvalue_) + bytes(v_generation_) +
-         bytes(e_generation_) + bytes(t_generation_) + bytes(base_triangles_);
+         bytes(e_generation_) + bytes(t_generation_) + bytes(base_triangles_) + bytes(v_rail_) +
+         bytes(v_rail_position_) + history_bytes();
 }
 
 std::size_t RgbMesh::storage_bytes(std::size_t vertices, std::size_t edges, std::size_t triangles) {

@@ -61,6 +61,10 @@ std::size_t RgbMesh::split_all_edges() {
   v_control_.resize(new_nv);
   v_limit_index_.resize(new_nv, -1);
   v_flags_.resize(new_nv, 0);
+  if (creases_) {
+    v_rail_.resize(new_nv, -1);
+    v_rail_position_.resize(new_nv, 0);
+  }
   e_vert_.resize(new_ne);
   e_tri_.resize(new_ne);
   e_info_.assign(new_ne, edge_info(false, l + 1));
@@ -84,9 +88,12 @@ std::size_t RgbMesh::split_all_edges() {
   detail::parallel_for(ne, kBlock, cores, [&](std::size_t, std::size_t e) {
     const std::size_t m = nv + e;
     const EdgeHandle h(static_cast<std::int32_t>(e));
-    v_control_[m] = stencil_point(stencil(h), l);
+    const auto [a, b] = e_vert_[e];
+    const bool boundary = !e_tri_[e][1].valid();
+    v_control_[m] = stencil_point(stencil(h), l, odd_mask(a, b, l, boundary));
     v_parents_[m] = e_vert_[e];
-    v_flags_[m] = e_tri_[e][1].valid() ? 0 : kBoundaryFlag;
+    v_flags_[m] = boundary ? kBoundaryFlag : 0;
+    if (creases_) place_on_rail(vertex(m), a, b, l);
     v_edge_[m] = edge(e);
   });
   // 2. The halves: e keeps the one at its first end, ne + e is the other.

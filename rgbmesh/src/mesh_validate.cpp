@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "creases.hpp"
 #include "rgbmesh/mesh.hpp"
 
 namespace rgbmesh {
@@ -101,6 +102,9 @@ std::string RgbMesh::validate_storage(LiveSlots& live) const {
       v_control_.size() != v_edge_.size() || v_limit_index_.size() != v_edge_.size() ||
       v_flags_.size() != v_edge_.size())
     return "vertex arrays have different sizes";
+  if (creases_ ? (v_rail_.size() != v_edge_.size() || v_rail_position_.size() != v_edge_.size())
+               : (!v_rail_.empty() || !v_rail_position_.empty() || !history_.empty()))
+    return "the sharp-feature arrays do not match the vertex slots";
   if (e_tri_.size() != e_vert_.size() || e_info_.size() != e_vert_.size())
     return "edge arrays have different sizes";
   if (t_info_.size() != t_edge_.size()) return "triangle arrays have different sizes";
@@ -326,6 +330,29 @@ std::string RgbMesh::validate_vertices(const LiveSlots& live) const {
     // (all its level-l edges split, so its Loop ring is complete; VI-D).
     if (!is_finite(v_control_[i])) c.fail(describe(v), " has a non-finite control point");
     if (is_boundary_vertex(v) != s.boundary) c.fail(describe(v), " has a wrong boundary flag");
+    if (c.ok() && creases_) {
+      // Sharp features: the base edge and position an inserted vertex lies on follow from its
+      // parents, and so do its flags; a stored history is found.
+      const std::int32_t rail = v_rail_[i];
+      const std::uint8_t flags = v_flags_[i];
+      if (v_level_[i] > 0) {
+        std::uint64_t piece = 0;
+        const int l = v_level_[i] - 1;
+        const std::int32_t expected = edge_rail(p[0], p[1], l, piece);
+        if (rail != expected || (rail >= 0 && v_rail_position_[i] != 2 * piece + 1))
+          c.fail(describe(v), " has a wrong sharp base edge (", rail, " instead of ", expected, ")");
+        const float h0 = rail < 0 ? 0.0f : creases_->segment(rail, l + 1, 2 * piece);
+        const float h1 = rail < 0 ? 0.0f : creases_->segment(rail, l + 1, 2 * piece + 1);
+        const bool crease = loop::is_infinitely_sharp(h0) && loop::is_infinitely_sharp(h1);
+        const bool transient = !crease && (loop::is_semi_sharp(h0) || loop::is_semi_sharp(h1));
+        if (crease != ((flags & kCreaseFlag) != 0) || transient != ((flags & kTransientFlag) != 0))
+          c.fail(describe(v), " has wrong crease flags");
+      } else if (rail != -1) {
+        c.fail(describe(v), " is a base vertex with a sharp base edge");
+      }
+      if (((flags & kHistoryFlag) != 0) != (history_.count(i) == 1))
+        c.fail(describe(v), " has a history flag that does not match the stored histories");
+    }
     // shown_level(v), from the star just walked (it holds every incident edge).
     int shown = kMaxLevel + 1;
     for (const EdgeHandle e_at_v : s.edges)

@@ -632,18 +632,26 @@ double MaxEdgeLength::triangle_priority(const RgbMesh& m, TriangleHandle t) cons
 double GeometricTolerance::deviation(const RgbMesh& m, EdgeHandle e) {
   const int l = m.level(e);
   const auto st = m.loop_stencil(e);
+  const loop::OddMask mask = m.odd_mask(e);
   const Vec3 a = m.level_point(st[0], l), b = m.level_point(st[1], l);
-  if (st[3].valid()) {
+  if (mask.opposite == 0.125 && mask.end == 0.375) {
     // |3/8 (a + b) + 1/8 (c + d) - (a + b) / 2| = |c + d - a - b| / 8.
     const Vec3 c = m.level_point(st[2], l), d = m.level_point(st[3], l);
     return norm(c + d - a - b) * 0.125;
   }
-  // Boundary: how far the endpoints move from level l to l + 1 (limits of boundary vertices
-  // follow from their parents, so they are always available).
+  if (mask.opposite != 0.0) {
+    // A semi-sharp edge: the blend's distance from the midpoint.
+    const Vec3 c = m.level_point(st[2], l), d = m.level_point(st[3], l);
+    return norm((mask.end - 0.5) * (a + b) + mask.opposite * (c + d));
+  }
+  // Boundary and crease: how far the endpoints move from level l to l + 1 (limits of boundary
+  // and crease vertices follow from their parents, so they are always available; base
+  // vertices have theirs).
   double worst = 0;
   for (int i = 0; i < 2; ++i) {
     const VertexHandle v = st[i];
-    if (!m.is_boundary_vertex(v) || !m.has_limit(v)) continue;
+    const VertexRule rule = m.vertex_rule(v, l);
+    if ((rule != VertexRule::crease && rule != VertexRule::corner) || !m.has_limit(v)) continue;
     worst = std::max(worst, distance(m.control_point(v, l + 1), m.control_point(v, l)));
   }
   return worst;

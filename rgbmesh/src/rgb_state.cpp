@@ -74,9 +74,10 @@ class ChildIndex {
 // Checks the arrays by themselves: sizes, ranges, each base vertex once, parents that are
 // other points; and indexes the inserted vertices by their parents' pair.
 ChildIndex check_arrays(const RgbState& s) {
-  if (s.version != RgbState::kVersion)
-    inconsistent("version " + str(s.version) + " is not supported (this build reads version " +
+  if (s.version < 1 || s.version > RgbState::kVersion)
+    inconsistent("version " + str(s.version) + " is not supported (this build reads versions 1 to " +
                  str(RgbState::kVersion) + ")");
+  if (s.version < 2 && !s.sharp.empty()) inconsistent("version 1 has no sharp features");
   const std::size_t n = s.parents.size();
   if (s.base_vertex.size() != n)
     inconsistent(str(static_cast<std::int64_t>(s.base_vertex.size())) + " base indices for " +
@@ -442,6 +443,8 @@ RgbState state_of(const RgbMesh& mesh, const std::vector<VertexHandle>& entries,
   for (std::size_t b = 0; b < mesh.num_base_vertices(); ++b)
     s.base_points.push_back(mesh.insertion_point(VertexHandle(static_cast<std::int32_t>(b))));
   s.base_triangles = mesh.base_triangles();
+  s.sharp = mesh.sharp_features();
+  s.version = RgbState::version_for(s.sharp);
   s.base_vertex.resize(entries.size());
   s.parents.resize(entries.size());
   for (std::size_t i = 0; i < entries.size(); ++i) {
@@ -483,7 +486,7 @@ RestoredMesh restore_state(const RgbState& state, const RestoreExpectations& exp
   ChildIndex children = check_arrays(state);
   RestoredMesh r;
   try {
-    r.mesh = RgbMesh::from_triangles(state.base_points, state.base_triangles);
+    r.mesh = RgbMesh::from_triangles(state.base_points, state.base_triangles, state.sharp);
   } catch (const InputError& e) {
     inconsistent(std::string("the base mesh: ") + e.what());
   }
@@ -555,14 +558,16 @@ RgbState join_piece_states(const std::vector<RgbState>& pieces,
   if (pieces.empty()) inconsistent("no pieces");
   whole.base_points = pieces[0].base_points;
   whole.base_triangles = pieces[0].base_triangles;
+  whole.sharp = pieces[0].sharp;
+  whole.version = RgbState::version_for(whole.sharp);
   std::unordered_map<VertexName, std::int32_t> at;
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     const RgbState& s = pieces[k];
     const std::string piece = "piece " + str(static_cast<std::int64_t>(k)) + ": ";
-    if (s.version != RgbState::kVersion)
-      inconsistent(piece + "version " + str(s.version) + " is not supported (this build reads version " +
+    if (s.version < 1 || s.version > RgbState::kVersion)
+      inconsistent(piece + "version " + str(s.version) + " is not supported (this build reads versions 1 to " +
                    str(RgbState::kVersion) + ")");
-    if (s.base_triangles != whole.base_triangles || s.base_points.size() != whole.base_points.size() ||
+    if (s.base_triangles != whole.base_triangles || s.sharp != whole.sharp || s.base_points.size() != whole.base_points.size() ||
         !std::equal(s.base_points.begin(), s.base_points.end(), whole.base_points.begin(),
                     [](const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }))
       inconsistent(piece + "its base mesh differs from piece 0's (pieces of different runs?)");

@@ -18,6 +18,80 @@ namespace {
 using detail::plural;
 using detail::Triangle;
 
+// The sharp features' vertices are the soup's, and their edges the triangles' (the tags count
+// vertices from 0, as OpenSubdiv's do).
+void check_sharp_tags(const PolygonSoup& soup, const std::vector<Triangle>& triangles) {
+  const auto n = static_cast<std::int64_t>(soup.points.size());
+  const auto range = [n](const std::string& what, std::int64_t v) {
+    if (v < 0 || v >= n)
+      throw InputError(what + " names vertex " + std::to_string(v) + ", outside 0.." + std::to_string(n - 1) +
+                       " (tags count vertices from 0)");
+  };
+  for (std::size_t i = 0; i < soup.sharp.vertices.size(); ++i)
+    range("corner tag " + std::to_string(i), soup.sharp.vertices[i].v);
+  if (soup.sharp.edges.empty()) return;
+  std::vector<std::pair<std::int32_t, std::int32_t>> edges;
+  edges.reserve(3 * triangles.size());
+  for (const Triangle& t : triangles)
+    for (int k = 0; k < 3; ++k) edges.emplace_back(std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3]));
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < soup.sharp.edges.size(); ++i) {
+    const SharpEdge& e = soup.sharp.edges[i];
+    const std::string what =
+        "crease tag " + std::to_string(i) + " (" + std::to_string(e.a) + ", " + std::to_string(e.b) + ")";
+    range(what, e.a);
+    range(what, e.b);
+    if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(std::min(e.a, e.b), std::max(e.a, e.b))))
+      throw InputError(what + " is not an edge of the mesh (tags count vertices from 0)");
+  }
+}
+
+// The tags in the numbering of the prepared mesh: new_vertex(v) is v's new index or -1 (gone).
+// Tags whose edge is no longer an edge of `triangles` are dropped, with a note.
+template <class NewVertex>
+SharpFeatures renumbered_tags(const SharpFeatures& in, NewVertex new_vertex, const std::vector<Triangle>& triangles,
+                              std::vector<std::string>& notes) {
+  SharpFeatures out;
+  out.method = in.method;
+  if (in.edges.empty() && in.vertices.empty()) return out;
+  std::vector<std::pair<std::int32_t, std::int32_t>> edges;
+  for (const Triangle& t : triangles)
+    for (int k = 0; k < 3; ++k) edges.emplace_back(std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3]));
+  std::sort(edges.begin(), edges.end());
+  std::size_t lost = 0;
+  for (const SharpEdge& e : in.edges) {
+    const std::int32_t a = new_vertex(e.a), b = new_vertex(e.b);
+    if (a < 0 || b < 0 || a == b ||
+        !std::binary_search(edges.begin(), edges.end(), std::make_pair(std::min(a, b), std::max(a, b)))) {
+      ++lost;
+      continue;
+    }
+    out.edges.push_back({a, b, e.sharpness});
+  }
+  for (const SharpVertex& v : in.vertices) {
+    const std::int32_t w = new_vertex(v.v);
+    if (w < 0) {
+      ++lost;
+      continue;
+    }
+    out.vertices.push_back({w, v.sharpness});
+  }
+  if (lost > 0)
+    notes.push_back("dropped " + plural(lost, "sharpness tag", "sharpness tags") +
+                    " whose edge or vertex the repairs removed");
+  return out;
+}
+
+// 't interpolateboundary ... 1': boundary vertices of a single triangle become corners.
+void add_boundary_corners(TriangleMeshData& out) {
+  std::vector<int> triangles_at(out.points.size(), 0);
+  for (const Triangle& t : out.triangles)
+    for (const std::int32_t v : t) ++triangles_at[static_cast<std::size_t>(v)];
+  // A vertex of one triangle is on the boundary (its two edges there have one side).
+  for (std::size_t v = 0; v < triangles_at.size(); ++v)
+    if (triangles_at[v] == 1) out.sharp.vertices.push_back({static_cast<std::int32_t>(v), kInfiniteSharpness});
+}
+
 void check_faces(const PolygonSoup& soup) {
   for (std::size_t f = 0; f < soup.faces.size(); ++f) {
     if (soup.faces[f].size() < 3)
@@ -126,8 +200,8 @@ std::string unjoined_note(const std::vector<Vec3>& points, const std::vector<Tri
 
 // The triangles re-oriented as the checks found, and the points without the unreferenced ones
 // (the others in their order): what every passing mesh gets.
-void finish(const std::vector<Vec3>& points, std::vector<Triangle> triangles,
-            const detail::SurfaceCheck& surface, TriangleMeshData& out) {
+std::vector<std::int32_t> finish(const std::vector<Vec3>& points, std::vector<Triangle> triangles,
+                                 const detail::SurfaceCheck& surface, TriangleMeshData& out) {
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     if (surface.flip[t]) std::swap(triangles[t][1], triangles[t][2]);
   }
@@ -154,13 +228,15 @@ void finish(const std::vector<Vec3>& points, std::vector<Triangle> triangles,
   for (Triangle& t : triangles)
     for (std::int32_t& v : t) v = new_index[v];
   out.triangles = std::move(triangles);
+  return new_index;
 }
 
 // The caller's repair, then the checks on what it gives. A failure is a plain InputError, not a
 // MeshDefectError: the repair was tried and did not remove the defect. The repaired mesh's
 // vertices are named by position (their numbers are not the file's).
-TriangleMeshData repaired(std::vector<Vec3> points, std::vector<Triangle> triangles,
-                          const SoupOptions& options, std::vector<std::string> notes) {
+TriangleMeshData repaired(const PolygonSoup& soup, std::vector<Triangle> triangles, const SoupOptions& options,
+                          std::vector<std::string> notes) {
+  std::vector<Vec3> points = soup.points;
   options.repair(points, triangles, notes);
   if (triangles.empty()) throw InputError("could not be repaired: nothing is left of the mesh");
   detail::check_indices(triangles, points.size(), detail::mesh_wording);
@@ -176,6 +252,22 @@ TriangleMeshData repaired(std::vector<Vec3> points, std::vector<Triangle> triang
     throw InputError(std::string("could not be repaired: in the repaired mesh, ") + e.what());
   }
   finish(points, std::move(triangles), surface, out);
+  // The tags follow their vertices by position (the repair may merge, move or renumber them).
+  const auto less = [](const Vec3& a, const Vec3& b) {
+    return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
+  };
+  std::vector<std::int32_t> by_position(out.points.size());
+  for (std::size_t i = 0; i < by_position.size(); ++i) by_position[i] = static_cast<std::int32_t>(i);
+  std::sort(by_position.begin(), by_position.end(),
+            [&](std::int32_t i, std::int32_t j) { return less(out.points[i], out.points[j]); });
+  const auto new_vertex = [&](std::int64_t v) -> std::int32_t {
+    const Vec3& p = soup.points[static_cast<std::size_t>(v)];
+    const auto it = std::lower_bound(by_position.begin(), by_position.end(), p,
+                                     [&](std::int32_t i, const Vec3& q) { return less(out.points[i], q); });
+    return it != by_position.end() && out.points[*it] == p ? *it : -1;
+  };
+  out.sharp = renumbered_tags(soup.sharp, new_vertex, out.triangles, out.notes);
+  if (soup.boundary_corners) add_boundary_corners(out);
   return out;
 }
 
@@ -186,10 +278,11 @@ TriangleMeshData prepare_triangle_mesh(const PolygonSoup& soup, const SoupOption
   detail::check_points(soup.points, soup.faces.size(), detail::file_wording);
   check_faces(soup);
 
-  std::vector<std::string> notes;
+  std::vector<std::string> notes = soup.notes;
   std::vector<std::int64_t> source_face;
   std::vector<Triangle> triangles = triangles_of(soup, options, source_face, notes);
-  if (options.repair) return repaired(soup.points, std::move(triangles), options, std::move(notes));
+  check_sharp_tags(soup, triangles);
+  if (options.repair) return repaired(soup, std::move(triangles), options, std::move(notes));
 
   TriangleMeshData out;
   out.notes = std::move(notes);
@@ -197,7 +290,10 @@ TriangleMeshData prepare_triangle_mesh(const PolygonSoup& soup, const SoupOption
                                                             : detail::TriangleNames(source_face, soup.points);
   const detail::SurfaceCheck surface =
       detail::check_surface(soup.points, triangles, name, detail::AreaCheck::zero_area_is_degenerate);
-  finish(soup.points, std::move(triangles), surface, out);
+  const std::vector<std::int32_t> new_index = finish(soup.points, std::move(triangles), surface, out);
+  out.sharp = renumbered_tags(
+      soup.sharp, [&](std::int64_t v) { return new_index[static_cast<std::size_t>(v)]; }, out.triangles, out.notes);
+  if (soup.boundary_corners) add_boundary_corners(out);
 
   if (std::string note = unjoined_note(out.points, out.triangles); !note.empty()) out.notes.push_back(note);
   return out;

@@ -80,6 +80,40 @@ std::vector<Vec3> vectors(vtkDataArray* a) {
   return out;
 }
 
+// Version 2's sharp features (rgb_state_io.hpp); from_triangles checks what they name.
+SharpFeatures sharp_features_of(vtkFieldData* field, const fs::path& path) {
+  SharpFeatures s;
+  vtkDataArray* edges = array_of(field, kSharpEdgesArray, 2, -1, path, "field data");
+  vtkDataArray* edge_sharpness = array_of(field, kSharpEdgeSharpnessArray, 1, -1, path, "field data");
+  vtkDataArray* vertices = array_of(field, kSharpVerticesArray, 1, -1, path, "field data");
+  vtkDataArray* vertex_sharpness = array_of(field, kSharpVertexSharpnessArray, 1, -1, path, "field data");
+  vtkDataArray* method = array_of(field, kCreaseMethodArray, 1, 1, path, "field data");
+  const auto values = [&](vtkDataArray* a, vtkDataArray* of, const char* name) {
+    std::vector<float> out;
+    if ((a == nullptr) != (of == nullptr) || (a != nullptr && a->GetNumberOfTuples() != of->GetNumberOfTuples()))
+      bad(path, std::string("the array '") + name + "' does not match its vertices");
+    if (a == nullptr) return out;
+    for (vtkIdType i = 0; i < a->GetNumberOfTuples(); ++i) {
+      const double x = a->GetComponent(i, 0);
+      if (!(x >= 0.0 && x <= 1e30)) bad(path, std::string("array '") + name + "' value " + std::to_string(i) + " is " + shortest(x));
+      out.push_back(static_cast<float>(x));
+    }
+    return out;
+  };
+  const std::vector<float> es = values(edge_sharpness, edges, kSharpEdgeSharpnessArray);
+  const std::vector<float> vs = values(vertex_sharpness, vertices, kSharpVertexSharpnessArray);
+  if (edges != nullptr) {
+    const std::vector<std::int32_t> ends = integers(edges, 0, INT32_MAX, path);
+    for (std::size_t i = 0; i < es.size(); ++i) s.edges.push_back({ends[2 * i], ends[2 * i + 1], es[i]});
+  }
+  if (vertices != nullptr) {
+    const std::vector<std::int32_t> ids = integers(vertices, 0, INT32_MAX, path);
+    for (std::size_t i = 0; i < vs.size(); ++i) s.vertices.push_back({ids[i], vs[i]});
+  }
+  if (method != nullptr) s.method = integers(method, 0, 1, path)[0] == 1 ? CreaseMethod::chaikin : CreaseMethod::uniform;
+  return s;
+}
+
 std::vector<std::uint8_t> bytes_of(vtkDataArray* a, const fs::path& path) {
   std::vector<std::uint8_t> out;
   if (a == nullptr) return out;
@@ -119,6 +153,7 @@ void read_rgb_state(vtkDataSet& data, const fs::path& path, SavedState& out) {
     const std::vector<std::int32_t> corners = integers(base_triangles, 0, INT32_MAX, path);
     for (std::size_t i = 0; i + 2 < corners.size(); i += 3)
       s.base_triangles.push_back({corners[i], corners[i + 1], corners[i + 2]});
+    s.sharp = sharp_features_of(field, path);
     s.base_vertex = integers(piece_base_vertex, -1, INT32_MAX, path);
     const std::vector<std::int32_t> ends = integers(piece_parents, -1, INT32_MAX, path);
     for (std::size_t i = 0; i + 1 < ends.size(); i += 2) s.parents.push_back({ends[i], ends[i + 1]});
@@ -138,9 +173,10 @@ void read_rgb_state(vtkDataSet& data, const fs::path& path, SavedState& out) {
   }
   RgbState s;
   s.version = integers(version, INT32_MIN, INT32_MAX, path)[0];
-  if (s.version != RgbState::kVersion)
-    bad(path, "version " + std::to_string(s.version) + " is not supported (this build reads version " +
+  if (s.version < 1 || s.version > RgbState::kVersion)
+    bad(path, "version " + std::to_string(s.version) + " is not supported (this build reads versions 1 to " +
                   std::to_string(RgbState::kVersion) + ")");
+  s.sharp = sharp_features_of(field, path);
   s.base_points = vectors(base_points);
   const std::vector<std::int32_t> corners = integers(base_triangles, 0, INT32_MAX, path);
   for (std::size_t i = 0; i + 2 < corners.size(); i += 3) s.base_triangles.push_back({corners[i], corners[i + 1], corners[i + 2]});
@@ -248,7 +284,7 @@ RgbMeshFile read_rgb_mesh(const std::filesystem::path& path, const SoupOptions& 
     try {
       TriangleMeshData data = prepare_triangle_mesh(soup, options);
       file.notes = std::move(data.notes);
-      file.mesh = RgbMesh::from_triangles(data.points, data.triangles);
+      file.mesh = RgbMesh::from_triangles(data.points, data.triangles, data.sharp);
     } catch (const InputError& e) {
       detail::rethrow_for_file(path, e);
     }

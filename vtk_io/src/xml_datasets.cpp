@@ -36,6 +36,31 @@ XmlArray base_triangles_array(const std::vector<std::array<std::int32_t, 3>>& tr
                         triangles.empty() ? nullptr : triangles.front().data());
 }
 
+// Version 2's sharp features (rgb_state_io.hpp); `sharp` must outlive the writing.
+void add_sharp_arrays(std::vector<XmlArray>& field, const SharpFeatures& sharp) {
+  if (sharp.empty()) return;
+  const std::vector<SharpEdge>& e = sharp.edges;
+  const std::vector<SharpVertex>& v = sharp.vertices;
+  if (!e.empty()) {
+    field.push_back(computed_array<std::int32_t>(kSharpEdgesArray, XmlType::int32, 2, e.size(),
+                                                 [&e](std::size_t i, std::int32_t* out) {
+                                                   out[0] = e[i].a;
+                                                   out[1] = e[i].b;
+                                                 }));
+    field.push_back(computed_array<double>(kSharpEdgeSharpnessArray, XmlType::float64, 1, e.size(),
+                                           [&e](std::size_t i, double* out) { *out = e[i].sharpness; }));
+  }
+  if (!v.empty()) {
+    field.push_back(computed_array<std::int32_t>(kSharpVerticesArray, XmlType::int32, 1, v.size(),
+                                                 [&v](std::size_t i, std::int32_t* out) { *out = v[i].v; }));
+    field.push_back(computed_array<double>(kSharpVertexSharpnessArray, XmlType::float64, 1, v.size(),
+                                           [&v](std::size_t i, double* out) { *out = v[i].sharpness; }));
+  }
+  const std::int32_t method = sharp.method == CreaseMethod::chaikin ? 1 : 0;
+  field.push_back(computed_array<std::int32_t>(kCreaseMethodArray, XmlType::int32, 1, 1,
+                                               [method](std::size_t, std::int32_t* out) { *out = method; }));
+}
+
 }  // namespace
 
 XmlDataSet snapshot_data_set(const MeshSnapshot& mesh, bool unstructured) {
@@ -62,6 +87,7 @@ XmlDataSet snapshot_data_set(const MeshSnapshot& mesh, bool unstructured) {
     d.field_data.push_back(state_version_array(s.version));
     d.field_data.push_back(borrowed_array(kBasePointsArray, XmlType::float64, 3, s.base_points.size(), s.base_points.data()));
     d.field_data.push_back(base_triangles_array(s.base_triangles));
+    add_sharp_arrays(d.field_data, s.sharp);
   }
   if (mesh.piece_state) {
     const RgbState& s = *mesh.piece_state;
@@ -71,6 +97,7 @@ XmlDataSet snapshot_data_set(const MeshSnapshot& mesh, bool unstructured) {
     d.field_data.push_back(
         borrowed_array(kBasePointsArray, XmlType::float64, 3, s.base_points.size(), s.base_points.data()));
     d.field_data.push_back(base_triangles_array(s.base_triangles));
+    add_sharp_arrays(d.field_data, s.sharp);
     d.field_data.push_back(
         borrowed_array(kPieceBaseVertexArray, XmlType::int32, 1, s.base_vertex.size(), s.base_vertex.data()));
     d.field_data.push_back(borrowed_array(kPieceParentsArray, XmlType::int32, 2, s.parents.size(),
@@ -159,7 +186,7 @@ MeshDataSet::MeshDataSet(const RgbMesh& mesh, bool unstructured, bool limit_poin
       out[1] = point(p[1]);
     }
   }));
-  d.field_data.push_back(state_version_array(RgbState::kVersion));
+  d.field_data.push_back(state_version_array(RgbState::version_for(mesh.sharp_features())));
   d.field_data.push_back(
       computed_array<double>(kBasePointsArray, XmlType::float64, 3, mesh.num_base_vertices(), [this](std::size_t b, double* out) {
         const Vec3 p = mesh_.insertion_point(VertexHandle(static_cast<std::int32_t>(b)));
@@ -168,6 +195,7 @@ MeshDataSet::MeshDataSet(const RgbMesh& mesh, bool unstructured, bool limit_poin
         out[2] = p.z;
       }));
   d.field_data.push_back(base_triangles_array(mesh.base_triangles()));
+  add_sharp_arrays(d.field_data, mesh.sharp_features());
   d.cell_data.push_back(computed_array<std::uint8_t>(
       "level", XmlType::uint8, 1, m,
       [this](std::size_t i, std::uint8_t* out) { *out = static_cast<std::uint8_t>(mesh_.level(triangle(i))); }));

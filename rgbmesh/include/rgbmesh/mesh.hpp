@@ -102,12 +102,14 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/handles.hpp"
 #include "rgbmesh/loop_rules.hpp"
+#include "rgbmesh/sharpness.hpp"
 #include "rgbmesh/snapshot.hpp"
 #include "rgbmesh/vec3.hpp"
 
@@ -165,6 +167,8 @@ struct VertexStar {
 namespace detail {
 /// Reports a use of a handle that names no live element, and aborts (checked builds only).
 [[noreturn]] void bad_handle(const char* accessor, const std::string& what);
+class CreaseTable;  // the sharp features of a base mesh (src/creases.hpp)
+struct Ring;
 }  // namespace detail
 
 /// Per-vertex user data that follows the mesh's vertex slots (see RgbMesh::add_vertex_property).
@@ -291,6 +295,14 @@ class RgbMesh {
   static RgbMesh from_triangles(const std::vector<Vec3>& points,
                                 const std::vector<std::array<std::int32_t, 3>>& triangles,
                                 PointRole role = PointRole::surface);
+  /// The same with sharp features (sharpness.hpp): creases and corners that every operation
+  /// keeps, so that the mesh is a selectively refined Loop-with-creases mesh (OpenSubdiv's
+  /// rules). InputError for an entry that names no edge or vertex of the mesh ("sharp edge 3
+  /// (4, 9) is not an edge of the mesh") or has a negative or non-numeric sharpness. Tags on
+  /// boundary edges are dropped: boundary edges are infinitely sharp already.
+  static RgbMesh from_triangles(const std::vector<Vec3>& points,
+                                const std::vector<std::array<std::int32_t, 3>>& triangles,
+                                const SharpFeatures& sharp, PointRole role = PointRole::surface);
 
   // ---- sizes and iteration -------------------------------------------------------------
   std::size_t num_vertices() const { return n_vertices_; }
@@ -471,6 +483,27 @@ class RgbMesh {
   /// The control point that splitting refinable edge e gives the new vertex (Eq. 1, 2). Needs the
   /// limit positions of the stencil vertices coarser than e (split_edge provides them).
   Vec3 odd_control_point(EdgeHandle e) const;
+
+  // ---- sharp features (sharpness.hpp) ----------------------------------------------------
+  /// Whether the base mesh has any sharp edge or vertex (boundaries aside).
+  bool has_sharp_features() const { return creases_ != nullptr; }
+  /// The base mesh's sharp features in normal form: interior edges only, each once with
+  /// a < b, sorted; vertices sorted; no zero sharpness; values above 10 given as 10.
+  const SharpFeatures& sharp_features() const;
+  /// The sharpness of edge e at its level: 10 on the boundary, 0 for red edges and edges that
+  /// are not pieces of a sharp base edge.
+  float sharpness(EdgeHandle e) const;
+  /// The sharpness of vertex v at level k >= level(v) (0 for every vertex but the base
+  /// vertices tagged sharp).
+  float vertex_sharpness(VertexHandle v, int k) const;
+  /// The subdivision rule of v at level k >= level(v): from its sharpness and the number of
+  /// sharp Loop edges at v on that level (boundary edges count).
+  VertexRule vertex_rule(VertexHandle v, int k) const;
+  /// vertex_rule at the shown level.
+  VertexRule vertex_rule(VertexHandle v) const { return vertex_rule(v, shown_level(v)); }
+  /// The rule that splitting green edge e gives its new vertex (loop_rules.hpp): 3/8, 1/8 on
+  /// smooth edges, the midpoint on the boundary and on creases, blends on semi-sharp edges.
+  loop::OddMask odd_mask(EdgeHandle e) const;
 
   // ---- predicates -----------------------------------------------------------------------
   /// Green, and every incident triangle has the edge's level (section IV-A).
@@ -665,12 +698,42 @@ class RgbMesh {
   std::pair<TriangleHandle, EdgeHandle> arriving_triangle(VertexHandle v, EdgeHandle e) const;
 
   static constexpr std::uint8_t kBoundaryFlag = 1;
+  /// On an infinitely sharp base edge: the crease rule with its parents as neighbours, as on
+  /// the boundary (its limit and every later control point need only them).
+  static constexpr std::uint8_t kCreaseFlag = 2;
+  /// On a semi-sharp base edge with a sharp half: its rules change over the levels; its
+  /// control points are found from its whole ring (evolve) once that is complete.
+  static constexpr std::uint8_t kTransientFlag = 4;
+  /// Its control points beyond its level are in history_ (see VertexHistory).
+  static constexpr std::uint8_t kHistoryFlag = 8;
+  /// A vertex whose rules vary from level to level (semi-sharp features, darts): its control
+  /// points p^{l+i} = points[i] (l its level), then p^{l+m+k} = g^k points[m] + (1 - g^k)
+  /// p_inf with m = points.size() - 1.
+  struct VertexHistory {
+    std::vector<Vec3> points;
+    double g = 0.25;
+  };
+  Vec3 history_point(VertexHandle v, int l) const;
+  std::size_t history_bytes() const;
+  /// The sharp base edge that the Loop edge (a, b) of level l is a piece of, and the piece's
+  /// index along it; -1 if none.
+  std::int32_t edge_rail(VertexHandle a, VertexHandle b, int l, std::uint64_t& piece) const;
+  /// Where x is along rail r at level l (>= level(x)): 0 .. 2^l; -1 if not on it.
+  std::int64_t rail_position(VertexHandle x, std::int32_t r, int l) const;
+  /// odd_mask for the edge (a, b) of level l, boundary or not.
+  loop::OddMask odd_mask(VertexHandle a, VertexHandle b, int l, bool boundary) const;
+  /// Gives the new vertex m on the Loop edge (a, b) of level l its rail and flags.
+  void place_on_rail(VertexHandle m, VertexHandle a, VertexHandle b, int l);
+  /// The Loop 1-ring of v at its level, counter-clockwise, for evolve (false if incomplete).
+  template <class Known>
+  bool ordered_ring(VertexHandle v, detail::Ring& ring, Known known) const;
+  /// The limit and history of a kTransientFlag vertex once its ring is complete.
+  bool transient_limit(VertexHandle v) const;
+  /// Base vertices with sharp features: their limits, eigenvalues and histories.
+  void init_sharp_base_geometry();
   /// Geometry (mesh_geometry.cpp).
   void init_base_geometry();
   VertexHandle stencil_apex(TriangleHandle t, EdgeHandle e) const;
-  double eigenvalue(VertexHandle v) const {
-    return static_cast<std::size_t>(v.idx) < base_eigenvalue_.size() ? base_eigenvalue_[v.idx] : 0.25;
-  }
   /// Computes and caches the limit position if the Loop rings allow it; false otherwise.
   bool try_limit(VertexHandle v) const;
   /// try_limit's value for v when the limits of the coarser vertices it needs are stored
@@ -689,13 +752,14 @@ class RgbMesh {
   /// Makes the limit positions of the stencil's vertices coarser than l known (may insert
   /// vertices elsewhere); returns whether it had to insert any.
   bool prepare_stencil(const std::array<VertexHandle, 4>& st, int l);
-  /// Eq. 1 or 2 on a prepared stencil of level l.
-  Vec3 stencil_point(const std::array<VertexHandle, 4>& st, int l) const;
+  /// Eq. 1 or 2 (or the crease rule `mask`) on a prepared stencil of level l.
+  Vec3 stencil_point(const std::array<VertexHandle, 4>& st, int l, const loop::OddMask& mask) const;
   /// loop_stencil without the precondition check.
   std::array<VertexHandle, 4> stencil(EdgeHandle e) const;
   /// p^l(v) for l >= level(v), with the limit position known when l > level(v).
   Vec3 known_control_point(VertexHandle v, int l) const {
     if (l == level(v)) return v_control_[v.idx];
+    if (v_flags_[v.idx] & kHistoryFlag) return history_point(v, l);
     const double g = (static_cast<std::size_t>(v.idx) < base_eigenvalue_.size())
                          ? loop::eigenvalue_power(base_eigenvalue_[v.idx], l - level(v))
                          : std::ldexp(1.0, -2 * (l - level(v)));
@@ -790,11 +854,22 @@ class RgbMesh {
   mutable std::vector<Vec3> limits_;
   /// Capacity kept at least limits_.size(), so that release_limit cannot fail.
   mutable std::vector<std::int32_t> limits_free_;
-  std::vector<std::uint8_t> v_flags_;  ///< kBoundaryFlag
+  /// kBoundaryFlag, kCreaseFlag, kTransientFlag, kHistoryFlag; mutable for kHistoryFlag, which
+  /// belongs to the cache of limit positions (set where a limit is first computed).
+  mutable std::vector<std::uint8_t> v_flags_;
   bool limit_known(VertexHandle v) const { return v_limit_index_[v.idx] >= 0; }
   void store_limit(VertexHandle v, const Vec3& p) const;
   void release_limit(VertexHandle v);
   std::vector<double> base_eigenvalue_;        ///< g of Eq. 7 for each base vertex
+  /// Sharp features (null without any): shared by copies, never changed once built.
+  std::shared_ptr<const detail::CreaseTable> creases_;
+  /// With sharp features only: per vertex slot, the sharp base edge ("rail") an inserted vertex
+  /// lies on (-1: none, and for base vertices) and its position there at its level (odd).
+  std::vector<std::int32_t> v_rail_;
+  std::vector<std::uint32_t> v_rail_position_;
+  /// kHistoryFlag vertices, by slot (few: base vertices with sharp features, and vertices on
+  /// semi-sharp base edges at the levels where they are sharp).
+  mutable std::unordered_map<std::int32_t, VertexHistory> history_;
   std::vector<JournalEntry>* journal_ = nullptr;
   mutable VertexStar scratch_star_;  ///< for merge_kind (the mesh is not for concurrent use)
   std::int32_t v_free_ = -1;           ///< the newest free vertex slot, -1 if none

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "rgbmesh/handles.hpp"
+#include "rgbmesh/sharpness.hpp"
 #include "rgbmesh/vec3.hpp"
 
 namespace rgbmesh {
@@ -29,12 +30,17 @@ struct NamedArray {
 // see there for why these arrays determine the mesh). VTK XML files carry it.
 struct RgbState {
   // Bumped when the meaning of the arrays changes; readers refuse versions they do not know.
-  static constexpr int kVersion = 1;
+  // 1: the arrays below but `sharp`; 2 adds `sharp`. A state without sharp features is written
+  // as version 1, which earlier builds read too (version_for).
+  static constexpr int kVersion = 2;
+  static int version_for(const SharpFeatures& sharp) { return sharp.empty() ? 1 : 2; }
   int version = kVersion;
   // The base mesh Σ0: control points (exact) and counter-clockwise triangles, as
   // RgbMesh::from_triangles takes them.
   std::vector<Vec3> base_points;
   std::vector<std::array<std::int32_t, 3>> base_triangles;
+  // The base mesh's creases and corners (RgbMesh::sharp_features; version 2).
+  SharpFeatures sharp;
   // One entry per point of the snapshot (file) the state belongs to.
   // base_vertex[i]: the base index of point i, or -1 for an inserted vertex.
   std::vector<std::int32_t> base_vertex;

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "rgbmesh/errors.hpp"  // InputError
+#include "rgbmesh/sharpness.hpp"
 #include "rgbmesh/vec3.hpp"
 
 namespace rgbmesh {
@@ -33,6 +34,14 @@ struct PolygonSoup {
   /// Whether the vertex numbers are the file's own. False for STL, whose vertices are the facets'
   /// corners merged by position: messages then name vertices by their positions.
   bool numbered_vertices = true;
+  /// Sharp features as the file tags them (OpenSubdiv's OBJ tags 't crease', 't corner',
+  /// 't creasemethod'): vertices by their index in `points`, counted from 0 as the tags count.
+  SharpFeatures sharp{};
+  /// The file asks for boundary vertices of a single face to be corners (OpenSubdiv's
+  /// 't interpolateboundary 1/0/0 1', "edge and corner").
+  bool boundary_corners = false;
+  /// What the reader ignored or read in a way the user should know, one line each.
+  std::vector<std::string> notes{};
 };
 
 /// A repair of a triangle soup: receives the points (all finite) and the triangles (indices in
@@ -56,6 +65,8 @@ struct TriangleMeshData {
   std::vector<Vec3> points;
   std::vector<std::array<std::int32_t, 3>> triangles;
   std::vector<std::string> notes;  ///< repairs applied, one human-readable line each
+  /// The soup's sharp features in the numbering of `points` (RgbMesh::from_triangles takes them).
+  SharpFeatures sharp{};
 };
 
 /// Checks, in this order, and throws InputError on the first failure:
@@ -64,6 +75,10 @@ struct TriangleMeshData {
 /// the defects (MeshDefectError): degenerate triangles (a repeated vertex or zero area); duplicate
 /// triangles (same vertex set); non-manifold edges (more than two triangles) and vertices (star
 /// not a single fan); non-orientable surfaces.
+/// Sharp features: a tag naming a vertex the soup does not have, or an edge none of its faces
+/// has, is an InputError ("crease tag 3 (4, 9) is not an edge of the mesh"); tags follow the
+/// vertices through the repairs (by position after options.repair; a note counts any that no
+/// longer name an edge).
 /// Repairs: unreferenced vertices are dropped; an orientable surface with inconsistently
 /// oriented triangles is re-oriented (each connected component keeps the orientation of its
 /// lowest-numbered triangle). Without options.repair, a note says when the vertices sit at fewer
