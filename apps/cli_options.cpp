@@ -29,6 +29,18 @@ const char* const kRepairHelp =
     "duplicate ones, split non-manifold edges and vertices, orient consistently (a note says what changed; "
     "nothing moves by more than 1e-6 of the bounding-box diagonal)";
 
+CLI::Option* add_sharp_angle(CLI::App* app, double& degrees) {
+  return app
+      ->add_option("--sharp-angle", degrees,
+                   "Keep the part's edges: an edge whose two triangles' normals differ by more than DEG degrees "
+                   "is an infinitely sharp crease (30 is VTK's, Blender's choice), a crease that turns by more "
+                   "than DEG a corner; added to the file's own crease tags. Off by default: smooth bases stay "
+                   "smooth")
+      ->type_name("DEG")
+      ->check(number_in("a number of degrees in (0, 180)",
+                        [](double x) { return x > 0.0 && x < 180.0; }));
+}
+
 CLI::Option* CompressionOption::add_to(CLI::App& where) {
   static const CLI::Validator check(
       [](std::string& value) -> std::string {

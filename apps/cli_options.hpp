@@ -21,6 +21,9 @@ CLI::Validator number_in(const std::string& what, bool (*ok)(double));
 // The help of every --repair flag.
 extern const char* const kRepairHelp;
 
+// --sharp-angle DEG on a subcommand that reads a mesh (SoupOptions::sharp_angle); 0 when not given.
+CLI::Option* add_sharp_angle(CLI::App* app, double& degrees);
+
 // The names of a library's table (marking_table, estimator_table) for an option's help.
 template <class Row>
 std::string choices_help(const std::vector<Row>& table) {

@@ -32,14 +32,36 @@ double peak_rss_mb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
+}  // namespace
+
 // A .vtp or .vtu that rgbmesh wrote comes back with its RGB state (levels, colours, parents),
 // so that info reports it and refine continues from it; any other file is a base mesh, repaired
 // first when asked.
-RgbMesh load_mesh(const std::string& path, bool triangulate, bool repair) {
-  RgbMeshFile file = read_rgb_mesh(path, repair::soup_options(triangulate, repair));
+RgbMesh load_mesh(const std::string& path, bool triangulate, bool repair, double sharp_angle) {
+  SoupOptions options = repair::soup_options(triangulate, repair);
+  options.sharp_angle = sharp_angle;
+  RgbMeshFile file = read_rgb_mesh(path, options);
   for (const auto& note : file.notes) std::cerr << "rgbmesh: note: " << one_line(path + ": " + note) << "\n";
+  if (!file.restored) note_rounded_edges(path, file.mesh, sharp_angle);
   return std::move(file.mesh);
 }
+
+void note_rounded_edges(const std::string& path, const RgbMesh& mesh, double sharp_angle) {
+  // A CAD part read without its edges becomes a rounded blob: say so once, with the figure.
+  if (sharp_angle > 0.0) return;
+  const LimitDeviation d = limit_deviation(mesh);
+  std::vector<Vec3> base(mesh.num_base_vertices());
+  for (std::size_t i = 0; i < base.size(); ++i) base[i] = mesh.insertion_point(VertexHandle(static_cast<std::int32_t>(i)));
+  const double diagonal = bounding_box_diagonal(base);
+  if (!(diagonal > 0.0) || d.distance <= 0.01 * diagonal) return;
+  std::ostringstream note;
+  note << path << ": the Loop limit surface lies " << std::setprecision(2) << 100.0 * d.distance / diagonal
+       << "% of the bounding-box diagonal from vertex " << d.vertex.idx
+       << " of the input: its edges and corners are rounded; --sharp-angle 30 keeps the edges sharper than 30 degrees";
+  std::cerr << "rgbmesh: note: " << one_line(note.str()) << "\n";
+}
+
+namespace {
 
 // Rejects an output path before any work is done: unknown format or missing directory.
 void check_output_path(const std::string& out) {
@@ -97,6 +119,11 @@ void print_statistics(const std::string& name, const RgbMesh& mesh, bool json) {
                      .raw("valence_histogram", histogram(s.valence_histogram))
                      .raw("vertices_per_level", histogram(s.vertices_per_level))
                      .raw("triangles_per_level", levels.str())
+                     .add("sharp_edges", static_cast<std::uint64_t>(s.sharp_edges))
+                     .add("semi_sharp_edges", static_cast<std::uint64_t>(s.semi_sharp_edges))
+                     .add("darts", static_cast<std::uint64_t>(s.darts))
+                     .add("crease_vertices", static_cast<std::uint64_t>(s.crease_vertices))
+                     .add("corners", static_cast<std::uint64_t>(s.corners))
                      .str()
               << "\n";
     return;
@@ -114,6 +141,12 @@ void print_statistics(const std::string& name, const RgbMesh& mesh, bool json) {
             << ") .. (" << s.bbox_max.x << ", " << s.bbox_max.y << ", " << s.bbox_max.z << "), diagonal "
             << s.bbox_diagonal << "\n"
             << "valence histogram:   ";
+  const auto sharp_text = [&] {
+    std::ostringstream o;
+    o << s.sharp_edges << " (" << s.semi_sharp_edges << " semi-sharp); vertices: " << s.darts << " darts, "
+      << s.crease_vertices << " creases, " << s.corners << " corners";
+    return o.str();
+  };
   for (const auto& [v, n] : s.valence_histogram) std::cout << " " << v << ":" << n;
   std::cout << "\nvertices per level:  ";
   for (const auto& [l, n] : s.vertices_per_level) std::cout << " " << l << ":" << n;
@@ -121,6 +154,9 @@ void print_statistics(const std::string& name, const RgbMesh& mesh, bool json) {
   for (const auto& [l, c] : s.triangles_per_level)
     std::cout << "  level " << std::setw(2) << l << ": " << c[0] << " / " << c[1] << " / " << c[2] << "\n";
   std::cout << "red edges:            " << s.red_edges << "\n";
+  if (mesh.has_sharp_features())
+    std::cout << "sharp edges:          " << sharp_text() << " (" << to_string(mesh.sharp_features().method)
+              << " creasing)\n";
 }
 
 // A file with points and no faces (.xyz, .pwn, or a mesh format without them) for info: what it
@@ -163,10 +199,10 @@ void print_point_cloud(const std::string& name, const PointCloud& cloud, bool js
             << hi.y << ", " << hi.z << "), diagonal " << norm(hi - lo) << "\n";
 }
 
-void run_info(const std::string& path, bool json, bool triangulate, bool repair) {
+void run_info(const std::string& path, bool json, bool triangulate, bool repair, double sharp_angle) {
   RgbMesh mesh;
   try {
-    mesh = load_mesh(path, triangulate, repair);
+    mesh = load_mesh(path, triangulate, repair, sharp_angle);
   } catch (const InputError&) {
     const std::optional<PointCloud> cloud = point_cloud_instead(path);
     if (!cloud) throw;
@@ -229,9 +265,10 @@ void InfoCommand::add(CLI::App& tool) {
   app->add_flag("--json", json, "Print one JSON object instead of text");
   app->add_flag("--triangulate", triangulate, "Fan-split polygons with more than three vertices");
   app->add_flag("--repair", repair, kRepairHelp);
+  add_sharp_angle(app, sharp_angle);
 }
 
-void InfoCommand::run() const { run_info(path, json, triangulate, repair); }
+void InfoCommand::run() const { run_info(path, json, triangulate, repair, sharp_angle); }
 
 void ConvertCommand::add(CLI::App& tool, CompressionOption& compression) {
   app = tool.add_subcommand("convert", "Convert a mesh between formats (checked like any input)");
@@ -243,12 +280,13 @@ void ConvertCommand::add(CLI::App& tool, CompressionOption& compression) {
       ->check(kNonEmptyPath);
   app->add_flag("--triangulate", triangulate, "Fan-split polygons with more than three vertices");
   app->add_flag("--repair", repair, kRepairHelp);
+  add_sharp_angle(app, sharp_angle);
   compression.add_to(*app);
 }
 
 void ConvertCommand::run(Compression compression) const {
   check_output_path(out);
-  RgbMesh mesh = load_mesh(in, triangulate, repair);
+  RgbMesh mesh = load_mesh(in, triangulate, repair, sharp_angle);
   write_rgb_mesh(out, mesh, output_options(out, compression));
 }
 
@@ -292,6 +330,7 @@ void RefineCommand::add(CLI::App& tool, CompressionOption& compression) {
                 "Print one JSON object with counts, timings and peak memory as the last line");
   app->add_flag("--triangulate", triangulate, "Fan-split polygons with more than three vertices");
   app->add_flag("--repair", repair, kRepairHelp);
+  add_sharp_angle(app, sharp_angle);
   app->add_flag("--limit", limit,
                 "Write the vertices at their Loop limit positions instead of their control points");
   compression.add_to(*app);
@@ -317,7 +356,7 @@ void RefineCommand::run(Compression compression, const MemoryCeiling& ceiling) c
   check_output_path(out);
   const std::vector<Stage> stage_list = stages();
   auto t0 = std::chrono::steady_clock::now();
-  RgbMesh mesh = load_mesh(in, triangulate, repair);
+  RgbMesh mesh = load_mesh(in, triangulate, repair, sharp_angle);
   const double read_s = seconds_since(t0);
   const StageTotals totals = run_stages(mesh, stage_list, ceiling, output_bytes_per_vertex(out));
   t0 = std::chrono::steady_clock::now();

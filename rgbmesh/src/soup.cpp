@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -80,6 +81,19 @@ SharpFeatures renumbered_tags(const SharpFeatures& in, NewVertex new_vertex, con
     notes.push_back("dropped " + plural(lost, "sharpness tag", "sharpness tags") +
                     " whose edge or vertex the repairs removed");
   return out;
+}
+
+// SoupOptions::sharp_angle: the detected features added to the tags, and a note.
+void add_detected_features(TriangleMeshData& out, double angle) {
+  if (angle == 0.0) return;
+  if (!(angle > 0.0 && angle < 180.0))
+    throw InputError("the sharp angle must be between 0 and 180 degrees, not " + std::to_string(angle));
+  const SharpFeatures detected = detect_sharp_features(out.points, out.triangles, angle);
+  out.sharp = merged(out.sharp, detected);
+  std::ostringstream note;
+  note << "edges sharper than " << angle << " degrees: " << plural(detected.edges.size(), "crease edge", "crease edges")
+       << ", " << plural(detected.vertices.size(), "corner", "corners") << " where creases turn";
+  out.notes.push_back(note.str());
 }
 
 // 't interpolateboundary ... 1': boundary vertices of a single triangle become corners.
@@ -268,6 +282,7 @@ TriangleMeshData repaired(const PolygonSoup& soup, std::vector<Triangle> triangl
   };
   out.sharp = renumbered_tags(soup.sharp, new_vertex, out.triangles, out.notes);
   if (soup.boundary_corners) add_boundary_corners(out);
+  add_detected_features(out, options.sharp_angle);
   return out;
 }
 
@@ -294,6 +309,7 @@ TriangleMeshData prepare_triangle_mesh(const PolygonSoup& soup, const SoupOption
   out.sharp = renumbered_tags(
       soup.sharp, [&](std::int64_t v) { return new_index[static_cast<std::size_t>(v)]; }, out.triangles, out.notes);
   if (soup.boundary_corners) add_boundary_corners(out);
+  add_detected_features(out, options.sharp_angle);
 
   if (std::string note = unjoined_note(out.points, out.triangles); !note.empty()) out.notes.push_back(note);
   return out;

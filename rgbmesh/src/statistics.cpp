@@ -62,7 +62,31 @@ MeshStatistics compute_statistics(const RgbMesh& m) {
   for (TriangleHandle t : m.triangles()) {
     ++s.triangles_per_level[m.level(t)][static_cast<int>(m.color(t))];
   }
+  if (m.has_sharp_features()) {
+    for (EdgeHandle e : m.edges()) {
+      if (m.is_boundary(e)) continue;
+      const float sharpness = m.sharpness(e);
+      s.sharp_edges += sharpness > 0.0f;
+      s.semi_sharp_edges += loop::is_semi_sharp(sharpness);
+    }
+    for (VertexHandle v : m.vertices()) {
+      const VertexRule rule = m.vertex_rule(v);
+      s.darts += rule == VertexRule::dart;
+      s.crease_vertices += rule == VertexRule::crease && !m.is_boundary_vertex(v);
+      s.corners += rule == VertexRule::corner;
+    }
+  }
   return s;
+}
+
+LimitDeviation limit_deviation(const RgbMesh& mesh) {
+  LimitDeviation worst;
+  for (std::size_t i = 0; i < mesh.num_base_vertices(); ++i) {
+    const VertexHandle v(static_cast<std::int32_t>(i));
+    const double d = distance(mesh.limit_position(v), mesh.insertion_point(v));  // base limits are always known
+    if (!worst.vertex.valid() || d > worst.distance) worst = {d, v};
+  }
+  return worst;
 }
 
 }  // namespace rgbmesh

@@ -11,9 +11,12 @@
 /// that follow from the tags (vertex classes, masks, decay of semi-sharp values, limits) are
 /// in loop_rules.hpp; RgbMesh applies them through every operation.
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "rgbmesh/vec3.hpp"
 
 namespace rgbmesh {
 
@@ -64,5 +67,21 @@ struct SharpFeatures {
   bool operator==(const SharpFeatures& o) const;
   bool operator!=(const SharpFeatures& o) const { return !(*this == o); }
 };
+
+/// Sharp features found from the geometry, the convention of VTK's feature edges, CGAL's
+/// detect_sharp_edges and Blender's auto smooth: an interior edge whose two triangles' normals
+/// differ by more than `angle_degrees` is infinitely sharp. A vertex where such a crease turns
+/// by more than `angle_degrees` (the angle between the directions in and out of the vertex
+/// along its two sharp edges, the boundary counting as sharp) becomes an infinitely sharp
+/// corner; vertices with three or more sharp edges are corners by Loop's rules anyway, and a
+/// sharp edge that ends inside smooth surface gives a dart. `angle_degrees` in (0, 180);
+/// the triangles must be a valid mesh (prepare_triangle_mesh's).
+SharpFeatures detect_sharp_features(const std::vector<Vec3>& points,
+                                    const std::vector<std::array<std::int32_t, 3>>& triangles, double angle_degrees);
+
+/// `tags` with `detected` added where the tags say nothing: an edge or vertex the tags name
+/// keeps the tags' sharpness (they may make it semi-sharp or smooth on purpose); the method is
+/// the tags'.
+SharpFeatures merged(const SharpFeatures& tags, const SharpFeatures& detected);
 
 }  // namespace rgbmesh

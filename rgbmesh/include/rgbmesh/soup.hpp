@@ -59,6 +59,10 @@ struct SoupOptions {
   /// When set, applied to the triangles before the checks; what it gives must then pass them (an
   /// InputError "could not be repaired: ..." otherwise). Polygons still need `triangulate`.
   SoupRepair repair;
+  /// Above 0 (and below 180): edges whose triangles' normals differ by more than this many
+  /// degrees become infinitely sharp, and so on (detect_sharp_features, sharpness.hpp), added
+  /// to the file's own tags, with a note that counts them. 0: only the file's tags.
+  double sharp_angle = 0.0;
 };
 
 struct TriangleMeshData {
