@@ -14,6 +14,7 @@
 #include "loop_assembly.hpp"
 #include "rgbmesh/canonical.hpp"
 #include "rgbmesh/errors.hpp"
+#include "rgbmesh/loop_rules.hpp"
 #include "rgbmesh/timing.hpp"
 
 namespace rgbmesh::fem {
@@ -185,6 +186,66 @@ Eigen::VectorXd galerkin_diagonal(const SparseMatrix& k, const SparseMatrix& e) 
   return d;
 }
 
+// The cells' sides along base edge side `side` of tree node `node`, which covers [t0, t1] of
+// the base side (both run the same way: a child's sides on its parent's run as the parent's).
+// Per cell side: the cell, its side, and its stretch of the base side.
+struct CellSide {
+  std::size_t cell = 0;
+  int edge = 0;
+  double t0 = 0, t1 = 0;
+};
+void cell_sides(const AdaptiveLoopSpace& space, std::size_t node, int side, double t0, double t1,
+                std::vector<CellSide>& out) {
+  const AdaptiveLoopSpace::Node& at = space.tree[node];
+  if (at.cell >= 0) {
+    out.push_back({static_cast<std::size_t>(at.cell), side, t0, t1});
+    return;
+  }
+  // Children 0-2 sit at corners 0-2 (loop_child_patch's numbering): side k of the parent is
+  // side k of child k (its first half) and of child k + 1 (its second half).
+  const double mid = 0.5 * (t0 + t1);
+  const auto first = static_cast<std::size_t>(at.first_child);
+  cell_sides(space, first + static_cast<std::size_t>(side), side, t0, mid, out);
+  cell_sides(space, first + static_cast<std::size_t>((side + 1) % 3), side, mid, t1, out);
+}
+
+// The seams of the cells: along each infinitely sharp base edge, the cells of its two base
+// triangles paired where their sides overlap (cells of different levels meet there).
+std::vector<LoopSpace::Seam> seams_of(const AdaptiveLoopSpace& space, const RgbMesh& mesh) {
+  std::vector<LoopSpace::Seam> seams;
+  const auto& base = mesh.base_triangles();
+  for (const SharpEdge& e : mesh.sharp_features().edges) {
+    if (!loop::is_infinitely_sharp(e.sharpness)) continue;
+    // The two base triangles with their sides along a -> b (t from a to b).
+    std::array<std::vector<CellSide>, 2> sides;
+    int found = 0;
+    for (std::size_t t = 0; t < base.size() && found < 2; ++t) {
+      for (int k = 0; k < 3; ++k) {
+        const std::int32_t p = base[t][static_cast<std::size_t>(k)],
+                           q = base[t][static_cast<std::size_t>((k + 1) % 3)];
+        if (!((p == e.a && q == e.b) || (p == e.b && q == e.a))) continue;
+        std::vector<CellSide>& list = sides[static_cast<std::size_t>(found++)];
+        if (p == e.a)
+          cell_sides(space, t, k, 0.0, 1.0, list);
+        else
+          cell_sides(space, t, k, 1.0, 0.0, list);
+      }
+    }
+    if (found != 2) throw std::logic_error("build_adaptive_loop_space: a sharp edge without two triangles");
+    // Overlaps of the two sides' stretches, each side's parameters at the overlap's ends.
+    for (const CellSide& x : sides[0])
+      for (const CellSide& y : sides[1]) {
+        const double lo = std::max(std::min(x.t0, x.t1), std::min(y.t0, y.t1));
+        const double hi = std::min(std::max(x.t0, x.t1), std::max(y.t0, y.t1));
+        if (!(hi > lo)) continue;
+        const auto along = [](const CellSide& c, double t) { return (t - c.t0) / (c.t1 - c.t0); };
+        seams.push_back(
+            {{x.cell, y.cell}, {x.edge, y.edge}, {along(x, lo), along(y, lo)}, {along(x, hi), along(y, hi)}});
+      }
+  }
+  return seams;
+}
+
 }  // namespace
 
 Eigen::VectorXd AdaptiveLoopSpace::hierarchical_coefficients(const Eigen::VectorXd& truncated) const {
@@ -243,11 +304,15 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
     net.add(cv, mesh.control_point(v, 0));
   }
   const RingOracle base_rings = triangle_rings(static_cast<std::int32_t>(base_count), mesh.base_triangles());
+  // Sharp features reach the cells through their base patches: every child patch carries what
+  // its rules need (LoopCreases), level by level.
+  const LoopFeatures features =
+      mesh.has_sharp_features() ? tagged_features(mesh.sharp_features()) : LoopFeatures{};
   std::vector<LoopPatch> base_patches;
   base_patches.reserve(mesh.base_triangles().size());
   for (const auto& t : mesh.base_triangles()) {
     try {
-      base_patches.push_back(gather_loop_patch({t[0], t[1], t[2]}, base_rings));
+      base_patches.push_back(gather_loop_patch({t[0], t[1], t[2]}, base_rings, features));
     } catch (const InputError& e) {
       // The space builds on the base mesh, whatever the refinement: refining the RGB mesh
       // does not help, a finer base does.
@@ -299,10 +364,12 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
       // connectivity, which with one irregular corner is that corner's fan alone: a few dozen
       // rules for any base mesh, where an irregular base (a scan, a CAD export) had one per
       // triangle (elephant-with-holes: 1,800 rules, 0.7 GB and 5 s a cycle at 2,800 unknowns).
+      // (Corners whose rules change with semi-sharp features do not count: their children keep
+      // them along the feature until it decays, and a patch's features make its rule its own.)
       int irregular = 0;
       for (int k = 0; k < 3; ++k)
-        irregular += cell.shape->valence[static_cast<std::size_t>(k)] !=
-                     (cell.shape->open[static_cast<std::size_t>(k)] ? 4 : 6);
+        irregular +=
+            !cell.shape->regular_corner(k) && !(cell.shape->creases && cell.shape->creases->transient(k));
       bool split = irregular >= 2;
       for (int k = 0; k < 4 && !split; ++k)
         for (const auto& o : kids[static_cast<std::size_t>(k)]->origin)
@@ -408,11 +475,18 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
     auto [found, fresh] = rule_of.try_emplace(leaves[e].shape);
     if (fresh) found->second = loop_quadrature(*leaves[e].shape, quadrature);
     el.rule = found->second;
-    // A side of the cell on the surface's boundary: both ends on it, one triangle beside it.
+    // A side of the cell on the surface's boundary: both ends on it, one triangle beside it
+    // (with sharp features: a boundary edge, not a crease, which opens fans too).
     const LoopPatch& shape = *leaves[e].shape;
     for (int k = 0; k < 3; ++k) {
       const int a = k, b = (k + 1) % 3;
       if (!shape.open[static_cast<std::size_t>(a)] || !shape.open[static_cast<std::size_t>(b)]) continue;
+      if (shape.creases) {
+        const auto& spokes = shape.creases->corner[static_cast<std::size_t>(a)].spokes;
+        if (std::none_of(spokes.begin(), spokes.end(),
+                         [b](const LoopCreases::Spoke& s) { return s.to == b && s.boundary; }))
+          continue;
+      }
       const auto beside = std::count_if(shape.triangles.begin(), shape.triangles.end(),
                                         [a, b](const std::array<int, 3>& t) {
                                           return std::find(t.begin(), t.end(), a) != t.end() &&
@@ -422,6 +496,7 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
     }
   }
   space.cell_level = std::move(leaf_level);
+  if (mesh.has_sharp_features()) space.cells.seams = seams_of(space, mesh);
   return space;
 }
 

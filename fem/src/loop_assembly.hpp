@@ -45,6 +45,10 @@ double largest_ratio(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b);
 void check_nitsche_options(const std::string& name, double factor, double guarantee,
                            const std::string& option, int edge_points);
 
+/// InputError naming the problem where the space has seams (infinitely sharp edges): the
+/// functions are only C⁰ there, and fourth-order problems need C¹ ones.
+void require_smooth(const LoopSpace& space, const std::string& name);
+
 /// Adds an element's matrix (rows and columns in the order of its DOFs) into the system.
 void add_local(SparseMatrix& a, const std::vector<std::int32_t>& dofs, const Eigen::MatrixXd& local);
 

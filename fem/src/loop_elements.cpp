@@ -17,6 +17,7 @@
 #include "loop_assembly.hpp"
 #include "rgbmesh/canonical.hpp"
 #include "rgbmesh/errors.hpp"
+#include "rgbmesh/loop_rules.hpp"
 #include "rgbmesh/timing.hpp"
 #include "source_samples.hpp"
 
@@ -306,6 +307,7 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
     for (const VertexHandle w : star.neighbors) out.push_back(w.idx);
     return !star.boundary;
   };
+  const LoopFeatures features = loop_mesh_features(mesh, space.level);
   const bool ghosts = boundary == LoopBoundary::ghost_ring;
   const bool sides = boundary != LoopBoundary::refuse;
   std::vector<std::array<VertexHandle, 3>> element_corners;
@@ -336,7 +338,7 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
   detail::for_each_index(element_triangles.size(), [&](std::size_t e) {
     const auto& c = element_corners[e];
     try {
-      patches[e] = gather_loop_patch({c[0].idx, c[1].idx, c[2].idx}, ring);
+      patches[e] = gather_loop_patch({c[0].idx, c[1].idx, c[2].idx}, ring, features);
       rules[e] = loop_quadrature(patches[e], quadrature);
     } catch (const InputError& error) {
       refused[e] = error.what();
@@ -378,7 +380,67 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
     for (std::int32_t& v : patch.vertices) v = space.dof_of_vertex[static_cast<std::size_t>(v)];
     space.elements.push_back({t, patch.vertices, std::move(rules[e])});
   }
+  // The seams: elements meeting along an infinitely sharp edge, each side running the other way.
+  if (mesh.has_sharp_features()) {
+    for (std::size_t e = 0; e < space.elements.size(); ++e) {
+      const TriangleHandle t = space.elements[e].triangle;
+      const auto corners = element_corners[e];
+      for (int k = 0; k < 3; ++k) {
+        const EdgeHandle edge = mesh.find_edge(corners[static_cast<std::size_t>(k)],
+                                               corners[static_cast<std::size_t>((k + 1) % 3)]);
+        if (mesh.is_boundary(edge) || !loop::is_infinitely_sharp(mesh.sharpness(edge))) continue;
+        const TriangleHandle other = mesh.other_triangle(edge, t);
+        const std::int32_t f = element_of_slot[static_cast<std::size_t>(other.idx)];
+        if (f < static_cast<std::int32_t>(e)) continue;  // once per edge; none beyond a ghost ring
+        const auto& theirs = element_corners[static_cast<std::size_t>(f)];
+        int j = 0;
+        while (theirs[static_cast<std::size_t>(j)] != corners[static_cast<std::size_t>((k + 1) % 3)]) ++j;
+        space.seams.push_back({{e, static_cast<std::size_t>(f)}, {k, j}, {0.0, 1.0}, {1.0, 0.0}});
+      }
+    }
+  }
   return space;
+}
+
+LoopFeatures loop_mesh_features(const RgbMesh& mesh, int level) {
+  LoopFeatures out;
+  if (!mesh.has_sharp_features()) return out;
+  const SharpFeatures& tags = mesh.sharp_features();
+  out.method = tags.method;
+  const bool chaikin = tags.method == CreaseMethod::chaikin;
+  const std::int32_t base = static_cast<std::int32_t>(mesh.num_base_vertices());
+  out.at = [&mesh, &tags, level, chaikin, base](std::int32_t v, const std::vector<std::int32_t>& ring,
+                                                LoopVertexFeatures& f) {
+    thread_local VertexStar star;  // the patches are gathered on every core
+    const VertexHandle vh(v);
+    mesh.star(vh, star);
+    f.sharpness = mesh.vertex_sharpness(vh, level);
+    f.edges.assign(ring.size(), 0.0f);
+    f.order.clear();
+    // Chaikin's averages at a base vertex sum its edges' sharpness in the order of their sharp
+    // base edges, as the mesh does: each piece is traced up to its base edge.
+    if (chaikin && v < base) f.order.assign(ring.size(), std::numeric_limits<std::int32_t>::max());
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      const auto at = std::find_if(star.neighbors.begin(), star.neighbors.end(),
+                                   [&](VertexHandle w) { return w.idx == ring[i]; });
+      if (at == star.neighbors.end())
+        throw std::logic_error("loop_mesh_features: a ring that is not the star's");
+      f.edges[i] = mesh.sharpness(star.edges[static_cast<std::size_t>(at - star.neighbors.begin())]);
+      if (f.order.empty() || !loop::is_semi_sharp(f.edges[i])) continue;
+      VertexHandle w(ring[i]);
+      while (w.idx >= base) {
+        const auto& p = mesh.parents(w);
+        w = p[0] == vh ? p[1] : p[0];
+      }
+      const SharpEdge key{std::min(v, w.idx), std::max(v, w.idx), 0.0f};
+      const auto it = std::lower_bound(
+          tags.edges.begin(), tags.edges.end(), key,
+          [](const SharpEdge& x, const SharpEdge& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+      if (it != tags.edges.end() && it->a == key.a && it->b == key.b)
+        f.order[i] = static_cast<std::int32_t>(it - tags.edges.begin());
+    }
+  };
+  return out;
 }
 
 LoopPoint loop_point(const LoopSpace& space, std::size_t element, std::size_t point) {
@@ -524,6 +586,14 @@ detail::SideParameters detail::side_parameters(int edge, double t) {
       return {0, 1 - t, 0, -1};  // corner 2 -> 0
   }
   throw std::invalid_argument("side_parameters: edge in [0, 2]");
+}
+
+void detail::require_smooth(const LoopSpace& space, const std::string& name) {
+  if (!space.seams.empty())
+    throw InputError(
+        "problem '" + name +
+        "': a fourth-order problem needs C1 functions, and Loop's are only continuous across the "
+        "mesh's infinitely sharp edges; make those edges semi-sharp (sharpness below 10) or smooth");
 }
 
 void detail::add_local(SparseMatrix& a, const std::vector<std::int32_t>& dofs, const Eigen::MatrixXd& local) {
@@ -789,6 +859,7 @@ Solution detail::solve_closed_loop_system(LoopSystem& s, const Problem& problem,
 Solution solve_loop_biharmonic(const LoopSpace& space, const BiharmonicProblem& problem,
                                const SolveOptions& options) {
   require_closed(space, problem.name);
+  detail::require_smooth(space, problem.name);
   if (!(problem.c > 0) || !std::isfinite(problem.c))
     throw InputError("problem '" + problem.name +
                      "': the coefficient c must be finite and > 0 (with c = 0 the "
@@ -923,6 +994,39 @@ Estimate loop_residual_estimate(const LoopSpace& space, const Problem& problem, 
       double& eta = out.eta[space.boundary[k].element];
       eta = std::sqrt(eta * eta + (neumann[k] ? length * squares : squares / length));
     }
+  }
+  // On the seams the functions are continuous but not smooth, and the weak form asks the two
+  // outward co-normal derivatives to cancel: ½ h_E ‖∂ₘu_h + ∂ₘ'u_h‖²_E to each element, as the
+  // P1 estimator's jumps.
+  if (!space.seams.empty()) {
+    std::vector<double> gauss_s, gauss_w;
+    gauss_legendre(6, gauss_s, gauss_w);
+    std::vector<std::array<double, 2>> jumps(space.seams.size());  // h_E ∫ jump², per seam
+    detail::for_each_index(space.seams.size(), [&](std::size_t k) {
+      const LoopSpace::Seam& seam = space.seams[k];
+      std::array<std::vector<SidePoint>, 2> points;
+      for (std::size_t i = 0; i < 2; ++i) {
+        std::vector<double> t;
+        for (const double x : gauss_s) t.push_back(seam.from[i] + x * (seam.to[i] - seam.from[i]));
+        points[i] = side_points(space, {seam.element[i], seam.edge[i]}, t);
+      }
+      double length = 0, squares = 0;
+      for (std::size_t q = 0; q < gauss_s.size(); ++q) {
+        double jump = 0;
+        for (std::size_t i = 0; i < 2; ++i) {
+          const LoopSpace::Element& el = space.elements[seam.element[i]];
+          for (std::size_t j = 0; j < el.dofs.size(); ++j)
+            jump += points[i][q].dm(static_cast<Eigen::Index>(j)) * u(el.dofs[j]);
+        }
+        const double ds = gauss_w[q] * points[0][q].speed * std::abs(seam.to[0] - seam.from[0]);
+        length += ds;
+        squares += ds * jump * jump;
+      }
+      jumps[k] = {length, squares};
+    });
+    for (std::size_t k = 0; k < space.seams.size(); ++k)
+      for (const std::size_t e : space.seams[k].element)
+        out.eta[e] = std::sqrt(out.eta[e] * out.eta[e] + 0.5 * jumps[k][0] * jumps[k][1]);
   }
   double sum = 0;
   for (const double x : out.eta) sum += x * x;

@@ -22,6 +22,12 @@
 /// function is a combination of the cell's level-l patch functions, whose control values are
 /// the `expansion` of the coefficients. RGB's red and blue triangles decide nothing here.
 ///
+/// Sharp features (RgbMesh::sharp_features) enter through the base patches (tagged_features):
+/// each cell's patch carries what its corners' rules need at its level, so creases, corners,
+/// darts and semi-sharp features (either creasing method) subdivide the functions as they
+/// subdivide the surface. The cells on the two sides of an infinitely sharp base edge, of
+/// whatever levels, are paired where their sides overlap (cells.seams), for the estimator.
+///
 /// On a mesh with a boundary the space follows Loop's boundary rules, as the surface does
 /// (LoopBoundary::loop_rules): its domain is the limit surface, bounded by the B-spline of the
 /// boundary vertices, and Dirichlet data are imposed weakly (Nitsche) on the cells' sides

@@ -18,6 +18,16 @@
 /// one for each boundary edge ab of a triangle abt, which the boundary rules keep so at every
 /// level (tests/test_loop_basis.cpp checks both against OpenSubdiv).
 ///
+/// Sharp features (sharpness.hpp) follow the crease rules of loop_rules.hpp, as the RGB mesh's
+/// surface does. An infinitely sharp edge splits the surface: a patch does not reach across
+/// one where it bounds a corner's sector (a vertex with two or more such edges, the boundary's
+/// counting), so that a crease vertex is a boundary vertex of each side, and the crease curve's
+/// control values, shared by both sides, give both the same functions there (continuity, not
+/// smoothness, across the crease). A crease vertex whose sector has three triangles is regular:
+/// the box spline of the ghost completion, as on the boundary. Darts, corners, semi-sharp edges
+/// and vertices are subdivided with their rules (odd blends, crease and corner masks, their
+/// transitions as the sharpness decays level by level, uniformly or by Chaikin's averages).
+///
 /// Parameters: a point of the triangle (c0, c1, c2) is c0 + u (c1 - c0) + v (c2 - c0), with u,
 /// v >= 0 and u + v <= 1, and the four triangles of one subdivision step split this domain at
 /// its edges' midpoints, as the triangles of the uniform refinement do.
@@ -33,7 +43,44 @@
 #include <memory>
 #include <vector>
 
+#include "rgbmesh/sharpness.hpp"
+
 namespace rgbmesh::fem {
+
+/// The sharp features that the rules of a patch's corners depend on (none: a null
+/// LoopPatch::creases). All sharpness values are at the patch's level.
+struct LoopCreases {
+  /// A sharp edge at a corner (boundary edges are infinitely sharp ones).
+  struct Spoke {
+    /// The patch vertex at its far end; -1 where the edge is outside the corner's sector.
+    std::int32_t to = -1;
+    float sharpness = 0;  ///< > 0
+    /// One level down, the sharpness of its half at the far end (Chaikin's depends on the far
+    /// end's other edges, which the patch does not hold).
+    float far_child = 0;
+    bool boundary = false;  ///< a boundary edge of the mesh
+  };
+  struct Corner {
+    float sharpness = 0;  ///< the vertex's own
+    /// Its sharp edges, in the order in which their sharpness is summed (as the mesh sums it).
+    std::vector<Spoke> spokes;
+    /// Its ring in the patch, counter-clockwise from corner k + 1 (open for a sector).
+    std::vector<std::int32_t> ring;
+    /// Two or more infinitely sharp edges cut its fan (the boundary's counting): ring is the
+    /// sector that holds the central triangle.
+    bool sector = false;
+  };
+  CreaseMethod method = CreaseMethod::uniform;
+  std::array<Corner, 3> corner;
+
+  /// Corner k follows one of Loop's plain rules at every level from this one on: smooth (no
+  /// sharp edge, no sharpness of its own) or a crease between two infinitely sharp edges and
+  /// nothing else sharp. Its limit then has a closed form (a box spline where its valence is
+  /// regular).
+  bool plain(int k) const;
+  /// Corner k's rules will change over the levels (a semi-sharp edge or vertex sharpness).
+  bool transient(int k) const;
+};
 
 /// The patch of one triangle: its control vertices in a canonical order and its triangles.
 ///
@@ -47,15 +94,21 @@ struct LoopPatch {
   std::vector<std::int32_t> vertices;         ///< the caller's vertex ids, in canonical order
   std::vector<std::array<int, 3>> triangles;  ///< local numbering, counter-clockwise, [0] = {0, 1, 2}
   std::array<int, 3> valence{};               ///< of the corners: their numbers of neighbours
-  std::array<bool, 3> open{};                 ///< the corner is on the boundary (its fan is open)
+  /// The corner's fan is open: on the boundary, or a sector between infinitely sharp edges.
+  std::array<bool, 3> open{};
+  /// The sharp features its corners' rules depend on; null where there are none (boundary
+  /// edges alone need none: an open corner then takes the boundary rules).
+  std::shared_ptr<const LoopCreases> creases;
   bool closed() const { return !open[0] && !open[1] && !open[2]; }
-  /// Every corner regular: valence 6 inside, 4 on the boundary. The limit on the triangle is
-  /// then one box spline (through ghost vertices beyond the boundary).
-  bool regular() const {
-    for (int k = 0; k < 3; ++k)
-      if (valence[static_cast<std::size_t>(k)] != (open[static_cast<std::size_t>(k)] ? 4 : 6)) return false;
-    return true;
+  /// Corner k is regular: valence 6 inside, 4 on the boundary (or in a sector), and plain
+  /// rules (LoopCreases::plain).
+  bool regular_corner(int k) const {
+    const auto i = static_cast<std::size_t>(k);
+    return valence[i] == (open[i] ? 4 : 6) && (!creases || creases->plain(k));
   }
+  /// Every corner regular. The limit on the triangle is then one box spline (through ghost
+  /// vertices beyond the boundary and beyond infinitely sharp edges).
+  bool regular() const { return regular_corner(0) && regular_corner(1) && regular_corner(2); }
 };
 
 /// The neighbours of a vertex in cyclic order (either direction): `ring` returns true. For a
@@ -69,6 +122,29 @@ using RingOracle = std::function<bool(std::int32_t vertex, std::vector<std::int3
 /// beyond the triangle; one uniform refinement removes that).
 LoopPatch gather_loop_patch(const std::array<std::int32_t, 3>& corners, const RingOracle& ring);
 
+/// A vertex's sharp features, as a patch needs them.
+struct LoopVertexFeatures {
+  float sharpness = 0;  ///< its own (RgbMesh::vertex_sharpness at the patch's level)
+  /// Per entry of its ring: the edge's sharpness (RgbMesh::sharpness; boundary edges count as
+  /// infinitely sharp whatever is given).
+  std::vector<float> edges;
+  /// Per entry: where its sharpness comes in sums (the mesh sums a base vertex's edges in the
+  /// order of their sharp base edges); empty: ring order.
+  std::vector<std::int32_t> order;
+};
+
+/// Sharp features of a mesh for gather_loop_patch: its creasing method and, for a vertex and
+/// its ring (as the RingOracle gave it), its features.
+struct LoopFeatures {
+  CreaseMethod method = CreaseMethod::uniform;
+  std::function<void(std::int32_t vertex, const std::vector<std::int32_t>& ring, LoopVertexFeatures& out)> at;
+};
+
+/// The patch on a mesh with sharp features: fans cut into sectors by infinitely sharp edges,
+/// and the rules its corners need (LoopPatch::creases). The same refusals as above.
+LoopPatch gather_loop_patch(const std::array<std::int32_t, 3>& corners, const RingOracle& ring,
+                            const LoopFeatures& features);
+
 /// Weights of the patch's control values at one point: the limit value and its first, second
 /// and third derivatives with respect to (u, v) (the third for the boundary terms of fourth-
 /// order problems). At an extraordinary corner itself only the value is defined (the
@@ -79,7 +155,11 @@ struct LoopBasisAt {
 };
 LoopBasisAt evaluate_loop_basis(const LoopPatch& patch, double u, double v);
 
-/// The limit value at corner k of the patch's triangle: Loop's limit mask (loop_rules.hpp).
+/// The limit value at corner k of the patch's triangle: Loop's limit mask (loop_rules.hpp); a
+/// corner's own value at an infinitely sharp corner, the crease's mask on a crease; where the
+/// rules still change (semi-sharp features) the patch is subdivided towards the corner until
+/// they settle, and a dart's limit is that of its own rules (the fixed point of its ring's
+/// subdivision, which the RGB mesh's limit positions follow, not the smooth mask).
 Eigen::VectorXd loop_corner_limit(const LoopPatch& patch, int corner);
 
 /// A quadrature rule on the parameter triangle of a patch with the basis at every point:
@@ -129,6 +209,10 @@ int loop_descend(double& u, double& v);
 /// The rings of a small closed mesh given by its triangles (counter-clockwise), for
 /// gather_loop_patch.
 RingOracle triangle_rings(std::int32_t vertices, const std::vector<std::array<int, 3>>& triangles);
+
+/// The features of a base mesh given by its tags (in RgbMesh::sharp_features' normal form),
+/// for gather_loop_patch with triangle_rings: sums in the order of the tagged edges, as the mesh.
+LoopFeatures tagged_features(const SharpFeatures& features);
 
 /// Gauss-Legendre points and weights on [0, 1] (weights sum to 1).
 void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w);

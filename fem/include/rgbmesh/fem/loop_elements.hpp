@@ -6,12 +6,18 @@
 /// One unknown per vertex, as P1; each triangle's functions depend on the control values of
 /// its patch (loop_basis.hpp), 12 of them where its corners are regular.
 ///
+/// On a mesh with sharp features (RgbMesh::sharp_features) the control values are subdivided by
+/// the crease rules, as the surface is: the functions are continuous but not smooth across
+/// infinitely sharp edges, each side's as at a boundary (LoopSpace::seams), and semi-sharp
+/// features round them as they round the surface.
+///
 /// This first space is that of a uniformly refined mesh: every triangle green at one level L,
 /// the unknowns the level-L control values of its vertices; a boundary takes a ghost ring or
 /// Loop's boundary rules (LoopBoundary). (The adaptive space of an RGB mesh, where each
 /// inserted vertex carries a detail, builds on it: loop_adaptive.hpp.)
 
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -46,6 +52,17 @@ struct LoopSpace {
     int edge = 0;
   };
   std::vector<Side> boundary;
+  /// Where two elements meet along an infinitely sharp edge (a crease, or a crease ending in a
+  /// dart): there the functions are continuous but not smooth, and the residual estimator adds
+  /// the jump of the co-normal derivative. One piece of such an edge per seam, as a stretch of
+  /// a side of each element: from `from` to `to` along side `edge` (t of side_parameters:
+  /// from corner edge to corner edge + 1). Empty on a mesh without infinitely sharp edges.
+  struct Seam {
+    std::array<std::size_t, 2> element{};
+    std::array<int, 2> edge{};
+    std::array<double, 2> from{}, to{};
+  };
+  std::vector<Seam> seams;
 
   std::size_t num_dofs() const { return vertex.size(); }
 };
@@ -109,6 +126,12 @@ struct LoopSingularEstimate {
 LoopSingularEstimate loop_singular_estimate(const LoopSpace& space, const std::vector<double>& eta,
                                             double below = 1e-5);
 
+/// The features of an RGB mesh refined uniformly to `level` for gather_loop_patch on its vertex
+/// slots (RgbMesh::sharpness, vertex_sharpness; a base vertex's edges ranked by their sharp base
+/// edges, the order in which the mesh sums them). Empty (no oracle) for a mesh without sharp
+/// features. The oracle reads the mesh: use it while the mesh lives unchanged.
+LoopFeatures loop_mesh_features(const RgbMesh& mesh, int level);
+
 /// Dirichlet data on a space with a boundary, imposed weakly by Nitsche's method: the Loop
 /// basis does not interpolate, and imposing u = g on the control values would also force
 /// ∂²u/∂n² on the boundary (the box splines' traces). With the outward co-normal m,
@@ -134,6 +157,7 @@ Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveO
 
 /// Δ²u + c u = f on a closed surface (c > 0): the weak form ∫ Δ_Γu Δ_Γv + c u v = ∫ f v
 /// needs functions in H², which Loop's C¹ space is (P1 and P2 are not). Solved as solve_loop.
+/// InputError on a space with seams (infinitely sharp edges), where the functions are only C⁰.
 Solution solve_loop_biharmonic(const LoopSpace& space, const BiharmonicProblem& problem,
                                const SolveOptions& options = {});
 
@@ -160,8 +184,9 @@ double loop_laplacian(const LoopSpace& space, std::size_t element, std::size_t p
 
 /// The residual estimator of the smooth space: η_T² = h_T² ‖f - c u_h + Δ_Γ u_h‖²_T with h_T
 /// the side of the equilateral triangle of T's area. Loop's functions are C¹, so the jumps of
-/// the normal derivative across edges that P1 and P2 estimators add vanish here. One
-/// indicator per element (LoopSpace::elements).
+/// the normal derivative across edges that P1 and P2 estimators add vanish here, except on
+/// the seams (infinitely sharp edges), where ½ h_E ‖∂ₘu_h + ∂ₘ'u_h‖²_E goes to each of the two
+/// elements (m, m' their outward co-normals). One indicator per element (LoopSpace::elements).
 Estimate loop_residual_estimate(const LoopSpace& space, const Problem& problem, const Eigen::VectorXd& u);
 
 /// A picture of a solution finer than the mesh: each element split `levels` times (4^levels
