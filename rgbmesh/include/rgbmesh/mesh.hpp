@@ -617,6 +617,9 @@ class RgbMesh {
   /// the point data also carries both, as "control_point" and "limit".
   enum class Points { control, limit };
   MeshSnapshot snapshot(Points points = Points::control, bool geometry_arrays = false) const;
+  /// Fills s.vertex_rule and s.sharp (snapshot.hpp) for the vertices s.vertex_handle lists
+  /// (its points), or clears them when the mesh has no sharp features; what snapshot() does.
+  void add_sharp_features(MeshSnapshot& s) const;
 
  private:
   template <class H>
