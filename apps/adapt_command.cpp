@@ -16,6 +16,7 @@
 
 #include "json.hpp"
 #include "json_read.hpp"
+#include "mesh_commands.hpp"
 #include "one_line.hpp"
 #include "output_dir.hpp"
 #include "resources.hpp"
@@ -124,11 +125,24 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   Settings s;
   s.ceiling = MemoryCeiling::from_option(a.memory_limit);
   s.options.control.memory_headroom = [ceiling = s.ceiling] { return ceiling.headroom(); };
-  s.mesh_name = a.mesh.empty() ? "icosahedron (embedded)" : a.mesh;
   s.problem = !a.problem.empty() ? a.problem : (a.mesh.empty() ? "sphere-peak" : "gaussian");
-  // What the problem is posed on: the unit sphere (with an exact solution) or the user's mesh.
-  static const std::vector<Named<bool>> problems = {
-      {"sphere-harmonic", true}, {"sphere-peak", true}, {"moving-peak", true}, {"gaussian", false}};
+  s.mesh_name = !a.mesh.empty()                 ? a.mesh
+                : s.problem == "cube-cosine" ? "unit cube with sharp edges (embedded)"
+                                             : "icosahedron (embedded)";
+  // What the problem is posed on: the unit sphere (with an exact solution) or the user's mesh
+  // (cube-cosine: the unit cube with sharp edges it embeds, exactly the Loop limit surface).
+  static const std::vector<Named<bool>> problems = {{"sphere-harmonic", true},
+                                                    {"sphere-peak", true},
+                                                    {"moving-peak", true},
+                                                    {"gaussian", false},
+                                                    {"cube-cosine", false}};
+  if (s.problem == "cube-cosine") {
+    if (a.given.count("--mesh"))
+      throw InputError("--mesh: cube-cosine is posed on the unit cube with sharp edges that it embeds");
+    if (a.given.count("--geometry") && a.geometry != "loop")
+      throw InputError("--geometry " + a.geometry +
+                       ": cube-cosine's surface is the cube, which is the Loop limit surface of its creased base");
+  }
   s.moving = s.problem == "moving-peak";
   s.on_sphere = named_row(problems, s.problem, "--problem").value;
   s.geometry = !a.geometry.empty() ? a.geometry : (s.on_sphere ? "sphere" : "loop");
@@ -499,6 +513,7 @@ TriangleMeshData base_of(const RgbMesh& mesh) {
   for (std::size_t b = 0; b < mesh.num_base_vertices(); ++b)
     base.points.push_back(mesh.insertion_point(VertexHandle(static_cast<std::int32_t>(b))));
   base.triangles = mesh.base_triangles();
+  base.sharp = mesh.sharp_features();
   return base;
 }
 
@@ -590,6 +605,10 @@ class RunFiles {
       series_.emplace_back(s.moving ? r.time : r.cycle,
                            in_pieces ? summary : series_file(s.moving, r.cycle, listed_order()));
     }
+    for (const auto& r : progress_.cycles) {
+      const fs::path creases = sharp_edges_path(cycle_file(s.moving, r.cycle));
+      if (fs::exists(dir_ / creases)) crease_series_.emplace_back(s.moving ? r.time : r.cycle, creases.string());
+    }
     resumed_ = prior->resumed;
     resumed_.push_back(a.command_line);
   }
@@ -648,7 +667,11 @@ class RunFiles {
     }
     series_.emplace_back(s_.moving ? r.time : r.cycle,
                          series_file(s_.moving, r.cycle, listed_order(), pieces));
-    if (a_.writes) write_pvd(dir_ / "solution.pvd", series_);  // after every cycle: usable while running
+    // The sharp edges as lines, part 1 of the cycle in the series (ParaView draws both).
+    const fs::path creases = sharp_edges_path(dir_ / file);
+    if (a_.writes && write_sharp_edges(creases, snapshot, output_options(creases.string(), a_.compression)))
+      crease_series_.emplace_back(s_.moving ? r.time : r.cycle, creases.filename().string());
+    if (a_.writes) write_series();  // after every cycle: usable while running
     progress_.cycles.push_back(r);
     progress_.cycles.back().output_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_output).count();
@@ -735,6 +758,14 @@ class RunFiles {
   const PriorRun* prior_;
   fs::path dir_;
   std::vector<std::pair<double, std::string>> series_;
+  std::vector<std::pair<double, std::string>> crease_series_;  // sharp edges, where the mesh has them
+
+  void write_series() const {
+    std::vector<PvdEntry> entries;
+    for (const auto& [time, file] : series_) entries.push_back({time, 0, file});
+    for (const auto& [time, file] : crease_series_) entries.push_back({time, 1, file});
+    write_pvd(dir_ / "solution.pvd", entries);
+  }
   adapt::AdaptRun progress_;
   bool noted_ = false;  // a cycle's note was printed
   std::vector<std::string> resumed_;
@@ -752,7 +783,8 @@ int run_adapt(const AdaptArgs& args) {
   const AdaptArgs a = prior ? resumed_args(args, *prior) : args;
   // Mesh, then every setting checked before anything is written. A .vtp or .vtu that rgbmesh
   // wrote (a cycle of an earlier run, a refined mesh) comes back with its RGB state.
-  const SoupOptions read_options = repair::soup_options(a.triangulate, a.repair);
+  SoupOptions read_options = repair::soup_options(a.triangulate, a.repair);
+  read_options.sharp_angle = a.sharp_angle;
   TriangleMeshData base;
   RgbMesh mesh;
   if (prior) {
@@ -764,7 +796,9 @@ int run_adapt(const AdaptArgs& args) {
     mesh = std::move(file.mesh);
     base = base_of(mesh);
   } else {
-    base = a.mesh.empty() ? icosahedron() : read_mesh(a.mesh, read_options);
+    base = !a.mesh.empty()                ? read_mesh(a.mesh, read_options)
+           : a.problem == "cube-cosine" ? sharp_unit_cube()
+                                        : icosahedron();
     for (const auto& note : base.notes) std::cerr << "rgbmesh: note: " << one_line(a.mesh + ": " + note) << "\n";
   }
   Settings s = settle(a, base);
@@ -773,12 +807,13 @@ int run_adapt(const AdaptArgs& args) {
   } else if (!is_vtk_xml(a.mesh)) {
     mesh = [&] {
       try {
-        return RgbMesh::from_triangles(base.points, base.triangles);
+        return RgbMesh::from_triangles(base.points, base.triangles, base.sharp);
       } catch (const InputError& e) {
         throw InputError(a.mesh + ": " + e.what());
       }
     }();
-    if (a.mesh.empty()) selective_refinement(mesh, UniformLevel(1));  // 42 vertices to start from
+    if (!a.mesh.empty()) note_rounded_edges(a.mesh, mesh, a.sharp_angle);
+    if (a.mesh.empty()) selective_refinement(mesh, UniformLevel(1));  // 42 vertices to start from (the cube: 26)
   }
   s.options.control.resumable = true;  // every cycle's file can be resumed from, exactly
   // Several processes: they share the units above the floor and hold the mesh itself
@@ -898,9 +933,11 @@ void AdaptCommand::add(CLI::App& tool, CompressionOption& compression) {
   app->add_flag("--triangulate", args.triangulate,
                 "Fan-split the mesh's polygons with more than three vertices");
   app->add_flag("--repair", args.repair, kRepairHelp);
+  add_sharp_angle(app, args.sharp_angle);
   app->add_option(
       "--problem", args.problem,
-      "sphere-harmonic, sphere-peak, moving-peak (exact solutions on the unit sphere) or gaussian "
+      "sphere-harmonic, sphere-peak, moving-peak (exact solutions on the unit sphere), cube-cosine (an exact "
+      "solution on the unit cube with sharp edges) or gaussian "
       "(a source on any surface) [default: sphere-peak; gaussian with --mesh]");
   app->add_option("--strategy", args.strategy, "adaptive or uniform")->capture_default_str();
   app->add_option(
@@ -975,12 +1012,17 @@ void AdaptCommand::settle_given() {
   for (const char* name :
        {"--mesh",     "--problem", "--strategy",  "--marking", "--theta", "--estimator",    "--order",
         "--element",  "--coarsen", "--min-level", "--cycles",  "--steps", "--target-error", "--max-dofs",
-        "--geometry", "--center",  "--width",     "--solver",  "--out",   "--triangulate",  "--repair"}) {
+        "--geometry", "--center",  "--width",     "--solver",  "--out",   "--triangulate",  "--repair",
+        "--sharp-angle"}) {
     if (app->count(name) > 0) args.given.insert(name);
   }
   if (app->parsed() && !args.resume.empty() && args.repair)
     throw InputError(
         "--repair: does not apply with --resume (the mesh is the run's last cycle, restored exactly)");
+  if (app->parsed() && !args.resume.empty() && args.sharp_angle > 0)
+    throw InputError(
+        "--sharp-angle: does not apply with --resume (the mesh is the run's last cycle, with its own sharp "
+        "features, restored exactly)");
   // --element p1 or p2 is --order 1 or 2 (loop has one unknown per vertex, as order 1); given
   // both, they must agree.
   if (!args.element.empty()) {

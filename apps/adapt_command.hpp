@@ -21,6 +21,7 @@ struct AdaptArgs {
   std::string mesh;                   // empty: the embedded icosahedron
   bool triangulate = false;           // fan-split the mesh's polygons
   bool repair = false;                // repair the mesh first (rgbmesh::repair)
+  double sharp_angle = 0;             // > 0: edges sharper than this are creases (--sharp-angle)
   std::string problem;                // sphere-harmonic, sphere-peak, moving-peak, gaussian;
                                       // empty: sphere-peak, or gaussian with a --mesh
   std::string strategy = "adaptive";  // adaptive, uniform

@@ -48,7 +48,7 @@ RgbMesh load_mesh(const std::string& path, bool triangulate, bool repair, double
 
 void note_rounded_edges(const std::string& path, const RgbMesh& mesh, double sharp_angle) {
   // A CAD part read without its edges becomes a rounded blob: say so once, with the figure.
-  if (sharp_angle > 0.0) return;
+  if (sharp_angle > 0.0 || mesh.has_sharp_features()) return;  // the user chose the features
   const LimitDeviation d = limit_deviation(mesh);
   std::vector<Vec3> base(mesh.num_base_vertices());
   for (std::size_t i = 0; i < base.size(); ++i) base[i] = mesh.insertion_point(VertexHandle(static_cast<std::int32_t>(i)));
@@ -75,6 +75,16 @@ void check_output_path(const std::string& out) {
   const fs::path dir = fs::path(out).parent_path();
   if (!dir.empty() && !fs::is_directory(dir))
     throw OutputError(out + ": cannot write: the folder " + dir.string() + " does not exist");
+}
+
+// A VTK XML output of a mesh with sharp edges gets them beside it as lines (part.creases.vtp),
+// for ParaView to draw over the surface.
+void write_sharp_edges_beside(const std::string& out, const RgbMesh& mesh, bool limit, Compression compression) {
+  std::string ext = fs::path(out).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext != ".vtp" && ext != ".vtu") return;
+  const fs::path lines = sharp_edges_path(out);
+  write_sharp_edges(lines, mesh, limit, output_options(lines.string(), compression));
 }
 
 std::string vec_json(const Vec3& p) {
@@ -288,6 +298,7 @@ void ConvertCommand::run(Compression compression) const {
   check_output_path(out);
   RgbMesh mesh = load_mesh(in, triangulate, repair, sharp_angle);
   write_rgb_mesh(out, mesh, output_options(out, compression));
+  write_sharp_edges_beside(out, mesh, false, compression);
 }
 
 void RefineCommand::add(CLI::App& tool, CompressionOption& compression) {
@@ -363,6 +374,7 @@ void RefineCommand::run(Compression compression, const MemoryCeiling& ceiling) c
   if (out != "-") {
     check_output_memory(mesh, out, ceiling);
     write_rgb_mesh(out, mesh, output_options(out, compression), limit);
+    write_sharp_edges_beside(out, mesh, limit, compression);
   }
   const double write_s = seconds_since(t0);
   if (stats) std::cout << stats_json(mesh, totals, read_s, write_s) << "\n";

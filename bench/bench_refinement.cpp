@@ -26,6 +26,7 @@ using namespace rgbmesh;
 struct Base {
   std::vector<Vec3> points;
   std::vector<std::array<std::int32_t, 3>> triangles;
+  SharpFeatures sharp{};
 };
 
 const Base& torus_10k() {
@@ -63,7 +64,27 @@ const Base& scan_58k() {
   return base;
 }
 
-RgbMesh base_mesh(const Base& b = torus_10k()) { return RgbMesh::from_triangles(b.points, b.triangles); }
+// The torus with sharp features (issue 42): every fifth ring of edges around the tube an
+// infinitely sharp crease, every fifth ring between them a semi-sharp one (sharpness 2.5), and
+// every tenth meridian's edges infinitely sharp, crossing the rings at corners: a fifth of the
+// vertices on creases, darts where semi-sharp rings meet the meridians.
+const Base& torus_10k_sharp() {
+  static const Base base = [] {
+    Base b = torus_10k();
+    const int rings = 100, sides = 50;
+    auto id = [&](int i, int j) { return ((i + rings) % rings) * sides + (j + sides) % sides; };
+    for (int i = 0; i < rings; ++i)
+      for (int j = 0; j < sides; ++j) {
+        if (i % 5 == 0) b.sharp.edges.push_back({id(i, j), id(i, j + 1), kInfiniteSharpness});
+        if (i % 5 == 2) b.sharp.edges.push_back({id(i, j), id(i, j + 1), 2.5f});
+        if (j % 10 == 0) b.sharp.edges.push_back({id(i, j), id(i + 1, j), kInfiniteSharpness});
+      }
+    return b;
+  }();
+  return base;
+}
+
+RgbMesh base_mesh(const Base& b = torus_10k()) { return RgbMesh::from_triangles(b.points, b.triangles, b.sharp); }
 
 // RGB subdivision to uniform level `level` (topology and Loop control points); returns the
 // vertices inserted.
@@ -149,6 +170,49 @@ BENCHMARK(BM_RatioToOpenSubdiv)->Arg(3)->Arg(4)->Arg(5)->Unit(benchmark::kMillis
 // The scan of 58,784 triangles to level 3 (3.76 M triangles).
 void BM_RatioToOpenSubdivScan(benchmark::State& state) { ratio_to_opensubdiv(state, scan_58k()); }
 BENCHMARK(BM_RatioToOpenSubdivScan)->Arg(3)->Unit(benchmark::kMillisecond);
+
+// Sharp features against none, alternately in each iteration on the same torus: `ratio` = time
+// per insertion with sharp features / without (the goal: at most 1.2), and the bytes per vertex
+// of both meshes' arrays (RgbMesh::memory_bytes; the goal: at most 8 more with sharp features).
+// Uniform levels (split_all_edges) and selective refinement (a ball to level 7 and a budget of
+// 200,000 triangles: the RGB queues, one split at a time).
+template <class Refine>
+void sharp_over_smooth(benchmark::State& state, Refine refine) {
+  double smooth = 0, sharp = 0, smooth_bytes = 0, sharp_bytes = 0;
+  std::uint64_t smooth_splits = 0, sharp_splits = 0;
+  for (auto _ : state) {
+    for (const Base* b : {&torus_10k(), &torus_10k_sharp()}) {
+      RgbMesh m = base_mesh(*b);
+      const auto t0 = std::chrono::steady_clock::now();
+      const std::uint64_t splits = refine(m);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double bytes = static_cast<double>(m.memory_bytes()) / static_cast<double>(m.num_vertices());
+      if (b == &torus_10k()) {
+        smooth += seconds, smooth_splits += splits, smooth_bytes = bytes;
+      } else {
+        sharp += seconds, sharp_splits += splits, sharp_bytes = bytes;
+      }
+    }
+  }
+  state.counters["smooth_ns_per_insertion"] = 1e9 * smooth / static_cast<double>(smooth_splits);
+  state.counters["sharp_ns_per_insertion"] = 1e9 * sharp / static_cast<double>(sharp_splits);
+  state.counters["ratio"] = (sharp / static_cast<double>(sharp_splits)) / (smooth / static_cast<double>(smooth_splits));
+  state.counters["smooth_bytes_per_vertex"] = smooth_bytes;
+  state.counters["sharp_bytes_per_vertex"] = sharp_bytes;
+}
+void BM_SharpOverSmoothUniform(benchmark::State& state) {
+  const int level = static_cast<int>(state.range(0));
+  sharp_over_smooth(state, [level](RgbMesh& m) { return selective_refinement(m, UniformLevel(level)).splits; });
+}
+BENCHMARK(BM_SharpOverSmoothUniform)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
+void BM_SharpOverSmoothBall(benchmark::State& state) {
+  sharp_over_smooth(state, [](RgbMesh& m) { return selective_refinement(m, BallLevel({4, 0, 0}, 0.5, 7)).splits; });
+}
+BENCHMARK(BM_SharpOverSmoothBall)->Unit(benchmark::kMillisecond);
+void BM_SharpOverSmoothBudget(benchmark::State& state) {
+  sharp_over_smooth(state, [](RgbMesh& m) { return selective_refinement(m, TriangleBudget(200000)).splits; });
+}
+BENCHMARK(BM_SharpOverSmoothBudget)->Unit(benchmark::kMillisecond);
 
 // Removing every inserted vertex of a uniform level-L mesh (setup excluded from the time).
 void BM_CoarsenAll(benchmark::State& state) {

@@ -12,6 +12,7 @@
 
 #include "fuzz_support.hpp"
 #include "rgbmesh/mesh.hpp"
+#include "rgbmesh/refinement.hpp"
 #include "rgbmesh/soup.hpp"
 #include "rgbmesh/vtk_io.hpp"
 #if defined(RGBMESH_FUZZ_REPAIR)
@@ -33,7 +34,7 @@ void check_repaired(const PolygonSoup& soup) {
   if (!fuzz::accepted([&] { repaired = prepare_triangle_mesh(soup, options); })) return;
   RgbMesh mesh;
   try {
-    mesh = RgbMesh::from_triangles(repaired.points, repaired.triangles);
+    mesh = RgbMesh::from_triangles(repaired.points, repaired.triangles, repaired.sharp);
   } catch (const InputError& e) {
     fuzz::finding(std::string("RgbMesh::from_triangles refuses what the repair made: ") + e.what());
   }
@@ -74,7 +75,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!fuzz::accepted([&] { prepared = prepare_triangle_mesh(soup, options); })) return 0;
   RgbMesh mesh;
   try {
-    mesh = RgbMesh::from_triangles(prepared.points, prepared.triangles);
+    mesh = RgbMesh::from_triangles(prepared.points, prepared.triangles, prepared.sharp);
   } catch (const InputError& e) {
     fuzz::finding(std::string("RgbMesh::from_triangles refuses what prepare_triangle_mesh made: ") +
                   e.what());
@@ -86,5 +87,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                   std::to_string(prepared.triangles.size()));
   const std::string problem = mesh.validate();
   if (!problem.empty()) fuzz::finding("validate() on the mesh of an accepted file: " + problem);
+  // Sharp features (OBJ tags): two levels of refinement keep every invariant and give finite
+  // limit positions, whatever the tags were.
+  if (mesh.has_sharp_features() && mesh.num_triangles() <= 2000) {
+    selective_refinement(mesh, UniformLevel(2));
+    const std::string refined = mesh.validate(true);
+    if (!refined.empty()) fuzz::finding("validate() on a creased mesh refined twice: " + refined);
+    mesh.compute_limits();
+    for (const VertexHandle v : mesh.vertices())
+      if (!is_finite(mesh.limit_position(v))) fuzz::finding("a creased mesh has a non-finite limit position");
+  }
   return 0;
 }

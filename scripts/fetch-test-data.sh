@@ -7,6 +7,8 @@
 #   - meshes as tools export them, with the defects that --repair handles (issue 23): OpenSCAD's
 #     STL exports (openscad-testing-data) into DEST/openscad, geomview's OFF models (geomview)
 #     into DEST/geomview, assimp's test models (assimp-testmodels) into DEST/assimp;
+#   - CAD parts as meshers' examples ship them: Netgen's hinge and part1 (netgen-doc) into
+#     DEST/netgen (the pictures of docs/sharp-features.md);
 #   - OpenSubdiv's Loop regression shapes with crease and corner tags (issue 42), which Debian
 #     ships only inside the test program bfr_evaluate (opensubdiv-tools): each is cut out of it
 #     by its SHA-256 into DEST/opensubdiv/NAME.obj.
@@ -16,7 +18,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dest=${1:-build/public-data}
-version=3
+version=4
 [ -f "$dest/.complete" ] && [ "$(cat "$dest/.complete")" = "$version" ] && exit 0
 
 files=(
@@ -118,6 +120,7 @@ for f in "${files[@]}"; do cp "$tmp/$f" "$dest/"; done
 extract openscad-testing-data usr/share/openscad/testdata openscad "${openscad_files[@]}"
 extract geomview usr/share/geomview/geom geomview "${geomview_files[@]}"
 extract assimp-testmodels usr/share/assimp/models assimp "${assimp_files[@]}"
+extract netgen-doc usr/share/doc/netgen/examples netgen hinge.stl part1.stl
 download opensubdiv-tools
 dpkg-deb --fsys-tarfile "$tmp"/opensubdiv-tools_*.deb | tar -x -C "$tmp" ./usr/bin/bfr_evaluate
 mkdir -p "$dest/opensubdiv"
@@ -142,7 +145,7 @@ cat > "$dest/README" <<'TXT'
 Public test data fetched by scripts/fetch-test-data.sh from Debian's packages: libcgal-demo
 (CGAL's data set, data/meshes and data/points_3) here, openscad-testing-data in openscad/,
 geomview in geomview/, assimp-testmodels in assimp/, OpenSubdiv's Loop shapes with crease
-tags (cut out of opensubdiv-tools' bfr_evaluate) in opensubdiv/. Not part of rgbmesh; not
+tags (cut out of opensubdiv-tools' bfr_evaluate) in opensubdiv/, netgen-doc's CAD parts in netgen/. Not part of rgbmesh; not
 committed.
 TXT
 echo "$version" > "$dest/.complete"

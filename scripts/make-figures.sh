@@ -3,6 +3,7 @@
 #   docs/convergence.svg   H1 and L2 errors against unknowns, adaptive and uniform (sphere-peak)
 #   docs/adapted-mesh.svg  the last adaptive mesh, colored by level
 #   docs/fit-before.svg, docs/fit-after.svg  the bunny fit: limit surfaces of the base before and after
+#   docs/cad-smooth.svg, docs/cad-sharp.svg  a CAD part's limit surface without and with --sharp-angle 30
 # Needs python3 (standard library only) and a built tool (scripts/run-main.sh); the files are
 # written with zlib, which the standard library reads.
 set -euo pipefail
@@ -26,3 +27,10 @@ build/bin/rgbmesh --compression zlib fit --target data/bunny.obj --base-faces 50
 python3 scripts/figures.py mesh "$tmp/fit/initial_limit_surface.vtp" docs/fit-before.svg 0 0 -1
 python3 scripts/figures.py mesh "$tmp/fit/limit_surface.vtp" docs/fit-after.svg 0 0 -1
 echo "wrote docs/fit-before.svg and docs/fit-after.svg"
+# Sharp features: Netgen's part1.stl (scripts/fetch-test-data.sh), its limit surface at level 2.
+part=build/public-data/netgen/part1.stl
+build/bin/rgbmesh --compression zlib refine "$part" "$tmp/smooth.vtp" --uniform 2 --limit 2>/dev/null
+build/bin/rgbmesh --compression zlib refine "$part" "$tmp/sharp.vtp" --uniform 2 --limit --sharp-angle 30 2>/dev/null
+python3 scripts/figures.py mesh "$tmp/smooth.vtp" docs/cad-smooth.svg 1 0.8 1.2
+python3 scripts/figures.py mesh "$tmp/sharp.vtp" docs/cad-sharp.svg 1 0.8 1.2
+echo "wrote docs/cad-smooth.svg and docs/cad-sharp.svg"

@@ -640,6 +640,7 @@ MeshSnapshot snapshot(const CycleState& s) {
   out.triangles = s.fe.triangles;
   out.vertex_handle = s.fe.vertex;
   out.triangle_handle = s.fe.triangle;
+  s.mesh.add_sharp_features(out);  // crease lines and vertex rules, where the mesh has them
   NamedArray u{"solution", 1, {}}, exact{"exact_solution", 1, {}}, error{"error", 1, {}};
   if (s.solved) {
     out.vertex_level = s.solved->vertex_level;

@@ -378,7 +378,8 @@ Estimate residual_estimator_quadratic(const SurfaceMesh& mesh, const Problem& pr
           const CurvedEdgePoint pb = curved_edge_point(mesh, u, tb, b.edge, 1 - s);
           const double jump = pa.flux + pb.flux;
           integral += w * pa.speed * jump * jump;
-          theta = std::max(theta, std::acos(std::clamp(dot(pa.normal, pb.normal), -1.0, 1.0)));
+          if (!mesh.on_crease(ta, a.edge))  // a crease's kink is the surface's own
+            theta = std::max(theta, std::acos(std::clamp(dot(pa.normal, pb.normal), -1.0, 1.0)));
         }
         const auto& c = mesh.triangles[ta];
         const double len = distance(mesh.points[c[a.edge]], mesh.points[c[(a.edge + 1) % 3]]);
@@ -476,8 +477,10 @@ Estimate residual_estimator(const SurfaceMesh& mesh, const Problem& problem, con
         const double jump = dot(fields.grad(i), ni) + dot(fields.grad(j), nj);
         // J is constant on e. The sagitta of an arc through the edge whose ends turn by the
         // normals' angle.
-        const double theta =
-            std::acos(std::clamp(dot(fields.geo(i).normal, fields.geo(j).normal), -1.0, 1.0));
+        // None on a crease: the surface is kinked there itself.
+        const double theta = mesh.on_crease(i, k)
+                                 ? 0.0
+                                 : std::acos(std::clamp(dot(fields.geo(i).normal, fields.geo(j).normal), -1.0, 1.0));
         return {0.5 * len * len * jump * jump, len * theta / 8.0};
       },
       [](std::size_t, int) { return 1.0; }, eta2, delta);

@@ -80,6 +80,24 @@ Problem sphere_peak(const Vec3& d_in, double kappa, double c) {
   return p;
 }
 
+Problem cube_cosine() {
+  Problem p;
+  p.name = "cube-cosine";
+  p.c = 1;
+  constexpr double pi = 3.14159265358979323846;
+  p.source = [](const Vec3& x) {
+    // On the faces x = 0 and x = 1 u is constant; a point of another face lies strictly inside
+    // 0 < x < 1 (quadrature points are inside triangles, away from the cube's edges).
+    const bool end_face = x.x <= 1e-12 || x.x >= 1.0 - 1e-12;
+    return (end_face ? 1.0 : pi * pi + 1.0) * std::cos(pi * x.x);
+  };
+  // The ambient gradient (-π sin π x, 0, 0) is tangential to the faces along x and zero on the
+  // faces x = 0, 1: it is the surface gradient everywhere.
+  p.exact = ExactSolution{[](const Vec3& x) { return std::cos(pi * x.x); },
+                          [](const Vec3& x) { return Vec3(-pi * std::sin(pi * x.x), 0.0, 0.0); }};
+  return p;
+}
+
 Problem gaussian_source(const Vec3& x0, double sigma) {
   Problem p;
   p.name = "gaussian";
@@ -91,11 +109,12 @@ Problem gaussian_source(const Vec3& x0, double sigma) {
   return p;
 }
 
-std::vector<std::string> builtin_problem_names() { return {"sphere-harmonic", "sphere-peak"}; }
+std::vector<std::string> builtin_problem_names() { return {"sphere-harmonic", "sphere-peak", "cube-cosine"}; }
 
 Problem builtin_problem(const std::string& name) {
   if (name == "sphere-harmonic") return sphere_harmonic();
   if (name == "sphere-peak") return sphere_peak();
+  if (name == "cube-cosine") return cube_cosine();
   std::string names;
   for (const auto& n : builtin_problem_names()) names += (names.empty() ? "" : ", ") + n;
   throw InputError("unknown problem '" + name + "' (built in: " + names + ")");

@@ -356,10 +356,16 @@ SurfaceMesh build_surface_mesh(RgbMesh& mesh, std::optional<Projection> projecti
     if (!(g.area > 1e-14 * longest * longest))
       throw InputError("triangle " + std::to_string(ti) + " (mesh triangle " + std::to_string(t.idx) +
                        ") is degenerate on the surface: area " + std::to_string(g.area));
+    std::uint8_t creases = 0;
     for (int k = 0; k < 3; ++k) {
       const EdgeHandle e = mesh.triangle_edges(t)[(r + k) % 3];
-      if (mesh.is_boundary(e)) s.boundary_edges.push_back({tri[k], tri[(k + 1) % 3], ti});
+      if (mesh.is_boundary(e)) {
+        s.boundary_edges.push_back({tri[k], tri[(k + 1) % 3], ti});
+      } else if (mesh.has_sharp_features() && loop::is_infinitely_sharp(mesh.sharpness(e))) {
+        creases |= static_cast<std::uint8_t>(1 << k);
+      }
     }
+    if (mesh.has_sharp_features()) s.crease_sides.push_back(creases);
   }
   if (order == 2) add_edge_nodes(s, mesh);
   return s;

@@ -11,6 +11,9 @@ import numpy as np
 # The names of the RGB state's arrays in VTK data sets, as in rgbmesh's .vtp/.vtu files.
 _BASE_VERTEX, _PARENTS = "rgb_base_vertex", "rgb_parents"
 _VERSION, _BASE_POINTS, _BASE_TRIANGLES = "rgb_state_version", "rgb_base_points", "rgb_base_triangles"
+# Version 2: the base mesh's sharp features (vtk_io/src/rgb_state_io.hpp).
+_SHARP_EDGES, _EDGE_SHARPNESS = "rgb_sharp_edges", "rgb_sharp_edge_sharpness"
+_SHARP_VERTICES, _VERTEX_SHARPNESS, _CREASE_METHOD = "rgb_sharp_vertices", "rgb_sharp_vertex_sharpness", "rgb_crease_method"
 
 
 def _vtk():
@@ -73,6 +76,18 @@ def _mesh_to_vtk(mesh, points, state):
         fields.AddArray(_array(np.array([s["version"]], np.int32), _VERSION, numpy_support))
         fields.AddArray(_array(s["base_points"], _BASE_POINTS, numpy_support))
         fields.AddArray(_array(s["base_triangles"], _BASE_TRIANGLES, numpy_support))
+        if "sharp_edges" in s:
+            if len(s["sharp_edges"]):
+                fields.AddArray(_array(s["sharp_edges"].astype(np.int32), _SHARP_EDGES, numpy_support))
+                fields.AddArray(_array(s["edge_sharpness"], _EDGE_SHARPNESS, numpy_support))
+            if len(s["sharp_vertices"]):
+                fields.AddArray(_array(s["sharp_vertices"].astype(np.int32), _SHARP_VERTICES, numpy_support))
+                fields.AddArray(_array(s["vertex_sharpness"], _VERTEX_SHARPNESS, numpy_support))
+            method = 1 if s["crease_method"] == "chaikin" else 0
+            fields.AddArray(_array(np.array([method], np.int32), _CREASE_METHOD, numpy_support))
+    sharp = mesh.sharp_features()
+    if len(sharp["edges"]) or len(sharp["vertices"]):
+        data.GetPointData().AddArray(_array(mesh.vertex_rules(), "vertex_rule", numpy_support))
     return data
 
 
@@ -165,12 +180,22 @@ def from_vtk(data, triangulate=False, point_rows=False):
     if all(a is not None for a in state):
         version = fd.GetArray(_VERSION)
         levels, cell_levels, colors = pd.GetArray("level"), cd.GetArray("level"), cd.GetArray("color")
+        method = fd.GetArray(_CREASE_METHOD)
+        sharp = dict(
+            sharp_edges=_numpy(fd.GetArray(_SHARP_EDGES), numpy_support),
+            edge_sharpness=_numpy(fd.GetArray(_EDGE_SHARPNESS), numpy_support),
+            sharp_vertices=_numpy(fd.GetArray(_SHARP_VERTICES), numpy_support),
+            vertex_sharpness=_numpy(fd.GetArray(_VERTEX_SHARPNESS), numpy_support),
+            crease_method="chaikin" if method is not None and int(numpy_support.vtk_to_numpy(method)[0]) == 1
+            else "uniform")
+        if sharp["sharp_edges"] is not None:
+            sharp["sharp_edges"] = sharp["sharp_edges"].reshape(-1, 2)
         mesh, rows = Mesh.from_state(
             numpy_support.vtk_to_numpy(state[2]).reshape(-1, 3), numpy_support.vtk_to_numpy(state[3]).reshape(-1, 3),
             numpy_support.vtk_to_numpy(state[0]), numpy_support.vtk_to_numpy(state[1]).reshape(-1, 2),
             triangles=triangles, vertex_levels=_numpy(levels, numpy_support),
             triangle_levels=_numpy(cell_levels, numpy_support), triangle_colors=_numpy(colors, numpy_support),
-            version=int(numpy_support.vtk_to_numpy(version)[0]) if version is not None else 1)
+            version=int(numpy_support.vtk_to_numpy(version)[0]) if version is not None else 1, **sharp)
     else:
         mesh, rows = Mesh.from_arrays(points, triangles), np.arange(len(points), dtype=np.int32)
     return (mesh, rows) if point_rows else mesh

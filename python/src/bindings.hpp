@@ -25,7 +25,16 @@ using IndexArray = pybind11::array_t<std::int64_t, pybind11::array::c_style | py
 /// The rows of an (n, 3) array of finite numbers; InputError naming `what` and the bad row.
 std::vector<Vec3> points_of_array(const DoubleArray& points, const char* what);
 /// A base mesh from arrays, checked as the mesh files are; errors name `what` ("base") first.
-RgbMesh mesh_from_arrays(const DoubleArray& points, const IndexArray& triangles, const std::string& what = "");
+RgbMesh mesh_from_arrays(const DoubleArray& points, const IndexArray& triangles, const std::string& what = "",
+                         const SharpFeatures& sharp = {});
+
+/// Sharp features from numpy arrays (any may be None): edges (m, 2) base vertices and their
+/// sharpness (m,) (10 when None), vertices (k,) and theirs (k,), the creasing method's name.
+SharpFeatures sharp_features_of(const pybind11::object& edges, const pybind11::object& edge_sharpness,
+                                const pybind11::object& vertices, const pybind11::object& vertex_sharpness,
+                                const std::string& method);
+/// The features as a dict of those arrays: edges, edge_sharpness, vertices, vertex_sharpness, method.
+pybind11::dict sharp_features_dict(const SharpFeatures& sharp);
 
 /// A new numpy array of rows x columns (1: a vector), filled by fill(T* data).
 template <class T, class Fill>

@@ -19,7 +19,7 @@ namespace rgbmesh::python {
 void bind_io(py::module_& m) {
   m.def(
       "read",
-      [](const std::filesystem::path& path, bool triangulate, bool repair) {
+      [](const std::filesystem::path& path, bool triangulate, bool repair, const py::object& sharp_angle) {
         SoupOptions o;
         o.triangulate = triangulate;
         if (repair) {
@@ -29,6 +29,10 @@ void bind_io(py::module_& m) {
           throw InputError(
               "repair=True: this build has no rgbmesh::repair (RGBMESH_WITH_REPAIR, needs CGAL)");
 #endif
+        }
+        if (!sharp_angle.is_none()) {
+          o.sharp_angle = py::cast<double>(sharp_angle);
+          if (!(o.sharp_angle > 0.0 && o.sharp_angle < 180.0)) throw InputError("sharp_angle: degrees in (0, 180)");
         }
         RgbMeshFile file;
         try {
@@ -46,13 +50,15 @@ void bind_io(py::module_& m) {
               throw py::error_already_set();
         return std::move(file.mesh);
       },
-      py::arg("path"), py::arg("triangulate") = false, py::arg("repair") = false,
+      py::arg("path"), py::arg("triangulate") = false, py::arg("repair") = false, py::arg("sharp_angle") = py::none(),
       "Reads a mesh file (.obj, .off, .ply, .stl, .vtk, .vtp, .vtu). A .vtp/.vtu that rgbmesh wrote comes "
       "back with its RGB state (levels, colours, every inserted vertex); any other file as a base mesh. "
       "triangulate: fan-split polygons. repair: merge vertices at equal positions, collapse degenerate and "
       "needle triangles, split non-manifold edges and vertices, orient consistently (as the tool's --repair; "
-      "not for a file with an RGB state; what was changed is said in UserWarnings). Bad files: ValueError "
-      "naming the file and the line or element.");
+      "not for a file with an RGB state; what was changed is said in UserWarnings). An OBJ file's crease and "
+      "corner tags (OpenSubdiv's 't crease', 't corner', 't creasemethod') are read; sharp_angle: also every "
+      "edge whose triangles' normals differ by more than this many degrees is a crease (Mesh.sharp_features). "
+      "Bad files: ValueError naming the file and the line or element.");
   py::class_<RgbMesh>(m.attr("Mesh")).def(
       "write",
       [](RgbMesh& mesh, const std::filesystem::path& path, bool limit, const std::string& compression) {

@@ -177,7 +177,69 @@ std::vector<Vec3> points_of_array(const DoubleArray& points, const char* what) {
   return p;
 }
 
-RgbMesh mesh_from_arrays(const DoubleArray& points, const IndexArray& triangles, const std::string& what) {
+SharpFeatures sharp_features_of(const py::object& edges, const py::object& edge_sharpness, const py::object& vertices,
+                                const py::object& vertex_sharpness, const std::string& method) {
+  SharpFeatures s;
+  if (method == "chaikin")
+    s.method = CreaseMethod::chaikin;
+  else if (method != "uniform")
+    throw InputError("crease_method '" + method + "': uniform or chaikin");
+  using Floats = py::array_t<double, py::array::c_style | py::array::forcecast>;
+  const auto floats = [](const py::object& a, std::size_t n, const char* what) {
+    std::vector<float> out(n, kInfiniteSharpness);
+    if (a.is_none()) return out;
+    const Floats f = py::cast<Floats>(a);
+    if (f.ndim() != 1 || static_cast<std::size_t>(f.shape(0)) != n)
+      throw InputError(std::string(what) + ": one value per row is needed (" + std::to_string(n) + ")");
+    for (std::size_t i = 0; i < n; ++i) out[i] = static_cast<float>(f.data()[i]);
+    return out;
+  };
+  if (!edges.is_none()) {
+    const IndexArray e = py::cast<IndexArray>(edges);
+    if (e.ndim() != 2 || e.shape(1) != 2) throw InputError("sharp_edges: an (m, 2) integer array is needed");
+    const auto m = static_cast<std::size_t>(e.shape(0));
+    const std::vector<float> w = floats(edge_sharpness, m, "edge_sharpness");
+    for (std::size_t i = 0; i < m; ++i)
+      s.edges.push_back({static_cast<std::int32_t>(e.data()[2 * i]), static_cast<std::int32_t>(e.data()[2 * i + 1]), w[i]});
+  } else if (!edge_sharpness.is_none()) {
+    throw InputError("edge_sharpness: needs sharp_edges");
+  }
+  if (!vertices.is_none()) {
+    const IndexArray v = py::cast<IndexArray>(vertices);
+    if (v.ndim() != 1) throw InputError("sharp_vertices: a (k,) integer array is needed");
+    const auto k = static_cast<std::size_t>(v.shape(0));
+    const std::vector<float> w = floats(vertex_sharpness, k, "vertex_sharpness");
+    for (std::size_t i = 0; i < k; ++i) s.vertices.push_back({static_cast<std::int32_t>(v.data()[i]), w[i]});
+  } else if (!vertex_sharpness.is_none()) {
+    throw InputError("vertex_sharpness: needs sharp_vertices");
+  }
+  return s;
+}
+
+py::dict sharp_features_dict(const SharpFeatures& sharp) {
+  py::dict d;
+  std::vector<std::int32_t> ends;
+  std::vector<double> edge_sharpness, vertex_sharpness;
+  std::vector<std::int32_t> vertices;
+  for (const SharpEdge& e : sharp.edges) {
+    ends.push_back(e.a);
+    ends.push_back(e.b);
+    edge_sharpness.push_back(e.sharpness);
+  }
+  for (const SharpVertex& v : sharp.vertices) {
+    vertices.push_back(v.v);
+    vertex_sharpness.push_back(v.sharpness);
+  }
+  d["edges"] = make_array<std::int32_t>(sharp.edges.size(), 2, [&](std::int32_t* out) { std::copy(ends.begin(), ends.end(), out); });
+  d["edge_sharpness"] = array_of<double>(edge_sharpness.size(), 1, edge_sharpness.data());
+  d["vertices"] = array_of<std::int32_t>(vertices.size(), 1, vertices.data());
+  d["vertex_sharpness"] = array_of<double>(vertex_sharpness.size(), 1, vertex_sharpness.data());
+  d["method"] = to_string(sharp.method);
+  return d;
+}
+
+RgbMesh mesh_from_arrays(const DoubleArray& points, const IndexArray& triangles, const std::string& what,
+                         const SharpFeatures& sharp) {
   const std::string prefix = what.empty() ? "" : what + " ";
   const std::vector<Vec3> p = points_of_array(points, (prefix + "points").c_str());
   require_rows_of_three(triangles, (prefix + "triangles").c_str());
@@ -192,15 +254,71 @@ RgbMesh mesh_from_arrays(const DoubleArray& points, const IndexArray& triangles,
                          ", out of range (there are " + std::to_string(n) + " points)");
       t[i][static_cast<std::size_t>(k)] = static_cast<std::int32_t>(v);
     }
-  return RgbMesh::from_triangles(p, t);
+  return RgbMesh::from_triangles(p, t, sharp);
 }
 
 void bind_mesh(py::module_& m) {
   py::class_<RgbMesh>(m, "Mesh", "An RGB subdivision mesh: its base mesh and the vertices inserted since.")
-      .def_static("from_arrays", [](const DoubleArray& p, const IndexArray& t) { return mesh_from_arrays(p, t); },
-                  py::arg("points"), py::arg("triangles"),
-                  "A base mesh from an (n, 3) float array of points and an (m, 3) integer array of "
-                  "counter-clockwise triangles, validated as the mesh files are (ValueError naming the element).")
+      .def_static(
+          "from_arrays",
+          [](const DoubleArray& p, const IndexArray& t, const py::object& sharp_edges, const py::object& edge_sharpness,
+             const py::object& sharp_vertices, const py::object& vertex_sharpness, const std::string& crease_method,
+             const py::object& sharp_angle) {
+            SharpFeatures sharp =
+                sharp_features_of(sharp_edges, edge_sharpness, sharp_vertices, vertex_sharpness, crease_method);
+            if (!sharp_angle.is_none()) {
+              // Checked as the mesh itself is, then the angle's creases under the given ones.
+              const RgbMesh plain = mesh_from_arrays(p, t);
+              std::vector<Vec3> points(plain.num_base_vertices());
+              for (std::size_t i = 0; i < points.size(); ++i)
+                points[i] = plain.insertion_point(VertexHandle(static_cast<std::int32_t>(i)));
+              const double angle = py::cast<double>(sharp_angle);
+              if (!(angle > 0.0 && angle < 180.0)) throw InputError("sharp_angle: degrees in (0, 180)");
+              sharp = merged(sharp, detect_sharp_features(points, plain.base_triangles(), angle));
+            }
+            return mesh_from_arrays(p, t, "", sharp);
+          },
+          py::arg("points"), py::arg("triangles"), py::kw_only(), py::arg("sharp_edges") = py::none(),
+          py::arg("edge_sharpness") = py::none(), py::arg("sharp_vertices") = py::none(),
+          py::arg("vertex_sharpness") = py::none(), py::arg("crease_method") = "uniform",
+          py::arg("sharp_angle") = py::none(),
+          "A base mesh from an (n, 3) float array of points and an (m, 3) integer array of "
+          "counter-clockwise triangles, validated as the mesh files are (ValueError naming the element). "
+          "Sharp features (creases and corners, as OpenSubdiv's): sharp_edges (k, 2) vertex indices with "
+          "edge_sharpness (k,) (0 smooth, 10 infinitely sharp, between: semi-sharp; default 10), sharp_vertices "
+          "(j,) with vertex_sharpness (j,), crease_method 'uniform' or 'chaikin'; sharp_angle: also every edge "
+          "whose triangles' normals differ by more than this many degrees (the given ones win).")
+      .def(
+          "sharp_features", [](const RgbMesh& mesh) { return sharp_features_dict(mesh.sharp_features()); },
+          "The base mesh's sharp features: {'edges': (k, 2) base vertex indices, 'edge_sharpness': (k,), "
+          "'vertices': (j,), 'vertex_sharpness': (j,), 'method': 'uniform' or 'chaikin'} (empty arrays without any).")
+      .def(
+          "vertex_rules",
+          [](const RgbMesh& mesh) {
+            return per_vertex<std::uint8_t, 1>(mesh, [&](VertexHandle v, std::uint8_t* d) {
+              *d = static_cast<std::uint8_t>(mesh.vertex_rule(v));
+            });
+          },
+          "Each vertex's subdivision rule at its shown level: 0 smooth, 1 dart, 2 crease, 3 corner (boundary "
+          "vertices are creases or corners).")
+      .def(
+          "edges",
+          [](const RgbMesh& mesh) {
+            const std::vector<std::int32_t> row = rows_of_slots(mesh);
+            std::vector<std::int32_t> ends;
+            std::vector<double> sharpness;
+            ends.reserve(2 * mesh.num_edges());
+            sharpness.reserve(mesh.num_edges());
+            for (const EdgeHandle e : mesh.edges()) {
+              for (const VertexHandle v : mesh.edge_vertices(e)) ends.push_back(row[static_cast<std::size_t>(v.idx)]);
+              sharpness.push_back(mesh.sharpness(e));
+            }
+            return py::make_tuple(
+                make_array<std::int32_t>(mesh.num_edges(), 2, [&](std::int32_t* d) { std::copy(ends.begin(), ends.end(), d); }),
+                array_of<double>(sharpness.size(), 1, sharpness.data()));
+          },
+          "The edges as (rows (k, 2) of the point arrays, sharpness (k,)): each edge's sharpness at its level, "
+          "10 on the boundary, 0 where smooth.")
       .def_property_readonly("num_vertices", &RgbMesh::num_vertices)
       .def_property_readonly("num_triangles", &RgbMesh::num_triangles)
       .def_property_readonly("max_level", &RgbMesh::max_level)

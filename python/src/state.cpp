@@ -53,12 +53,22 @@ py::dict state_of(const RgbMesh& mesh) {
       array_of<std::int32_t>(s.base_triangles.size(), 3, s.base_triangles.empty() ? nullptr : s.base_triangles[0].data());
   d["base_vertex"] = array_of<std::int32_t>(s.base_vertex.size(), 1, s.base_vertex.data());
   d["parents"] = array_of<std::int32_t>(s.parents.size(), 2, s.parents.empty() ? nullptr : s.parents[0].data());
+  if (!s.sharp.empty()) {
+    const py::dict sharp = sharp_features_dict(s.sharp);
+    d["sharp_edges"] = sharp["edges"];
+    d["edge_sharpness"] = sharp["edge_sharpness"];
+    d["sharp_vertices"] = sharp["vertices"];
+    d["vertex_sharpness"] = sharp["vertex_sharpness"];
+    d["crease_method"] = sharp["method"];
+  }
   return d;
 }
 
 py::tuple from_state(const DoubleArray& base_points, const Ints& base_triangles, const Ints& base_vertex,
                      const Ints& parents, const std::optional<Ints>& triangles, const std::optional<Bytes>& vertex_levels,
-                     const std::optional<Bytes>& triangle_levels, const std::optional<Bytes>& triangle_colors, int version) {
+                     const std::optional<Bytes>& triangle_levels, const std::optional<Bytes>& triangle_colors, int version,
+                     const py::object& sharp_edges, const py::object& edge_sharpness, const py::object& sharp_vertices,
+                     const py::object& vertex_sharpness, const std::string& crease_method) {
   if (version < 1 || version > RgbState::kVersion)
     throw InputError("RGB state version " + std::to_string(version) + ": this rgbmesh reads versions 1 to " +
                      std::to_string(RgbState::kVersion));
@@ -70,6 +80,7 @@ py::tuple from_state(const DoubleArray& base_points, const Ints& base_triangles,
   const auto n = static_cast<std::size_t>(base_vertex.shape(0));
   s.base_vertex = values_of<std::int32_t>(base_vertex, n, "base_vertex");
   s.parents = rows_of<2>(parents, n, "parents");
+  s.sharp = sharp_features_of(sharp_edges, edge_sharpness, sharp_vertices, vertex_sharpness, crease_method);
   RestoreExpectations e;
   if (triangles) e.triangles = rows_of<3>(*triangles, 0, "triangles");
   if (vertex_levels) e.vertex_level = values_of<std::uint8_t>(*vertex_levels, n, "vertex_levels");
@@ -100,24 +111,37 @@ void bind_state(py::module_& m) {
       .def(py::pickle(
           [](const RgbMesh& mesh) {
             const py::dict state = state_of(mesh);
+            const py::dict sharp = sharp_features_dict(mesh.sharp_features());
             return py::make_tuple(state["version"], state["base_points"], state["base_triangles"], state["base_vertex"],
-                                  state["parents"], py::cast(mesh).attr("triangles")());
+                                  state["parents"], py::cast(mesh).attr("triangles")(), sharp["edges"],
+                                  sharp["edge_sharpness"], sharp["vertices"], sharp["vertex_sharpness"], sharp["method"]);
           },
           [](const py::tuple& t) {
-            if (t.size() != 6) throw InputError("unpickling a Mesh: 6 items expected, got " + std::to_string(t.size()));
-            py::tuple restored = from_state(py::cast<DoubleArray>(t[1]), py::cast<Ints>(t[2]), py::cast<Ints>(t[3]),
-                                            py::cast<Ints>(t[4]), py::cast<Ints>(t[5]), std::nullopt, std::nullopt,
-                                            std::nullopt, t[0].cast<int>());
+            // 6 items: pickled before sharp features existed.
+            if (t.size() != 6 && t.size() != 11)
+              throw InputError("unpickling a Mesh: 6 or 11 items expected, got " + std::to_string(t.size()));
+            const bool sharp = t.size() == 11;
+            py::tuple restored = from_state(
+                py::cast<DoubleArray>(t[1]), py::cast<Ints>(t[2]), py::cast<Ints>(t[3]), py::cast<Ints>(t[4]),
+                py::cast<Ints>(t[5]), std::nullopt, std::nullopt, std::nullopt, t[0].cast<int>(),
+                sharp ? py::object(t[6]) : py::none(), sharp ? py::object(t[7]) : py::none(),
+                sharp ? py::object(t[8]) : py::none(), sharp ? py::object(t[9]) : py::none(),
+                sharp ? t[10].cast<std::string>() : std::string("uniform"));
             return std::move(restored[0].cast<RgbMesh&>());
           }))
       .def("state", &state_of,
-           "The RGB state as arrays, what .vtp/.vtu files carry (format version 1): base_points and "
-           "base_triangles (the base mesh, exactly), and per row of the point arrays base_vertex (its base index, "
-           "-1 if inserted) and parents (the two rows whose edge it split, -1 -1 for a base vertex).")
+           "The RGB state as arrays, what .vtp/.vtu files carry (format version 1, or 2 with sharp features): "
+           "base_points and base_triangles (the base mesh, exactly), per row of the point arrays base_vertex (its "
+           "base index, -1 if inserted) and parents (the two rows whose edge it split, -1 -1 for a base vertex), "
+           "and where the base mesh has sharp features sharp_edges, edge_sharpness, sharp_vertices, "
+           "vertex_sharpness and crease_method (Mesh.from_state takes them back).")
       .def_static("from_state", &from_state, py::arg("base_points"), py::arg("base_triangles"), py::arg("base_vertex"),
                   py::arg("parents"), py::kw_only(), py::arg("triangles") = py::none(),
                   py::arg("vertex_levels") = py::none(), py::arg("triangle_levels") = py::none(),
                   py::arg("triangle_colors") = py::none(), py::arg("version") = RgbState::kVersion,
+                  py::arg("sharp_edges") = py::none(), py::arg("edge_sharpness") = py::none(),
+                  py::arg("sharp_vertices") = py::none(), py::arg("vertex_sharpness") = py::none(),
+                  py::arg("crease_method") = "uniform",
                   "Rebuilds the mesh from its state (Mesh.state()) and checks it against what is given: its triangles "
                   "(which also settle the one choice a vertex set leaves open, a trapezoid's diagonal), levels and "
                   "colours. Returns (mesh, rows): rows[i] is the row of the state's point i in the new mesh's arrays. "

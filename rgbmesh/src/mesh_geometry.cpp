@@ -306,6 +306,12 @@ Vec3 RgbMesh::odd_control_point(EdgeHandle e) const {
   return stencil_point(st, l, odd_mask(e));
 }
 
+Vec3 RgbMesh::stencil_point(const std::array<VertexHandle, 4>& st, int l) const {
+  const Vec3 ends = known_control_point(st[0], l) + known_control_point(st[1], l);
+  if (!st[3].valid()) return 0.5 * ends;  // boundary edge (Eq. 2)
+  return 0.375 * ends + 0.125 * (known_control_point(st[2], l) + known_control_point(st[3], l));  // Eq. 1
+}
+
 Vec3 RgbMesh::stencil_point(const std::array<VertexHandle, 4>& st, int l, const loop::OddMask& mask) const {
   const Vec3 ends = known_control_point(st[0], l) + known_control_point(st[1], l);
   // Boundary edges (Eq. 2) and creases: the midpoint; else Eq. 1, or a semi-sharp blend.

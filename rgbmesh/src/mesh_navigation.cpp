@@ -177,7 +177,30 @@ MeshSnapshot RgbMesh::snapshot(Points points, bool geometry_arrays) const {
     s.triangle_color.push_back(color(t));
     s.triangle_handle.push_back(t);
   }
+  add_sharp_features(s);
   return s;
+}
+
+void RgbMesh::add_sharp_features(MeshSnapshot& s) const {
+  s.vertex_rule.clear();
+  s.sharp = SharpFeatures();
+  if (!creases_) return;
+  std::vector<std::int32_t> index(v_edge_.size(), -1);
+  for (std::size_t i = 0; i < s.vertex_handle.size(); ++i) index[s.vertex_handle[i].idx] = static_cast<std::int32_t>(i);
+  s.sharp.method = sharp_features().method;
+  s.vertex_rule.reserve(s.vertex_handle.size());
+  for (VertexHandle v : s.vertex_handle) s.vertex_rule.push_back(static_cast<std::uint8_t>(vertex_rule(v)));
+  for (EdgeHandle e : edges()) {
+    const std::int32_t a = index[e_vert_[e.idx][0].idx], b = index[e_vert_[e.idx][1].idx];
+    if (a < 0 || b < 0 || is_boundary(e)) continue;
+    const float sharp = sharpness(e);
+    if (sharp > 0.0f) s.sharp.edges.push_back({a, b, sharp});
+  }
+  for (std::size_t base = 0; base < n_base_vertices_; ++base) {
+    const VertexHandle v(static_cast<std::int32_t>(base));
+    const float sharp = vertex_sharpness(v, shown_level(v));
+    if (sharp > 0.0f && index[base] >= 0) s.sharp.vertices.push_back({index[base], sharp});
+  }
 }
 
 }  // namespace rgbmesh

@@ -147,13 +147,19 @@ VertexHandle RgbMesh::split_unreported(EdgeHandle e, SplitKind kind, const char*
   // The stencil's coarser vertices need their limit positions; providing them may insert
   // vertices around them, never touching e's triangles, which are finer (section VI-C).
   std::array<VertexHandle, 4> st = stencil(e);
+  if (!creases_) {
+    if (prepare_stencil(st, level(e)) && split_kind(e) != kind)
+      fail(op, "internal error: preparing the stencil changed " + describe(e));
+    return bisect(e, stencil_point(st, level(e)));
+  }
   const auto& ends = e_vert_[e.idx];
-  const loop::OddMask mask = odd_mask(ends[0], ends[1], level(e), !st[3].valid());
+  const RailPiece rp = rail_piece(ends[0], ends[1], level(e));
+  const loop::OddMask mask = odd_mask(rp, level(e), !st[3].valid());
   // On a crease only the ends count: the vertices across need no limits.
   if (mask.opposite == 0.0) st[2] = st[3] = VertexHandle();
   if (prepare_stencil(st, level(e)) && split_kind(e) != kind)
     fail(op, "internal error: preparing the stencil changed " + describe(e));
-  return bisect(e, stencil_point(st, level(e), mask));
+  return bisect(e, stencil_point(st, level(e), mask), &rp);
 }
 
 VertexHandle RgbMesh::split_gg(EdgeHandle e) { return checked_split(e, SplitKind::gg, "split_gg"); }

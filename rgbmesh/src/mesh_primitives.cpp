@@ -126,6 +126,10 @@ void RgbMesh::free_vertex(VertexHandle v) {
   v_parents_[v.idx] = {VertexHandle(v_free_), VertexHandle()};
   if (v_flags_[v.idx] & kHistoryFlag) history_.erase(v.idx);
   v_flags_[v.idx] = 0;
+  if (creases_) {  // a reused slot starts off every rail
+    v_rail_[v.idx] = -1;
+    v_rail_position_[v.idx] = 0;
+  }
   release_limit(v);
   v_free_ = v.idx;
 #if RGBMESH_CHECKED_HANDLES
@@ -175,7 +179,7 @@ void RgbMesh::update_triangle_info(TriangleHandle t) {
 //
 // All or nothing: room for the new elements is made before the first change, so that only
 // that step (or a vertex property's copy in new_vertex, which changes nothing either) can throw.
-VertexHandle RgbMesh::bisect(EdgeHandle e, const Vec3& control) {
+VertexHandle RgbMesh::bisect(EdgeHandle e, const Vec3& control, const RailPiece* rail) {
   make_room(1, 3, 2);
   reserve_journal_entry();
   e = stamped(e);  // e is stored below: with the generation of its slot
@@ -210,7 +214,10 @@ VertexHandle RgbMesh::bisect(EdgeHandle e, const Vec3& control) {
   v_parents_[m.idx] = {v0, v1};
   v_control_[m.idx] = control;
   v_flags_[m.idx] = boundary ? kBoundaryFlag : 0;
-  if (creases_) place_on_rail(m, v0, v1, l);
+  if (creases_) {
+    const RailPiece rp = rail ? *rail : rail_piece(v0, v1, l);
+    if (rp.rail >= 0) place_on_rail(m, rp, l);
+  }
 
   const std::uint8_t half_info = edge_info(false, l + 1);
   const EdgeHandle e1 = new_edge(m, v1, half_info);  // e keeps (v0, m)

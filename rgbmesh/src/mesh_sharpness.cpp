@@ -33,8 +33,8 @@ std::int64_t RgbMesh::rail_position(VertexHandle x, std::int32_t r, int l) const
   return static_cast<std::int64_t>(v_rail_position_[x.idx]) << (l - v_level_[x.idx]);
 }
 
-std::int32_t RgbMesh::edge_rail(VertexHandle a, VertexHandle b, int l, std::uint64_t& piece) const {
-  if (!creases_) return -1;
+RgbMesh::RailPiece RgbMesh::rail_piece_of(VertexHandle a, VertexHandle b, int l) const {
+  if (!creases_) return {};
   const bool a_base = static_cast<std::size_t>(a.idx) < n_base_vertices_;
   const bool b_base = static_cast<std::size_t>(b.idx) < n_base_vertices_;
   std::int32_t r;
@@ -47,19 +47,16 @@ std::int32_t RgbMesh::edge_rail(VertexHandle a, VertexHandle b, int l, std::uint
   } else {
     r = v_rail_[a.idx] == v_rail_[b.idx] ? v_rail_[a.idx] : -1;
   }
-  if (r < 0) return -1;
+  if (r < 0) return {};
   const std::int64_t pa = rail_position(a, r, l), pb = rail_position(b, r, l);
   // Two points of one base edge joined by a Loop edge of level l are neighbours along it.
-  if (pa < 0 || pb < 0 || (pa - pb != 1 && pb - pa != 1)) return -1;
-  piece = static_cast<std::uint64_t>(std::min(pa, pb));
-  return r;
+  if (pa < 0 || pb < 0 || (pa - pb != 1 && pb - pa != 1)) return {};
+  return {r, static_cast<std::uint64_t>(std::min(pa, pb))};
 }
 
-loop::OddMask RgbMesh::odd_mask(VertexHandle a, VertexHandle b, int l, bool boundary) const {
-  if (boundary) return {0.5, 0.0};  // Eq. 2
-  std::uint64_t piece = 0;
-  const std::int32_t r = edge_rail(a, b, l, piece);
-  if (r < 0) return {};
+loop::OddMask RgbMesh::sharp_odd_mask(const RailPiece& rp, int l) const {
+  const std::int32_t r = rp.rail;
+  const std::uint64_t piece = rp.piece;
   const float s = creases_->segment(r, l, piece);
   if (s <= 0.0f) return {};
   // The new vertex is a crease when both halves stay sharp.
@@ -71,17 +68,16 @@ loop::OddMask RgbMesh::odd_mask(EdgeHandle e) const {
   e = checked(e, "odd_mask");
   if (is_red(e)) fail("odd_mask", describe(e) + " is red; only green edges split");
   const auto& ev = e_vert_[e.idx];
-  return odd_mask(ev[0], ev[1], level(e), is_boundary(e));
+  return odd_mask(rail_piece(ev[0], ev[1], level(e)), level(e), is_boundary(e));
 }
 
 float RgbMesh::sharpness(EdgeHandle e) const {
   expect_alive(e, "sharpness");
   if (is_boundary(e)) return kInfiniteSharpness;
   if (is_red(e) || !creases_) return 0.0f;
-  std::uint64_t piece = 0;
   const auto& ev = e_vert_[e.idx];
-  const std::int32_t r = edge_rail(ev[0], ev[1], level(e), piece);
-  return r < 0 ? 0.0f : creases_->segment(r, level(e), piece);
+  const RailPiece rp = rail_piece(ev[0], ev[1], level(e));
+  return rp.rail < 0 ? 0.0f : creases_->segment(rp.rail, level(e), rp.piece);
 }
 
 float RgbMesh::vertex_sharpness(VertexHandle v, int k) const {
@@ -110,12 +106,9 @@ VertexRule RgbMesh::vertex_rule(VertexHandle v, int k) const {
   return loop::vertex_rule(vertex_sharpness(v, k), sharp);
 }
 
-void RgbMesh::place_on_rail(VertexHandle m, VertexHandle a, VertexHandle b, int l) {
-  v_rail_[m.idx] = -1;
-  v_rail_position_[m.idx] = 0;
-  std::uint64_t piece = 0;
-  const std::int32_t r = edge_rail(a, b, l, piece);
-  if (r < 0) return;
+void RgbMesh::place_on_rail(VertexHandle m, const RailPiece& rp, int l) {
+  const std::int32_t r = rp.rail;
+  const std::uint64_t piece = rp.piece;
   v_rail_[m.idx] = r;
   v_rail_position_[m.idx] = static_cast<std::uint32_t>(2 * piece + 1);
   const float h0 = creases_->segment(r, l + 1, 2 * piece), h1 = creases_->segment(r, l + 1, 2 * piece + 1);

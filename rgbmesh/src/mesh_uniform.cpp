@@ -90,10 +90,15 @@ std::size_t RgbMesh::split_all_edges() {
     const EdgeHandle h(static_cast<std::int32_t>(e));
     const auto [a, b] = e_vert_[e];
     const bool boundary = !e_tri_[e][1].valid();
-    v_control_[m] = stencil_point(stencil(h), l, odd_mask(a, b, l, boundary));
     v_parents_[m] = e_vert_[e];
     v_flags_[m] = boundary ? kBoundaryFlag : 0;
-    if (creases_) place_on_rail(vertex(m), a, b, l);
+    if (!creases_) {
+      v_control_[m] = stencil_point(stencil(h), l);
+    } else {
+      const RailPiece rp = rail_piece(a, b, l);
+      v_control_[m] = stencil_point(stencil(h), l, odd_mask(rp, l, boundary));
+      if (rp.rail >= 0) place_on_rail(vertex(m), rp, l);  // (the new slots start off every rail)
+    }
     v_edge_[m] = edge(e);
   });
   // 2. The halves: e keeps the one at its first end, ne + e is the other.

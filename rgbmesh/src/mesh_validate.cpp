@@ -336,9 +336,10 @@ std::string RgbMesh::validate_vertices(const LiveSlots& live) const {
       const std::int32_t rail = v_rail_[i];
       const std::uint8_t flags = v_flags_[i];
       if (v_level_[i] > 0) {
-        std::uint64_t piece = 0;
         const int l = v_level_[i] - 1;
-        const std::int32_t expected = edge_rail(p[0], p[1], l, piece);
+        const RailPiece rp = rail_piece_of(p[0], p[1], l);
+        const std::int32_t expected = rp.rail;
+        const std::uint64_t piece = rp.piece;
         if (rail != expected || (rail >= 0 && v_rail_position_[i] != 2 * piece + 1))
           c.fail(describe(v), " has a wrong sharp base edge (", rail, " instead of ", expected, ")");
         const float h0 = rail < 0 ? 0.0f : creases_->segment(rail, l + 1, 2 * piece);

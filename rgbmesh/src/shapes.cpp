@@ -24,6 +24,21 @@ TriangleMeshData octahedron() {
   return m;
 }
 
+TriangleMeshData sharp_unit_cube() {
+  TriangleMeshData m;
+  // Vertex i at (i & 1, (i >> 1) & 1, (i >> 2) & 1).
+  for (int i = 0; i < 8; ++i) m.points.push_back({double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)});
+  // Each face counter-clockwise seen from outside, cut along its diagonal from its first corner.
+  const std::int32_t faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& f : faces) {
+    m.triangles.push_back({f[0], f[1], f[2]});
+    m.triangles.push_back({f[0], f[2], f[3]});
+    for (int k = 0; k < 4; ++k)
+      if (f[k] < f[(k + 1) % 4]) m.sharp.edges.push_back({f[k], f[(k + 1) % 4], kInfiniteSharpness});
+  }
+  return m;
+}
+
 TriangleMeshData square_lattice(int cells, double side, int ghosts) {
   if (cells < 1 || cells > 4096 || ghosts < 0 || ghosts > 4096 || cells + 2 * ghosts > 4096 || !(side > 0) ||
       !std::isfinite(side))

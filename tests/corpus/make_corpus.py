@@ -294,6 +294,19 @@ def make(c):
     c.add("obj-no-faces.obj", obj.split("f ")[0], "", "convert")
     c.add("obj-comments-only.obj", "# nothing\n# at all\n", "")
     c.add("obj-non-manifold.obj", obj + "f 1 3 5\n", "", "info convert")
+    # OpenSubdiv's sharpness tags (issue 42): vertices count from 0.
+    c.add("obj-tag-counts.obj", obj + "t crease 2/1/0 0 2\n", "declares 3 arguments but has 2")
+    c.add("obj-tag-count-text.obj", obj + "t crease two/1/0 0 2 1\n", "is not a tag's argument counts")
+    c.add("obj-tag-negative.obj", obj + "t crease 2/1/0 0 2 -1\n", "is not a number of 0 or more")
+    c.add("obj-tag-nan.obj", obj + "t corner 1/1/0 0 nan\n", "is not a number of 0 or more")
+    c.add("obj-tag-odd-vertices.obj", obj + "t crease 3/1/0 0 2 4 1\n", "pairs of vertices")
+    # (Checked where the faces become a mesh: a point cloud does not look at them.)
+    c.add("obj-tag-not-an-edge.obj", obj + "t crease 2/1/0 0 1 10\n", "crease tag 0 (0, 1) is not an edge",
+          "info convert")
+    c.add("obj-tag-vertex-beyond.obj", obj + "t corner 1/1/0 6 10\n", "corner tag 0 names vertex 6", "info convert")
+    c.add("obj-tag-method.obj", obj + "t creasemethod 0/0/1 sharp\n", "'normal' or 'chaikin'")
+    c.add("obj-tag-hole.obj", obj + "t hole 1/0/0 0\n", "hole tags are not supported")
+    c.add("obj-tag-boundary-none.obj", obj + "t interpolateboundary 1/0/0 0\n", "interpolateboundary 0 is not supported")
     for n in (9, 33, 57, 70):  # inside the vertex lines: a line cut short
         text = obj[:n]
         if text.endswith("\n") or text.split("\n")[-1].count(" ") < 3:

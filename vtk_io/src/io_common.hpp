@@ -54,4 +54,11 @@ inline std::string shortest(double x) {
   return std::string(buf, result.ptr);
 }
 
+// Shortest text that reads back as the same float (sharpness: 2.8, not 2.7999999523162842).
+inline std::string shortest(float x) {
+  char buf[32];
+  const auto result = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, result.ptr);
+}
+
 }  // namespace rgbmesh::detail

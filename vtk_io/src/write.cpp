@@ -111,6 +111,22 @@ void write_obj(const fs::path& file, const MeshSnapshot& mesh, const WriteOption
     out.append(line);
     progress.line();
   }
+  // Sharp features as OpenSubdiv's tags (vertices counted from 0), which read_mesh reads back.
+  if (mesh.sharp.method == CreaseMethod::chaikin) out.append("t creasemethod 0/0/1 chaikin\n");
+  for (const SharpEdge& e : mesh.sharp.edges) {
+    line = "t crease 2/1/0 ";
+    append_index(line, e.a);
+    line += ' ';
+    append_index(line, e.b);
+    line += ' ' + shortest(e.sharpness) + '\n';
+    out.append(line);
+  }
+  for (const SharpVertex& v : mesh.sharp.vertices) {
+    line = "t corner 1/1/0 ";
+    append_index(line, v.v);
+    line += ' ' + shortest(v.sharpness) + '\n';
+    out.append(line);
+  }
   out.close();
 }
 
@@ -127,6 +143,12 @@ void check_snapshot(const MeshSnapshot& mesh, const fs::path& path) {
              std::to_string(n_points));
   if (!mesh.vertex_level.empty() && mesh.vertex_level.size() != n_points)
     fail("vertex_level has the wrong size");
+  if (!mesh.vertex_rule.empty() && mesh.vertex_rule.size() != n_points) fail("vertex_rule has the wrong size");
+  for (const SharpEdge& e : mesh.sharp.edges)
+    if (e.a < 0 || e.b < 0 || static_cast<std::size_t>(e.a) >= n_points || static_cast<std::size_t>(e.b) >= n_points)
+      fail("a sharp edge names a point outside the snapshot");
+  for (const SharpVertex& v : mesh.sharp.vertices)
+    if (v.v < 0 || static_cast<std::size_t>(v.v) >= n_points) fail("a sharp vertex names a point outside the snapshot");
   if (!mesh.triangle_level.empty() && mesh.triangle_level.size() != n_cells)
     fail("triangle_level has the wrong size");
   if (!mesh.triangle_color.empty() && mesh.triangle_color.size() != n_cells)
@@ -459,21 +481,100 @@ void write_quadratic_triangles(const fs::path& path, const std::vector<Vec3>& po
   });
 }
 
+fs::path sharp_edges_path(const fs::path& mesh_file) {
+  fs::path p = mesh_file;
+  return p.replace_extension(".creases.vtp");
+}
+
+bool write_sharp_edges(const fs::path& path, const MeshSnapshot& mesh, const WriteOptions& options) {
+  if (lowercase_extension(path) != ".vtp")
+    throw InputError(path.string() + ": sharp edges are written as .vtp, not '" + lowercase_extension(path) + "'");
+  if (mesh.sharp.edges.empty()) return false;
+  // The points the sharp edges use, numbered as met; each edge a line cell.
+  std::vector<vtkIdType> point_of(mesh.points.size(), -1);
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkUnsignedCharArray> rule;
+  rule->SetName("vertex_rule");
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkDoubleArray> sharpness;
+  sharpness->SetName("sharpness");
+  const auto point = [&](std::int32_t i) {
+    if (i < 0 || static_cast<std::size_t>(i) >= mesh.points.size())
+      throw std::invalid_argument(path.string() + ": a sharp edge names point " + std::to_string(i));
+    vtkIdType& p = point_of[static_cast<std::size_t>(i)];
+    if (p < 0) {
+      const Vec3& x = mesh.points[static_cast<std::size_t>(i)];
+      p = points->InsertNextPoint(x.x, x.y, x.z);
+      rule->InsertNextValue(mesh.vertex_rule.empty() ? 0 : mesh.vertex_rule[static_cast<std::size_t>(i)]);
+    }
+    return p;
+  };
+  for (const SharpEdge& e : mesh.sharp.edges) {
+    const vtkIdType ends[2] = {point(e.a), point(e.b)};
+    lines->InsertNextCell(2, ends);
+    sharpness->InsertNextValue(e.sharpness);
+  }
+  vtkNew<vtkPolyData> data;
+  data->SetPoints(points);
+  data->SetLines(lines);
+  data->GetCellData()->AddArray(sharpness);
+  data->GetPointData()->AddArray(rule);
+  replace_reporting_progress(path, options, [&](const fs::path& temp, const WriteOptions& guarded) {
+    vtkNew<vtkXMLPolyDataWriter> writer;
+    writer->SetInputData(data);
+    writer->SetFileName(temp.c_str());
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();
+    writer->SetCompressorType(guarded.compression == Compression::zlib ? vtkXMLWriter::ZLIB
+                              : guarded.compression == Compression::lz4 ? vtkXMLWriter::LZ4
+                                                                        : vtkXMLWriter::NONE);
+    run_writer_with_progress(*writer, guarded);
+  });
+  return true;
+}
+
+bool write_sharp_edges(const fs::path& path, const RgbMesh& mesh, bool limit_points, const WriteOptions& options) {
+  if (!mesh.has_sharp_features()) return false;
+  // A snapshot of the sharp edges' ends only (a whole one would hold the whole mesh again).
+  MeshSnapshot ends;
+  std::vector<std::int32_t> point_of(static_cast<std::size_t>(mesh.vertex_slots()), -1);
+  for (const EdgeHandle e : mesh.edges()) {
+    if (mesh.is_boundary(e) || mesh.sharpness(e) <= 0.0f) continue;
+    for (const VertexHandle v : mesh.edge_vertices(e)) {
+      std::int32_t& p = point_of[static_cast<std::size_t>(v.idx)];
+      if (p >= 0) continue;
+      p = static_cast<std::int32_t>(ends.points.size());
+      ends.points.push_back(limit_points ? mesh.limit_position(v) : mesh.control_point(v));
+      ends.vertex_handle.push_back(v);
+    }
+  }
+  mesh.add_sharp_features(ends);
+  return write_sharp_edges(path, ends, options);
+}
+
 void write_text_atomically(const fs::path& path, const std::string& contents) {
   replace_atomically(path, [&](const fs::path& temp) { write_bytes(temp, contents); });
 }
 
 void write_pvd(const fs::path& pvd,
                const std::vector<std::pair<double, std::string>>& time_and_relative_file) {
+  std::vector<PvdEntry> entries;
+  entries.reserve(time_and_relative_file.size());
+  for (const auto& [time, file] : time_and_relative_file) entries.push_back({time, 0, file});
+  write_pvd(pvd, entries);
+}
+
+void write_pvd(const fs::path& pvd, const std::vector<PvdEntry>& entries) {
   std::string xml =
       "<?xml version=\"1.0\"?>\n"
       "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
       "  <Collection>\n";
-  for (const auto& [time, file] : time_and_relative_file) {
-    if (!std::isfinite(time))
-      throw std::invalid_argument(pvd.string() + ": time " + shortest(time) + " is not finite");
-    xml += "    <DataSet timestep=\"" + shortest(time) + "\" group=\"\" part=\"0\" file=\"" +
-           xml_attribute(file) + "\"/>\n";
+  for (const PvdEntry& e : entries) {
+    if (!std::isfinite(e.time))
+      throw std::invalid_argument(pvd.string() + ": time " + shortest(e.time) + " is not finite");
+    xml += "    <DataSet timestep=\"" + shortest(e.time) + "\" group=\"\" part=\"" + std::to_string(e.part) +
+           "\" file=\"" + xml_attribute(e.file) + "\"/>\n";
   }
   xml +=
       "  </Collection>\n"

@@ -73,6 +73,8 @@ XmlDataSet snapshot_data_set(const MeshSnapshot& mesh, bool unstructured) {
                                   mesh.triangles.empty() ? nullptr : mesh.triangles.front().data());
   if (!mesh.vertex_level.empty())
     d.point_data.push_back(borrowed_array("level", XmlType::uint8, 1, d.points, mesh.vertex_level.data()));
+  if (!mesh.vertex_rule.empty())
+    d.point_data.push_back(borrowed_array("vertex_rule", XmlType::uint8, 1, d.points, mesh.vertex_rule.data()));
   for (const NamedArray& a : mesh.point_data) {
     const void* values = a.same_as_points ? static_cast<const void*>(mesh.points.data()) : a.values.data();
     d.point_data.push_back(borrowed_array(a.name, XmlType::float64, a.components, d.points, values));
@@ -170,6 +172,11 @@ MeshDataSet::MeshDataSet(const RgbMesh& mesh, bool unstructured, bool limit_poin
   d.point_data.push_back(computed_array<std::uint8_t>(
       "level", XmlType::uint8, 1, n,
       [this](std::size_t i, std::uint8_t* out) { *out = static_cast<std::uint8_t>(mesh_.level(vertex(i))); }));
+  if (mesh.has_sharp_features())
+    d.point_data.push_back(computed_array<std::uint8_t>("vertex_rule", XmlType::uint8, 1, n, [this](std::size_t i, std::uint8_t* out) {
+      const VertexHandle v = vertex(i);
+      *out = static_cast<std::uint8_t>(mesh_.vertex_rule(v, shown_[static_cast<std::size_t>(v.idx)]));
+    }));
   d.point_data.push_back(point_array("control_point", shown));
   d.point_data.push_back(point_array("limit", limit));
   d.point_data.push_back(computed_array<std::int32_t>(kBaseVertexArray, XmlType::int32, 1, n, [this](std::size_t i, std::int32_t* out) {

@@ -17,9 +17,9 @@
 /// and every boundary vertex; only extraordinary vertices of the base mesh differ.
 ///
 /// Sharp features (sharpness.hpp) follow OpenSubdiv's rules for Loop (Sdc::Crease and
-/// Sdc::Scheme<SCHEME_LOOP>), which RgbMesh, the uniform split and the tests' reference all
+/// its Loop scheme), which RgbMesh, the uniform split and the tests' reference all
 /// take from here:
-/// \verbatim
+/// \code{.unparsed}
 /// Vertex rule at a level: corner if the vertex is sharp or has 3+ sharp edges, else smooth,
 ///   dart or crease for 0, 1 or 2 sharp edges (boundary edges are infinitely sharp).
 /// Even (vertex) masks: smooth and dart as above; crease p' = 3/4 p + 1/8 (a + b), a and b the
@@ -32,7 +32,7 @@
 ///   semi-sharp edges at that end) - 1 (child_sharpness); 0 and infinite stay.
 /// Limits: crease 2/3 p + 1/6 (a + b) for every valence (the crease is a uniform cubic
 ///   B-spline, so the boundary rules above hold: g = 1/4); corner p (g = 0).
-/// \endverbatim
+/// \endcode
 /// Sharpness is single precision, computed with the same float operations as OpenSubdiv's, so
 /// that both make the same decisions and blends.
 

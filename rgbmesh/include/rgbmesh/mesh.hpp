@@ -617,6 +617,9 @@ class RgbMesh {
   /// the point data also carries both, as "control_point" and "limit".
   enum class Points { control, limit };
   MeshSnapshot snapshot(Points points = Points::control, bool geometry_arrays = false) const;
+  /// Fills s.vertex_rule and s.sharp (snapshot.hpp) for the vertices s.vertex_handle lists
+  /// (its points), or clears them when the mesh has no sharp features; what snapshot() does.
+  void add_sharp_features(MeshSnapshot& s) const;
 
  private:
   template <class H>
@@ -715,15 +718,34 @@ class RgbMesh {
   };
   Vec3 history_point(VertexHandle v, int l) const;
   std::size_t history_bytes() const;
-  /// The sharp base edge that the Loop edge (a, b) of level l is a piece of, and the piece's
-  /// index along it; -1 if none.
-  std::int32_t edge_rail(VertexHandle a, VertexHandle b, int l, std::uint64_t& piece) const;
+  /// The sharp base edge (rail) that a Loop edge is a piece of, and the piece's index along it
+  /// at the edge's level; rail -1 if none.
+  struct RailPiece {
+    std::int32_t rail = -1;
+    std::uint64_t piece = 0;
+  };
+  /// The RailPiece of the Loop edge (a, b) of level l. Inline for the common case, an end
+  /// inserted off every rail (a single array read); rail_piece_of otherwise.
+  RailPiece rail_piece(VertexHandle a, VertexHandle b, int l) const {
+    if (!creases_) return {};
+    if ((static_cast<std::size_t>(a.idx) >= n_base_vertices_ && v_rail_[a.idx] < 0) ||
+        (static_cast<std::size_t>(b.idx) >= n_base_vertices_ && v_rail_[b.idx] < 0))
+      return {};
+    return rail_piece_of(a, b, l);
+  }
+  RailPiece rail_piece_of(VertexHandle a, VertexHandle b, int l) const;
   /// Where x is along rail r at level l (>= level(x)): 0 .. 2^l; -1 if not on it.
   std::int64_t rail_position(VertexHandle x, std::int32_t r, int l) const;
-  /// odd_mask for the edge (a, b) of level l, boundary or not.
-  loop::OddMask odd_mask(VertexHandle a, VertexHandle b, int l, bool boundary) const;
-  /// Gives the new vertex m on the Loop edge (a, b) of level l its rail and flags.
-  void place_on_rail(VertexHandle m, VertexHandle a, VertexHandle b, int l);
+  /// odd_mask for a Loop edge of level l, boundary or not, that is the piece `rp`.
+  loop::OddMask odd_mask(const RailPiece& rp, int l, bool boundary) const {
+    if (boundary) return {0.5, 0.0};  // Eq. 2
+    if (rp.rail < 0) return {};       // Eq. 1
+    return sharp_odd_mask(rp, l);
+  }
+  loop::OddMask sharp_odd_mask(const RailPiece& rp, int l) const;
+  /// Gives the new vertex m on the Loop edge of level l that is the piece `rp` its rail and
+  /// flags (rp.rail >= 0; a new vertex starts off every rail).
+  void place_on_rail(VertexHandle m, const RailPiece& rp, int l);
   /// The Loop 1-ring of v at its level, counter-clockwise, for evolve (false if incomplete).
   template <class Known>
   bool ordered_ring(VertexHandle v, detail::Ring& ring, Known known) const;
@@ -752,7 +774,9 @@ class RgbMesh {
   /// Makes the limit positions of the stencil's vertices coarser than l known (may insert
   /// vertices elsewhere); returns whether it had to insert any.
   bool prepare_stencil(const std::array<VertexHandle, 4>& st, int l);
-  /// Eq. 1 or 2 (or the crease rule `mask`) on a prepared stencil of level l.
+  /// Eq. 1 or 2 on a prepared stencil of level l (a mesh without sharp features), or the rule
+  /// `mask` (odd_mask: creases too).
+  Vec3 stencil_point(const std::array<VertexHandle, 4>& st, int l) const;
   Vec3 stencil_point(const std::array<VertexHandle, 4>& st, int l, const loop::OddMask& mask) const;
   /// loop_stencil without the precondition check.
   std::array<VertexHandle, 4> stencil(EdgeHandle e) const;
@@ -805,7 +829,7 @@ class RgbMesh {
 
   /// Topological primitives shared by the named operators (mesh_operators.cpp).
   /// Inserts the vertex with control point `control` (the Loop stencil's value).
-  VertexHandle bisect(EdgeHandle e, const Vec3& control);
+  VertexHandle bisect(EdgeHandle e, const Vec3& control, const RailPiece* rail = nullptr);
   void flip(EdgeHandle e, std::uint8_t new_info);
   EdgeHandle unbisect(VertexHandle m);
   EdgeHandle unbisect(VertexHandle m, EdgeHandle half_a, EdgeHandle half_b);  ///< halves at the parents

@@ -12,6 +12,11 @@ TriangleMeshData icosahedron();
 /// The regular octahedron inscribed in the unit sphere: 6 vertices of valence 4, 8 triangles.
 TriangleMeshData octahedron();
 
+/// The unit cube [0, 1]³ as 12 triangles (each face cut by a diagonal), its 12 edges infinitely
+/// sharp (sharp): its Loop limit surface is exactly the cube's surface. The domain of
+/// fem::cube_cosine.
+TriangleMeshData sharp_unit_cube();
+
 /// The square [-ghosts h, side + ghosts h]² in the plane z = 0, h = side / cells, divided into
 /// squares of side h, each cut by its diagonal of direction (1, 1): every interior vertex has
 /// valence 6 (the regular lattice). With ghosts = 1, the elements of

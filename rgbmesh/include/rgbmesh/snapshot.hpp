@@ -103,6 +103,14 @@ struct MeshSnapshot {
   std::vector<Color> triangle_color;
   std::vector<VertexHandle> vertex_handle;      // point i -> mesh vertex (RgbMesh::snapshot)
   std::vector<TriangleHandle> triangle_handle;  // cell i -> mesh triangle (RgbMesh::snapshot)
+  // With sharp features only (else empty): each point's subdivision rule at its shown level
+  // (0 smooth, 1 dart, 2 crease, 3 corner; VertexRule), written as point data "vertex_rule".
+  std::vector<std::uint8_t> vertex_rule;
+  // The sharp features as the current mesh has them (RgbMesh::snapshot): the sharp interior
+  // edges between points with their sharpness at the edges' levels, the sharp base vertices with
+  // theirs at their shown levels, point indices. OBJ files carry them as OpenSubdiv's tags, so
+  // that the file read back as a base mesh keeps its creases (exactly for uniform meshes).
+  SharpFeatures sharp;
   std::vector<NamedArray> point_data;           // extra per-point arrays
   std::vector<NamedArray> cell_data;            // extra per-cell arrays
   // The RGB state, for formats that carry it (VTK XML); indices are point indices.

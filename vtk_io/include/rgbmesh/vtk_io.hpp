@@ -175,6 +175,19 @@ MeshSnapshot snapshot_for_file(RgbMesh& mesh, const std::filesystem::path& path,
 void write_rgb_mesh(const std::filesystem::path& path, RgbMesh& mesh, const WriteOptions& options = {},
                     bool limit_points = false);
 
+/// The sharp edges of a mesh (MeshSnapshot::sharp, its interior edges of sharpness above 0) as
+/// lines for ParaView, which draws them over the surface: VTK XML PolyData (.vtp only), one line
+/// cell per edge between the snapshot's points it joins, with cell data "sharpness" and point
+/// data "vertex_rule" (0 smooth, 1 dart, 2 crease, 3 corner). Atomic like write_mesh. Returns
+/// false, writing nothing, when there is no sharp edge.
+bool write_sharp_edges(const std::filesystem::path& path, const MeshSnapshot& mesh, const WriteOptions& options = {});
+/// The same for `mesh`, its points where write_rgb_mesh puts them (shown control points, or
+/// limit positions: then the limits must be known, as write_rgb_mesh leaves them).
+bool write_sharp_edges(const std::filesystem::path& path, const RgbMesh& mesh, bool limit_points = false,
+                       const WriteOptions& options = {});
+/// Where the tool writes a mesh file's sharp edges: "part.vtp" -> "part.creases.vtp".
+std::filesystem::path sharp_edges_path(const std::filesystem::path& mesh_file);
+
 /// Makes SIGINT, SIGTERM and SIGHUP remove the temporary files of writes in progress before the
 /// process dies of the signal (where the host has not set its own handler or ignored the
 /// signal), and makes exceeding the file-size limit (SIGXFSZ) a write error instead of death.
@@ -211,5 +224,13 @@ void write_quadratic_pvtu(const std::filesystem::path& pvtu, const std::vector<N
 /// .pvd's directory). Written atomically.
 void write_pvd(const std::filesystem::path& pvd,
                const std::vector<std::pair<double, std::string>>& time_and_relative_file);
+/// The same where a time step has several files, each a part of it that ParaView shows together
+/// (a mesh and its sharp edges): one DataSet per (time, part number, relative file).
+struct PvdEntry {
+  double time = 0;
+  int part = 0;
+  std::string file;
+};
+void write_pvd(const std::filesystem::path& pvd, const std::vector<PvdEntry>& entries);
 
 }  // namespace rgbmesh

@@ -51,7 +51,8 @@ struct Estimate {
 /// and h_e the chord of the edge, and η_geo,T = (δ_T / h_T) ‖∇u_h‖_T measures how far the
 /// element is from the surface: δ_T is the largest distance from a quadrature point to its lift
 /// with a projection, else the sagitta |e| θ_e / 8 of the edges, θ_e the angle between the
-/// normals of the two elements at e (the curvature that the elements miss at their seams).
+/// normals of the two elements at e (the curvature that the elements miss at their seams); 0 on
+/// infinitely sharp creases (SurfaceMesh::crease_sides), where the surface is kinked itself.
 ///
 /// P1: Δ_Γh u_h vanishes (u_h is linear on a flat triangle), the conormal derivatives are
 /// constant along the straight edges and θ_e is the angle between the two planes.

@@ -67,6 +67,14 @@ Problem sphere_harmonic();
 /// with c = 1, so that the solution is unique without a mean condition.
 Problem sphere_peak(const Vec3& d = Vec3(0.48, 0.6, 0.64), double kappa = 100.0, double c = 1.0);
 
+/// u = cos(π x) on the surface of the unit cube [0, 1]³ whose 12 edges are infinitely sharp
+/// (sharp_unit_cube, shapes.hpp), with c = 1: -Δu + u = f with f = (π² + 1) cos(π x) on the four
+/// faces along x, f = u = ±1 on the faces x = 0 and x = 1 (u is constant there). u is smooth on
+/// each face and its conormal derivative vanishes on every edge (∂u/∂x = 0 at x = 0, 1; the
+/// other edges run along x), so u is the exact weak solution on the piecewise flat surface: the
+/// test of elements and estimators across creases.
+Problem cube_cosine();
+
 /// A Gaussian source f = exp(-|x - x0|² / (2 σ²)) with c = 1, on any surface (no exact
 /// solution): the problem the main job solves on its default mesh.
 Problem gaussian_source(const Vec3& x0, double sigma);

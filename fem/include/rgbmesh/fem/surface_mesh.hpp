@@ -50,6 +50,13 @@ struct SurfaceMesh {
     std::int32_t middle = -1;  ///< P2: the edge's node
   };
   std::vector<BoundaryEdge> boundary_edges;
+  /// Per triangle, bit k set where its edge k (corner k to corner k+1) lies on an infinitely
+  /// sharp crease of the surface (sharpness.hpp): the surface itself is kinked there, which the
+  /// estimators' geometric term must not count as a distance to it. Empty without creases.
+  std::vector<std::uint8_t> crease_sides;
+  bool on_crease(std::size_t t, int edge) const {
+    return !crease_sides.empty() && ((crease_sides[t] >> edge) & 1) != 0;
+  }
   std::optional<Projection> projection;  ///< set in exact-geometry mode
   /// P2: per DOF, how far an edge node that build_surface_mesh moved to its chord's midpoint
   /// (to keep an element from folding: kMinCurvedJacobian) lies from the surface point it stood
