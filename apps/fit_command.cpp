@@ -71,7 +71,8 @@ fit::StageControl stage_control(const MemoryCeiling& ceiling) {
 // The base given with --base, if any.
 std::optional<fit::Base> given_base(const FitArgs& a) {
   if (a.base.empty()) return std::nullopt;
-  const SoupOptions soup_options = repair::soup_options(a.triangulate, a.repair);
+  SoupOptions soup_options = repair::soup_options(a.triangulate, a.repair);
+  soup_options.sharp_angle = a.sharp_angle;
   fit::Base base;
   base.mesh = read_mesh(a.base, soup_options);
   for (const std::string& note : base.mesh.notes) base.notes.push_back(a.base + ": " + note);
@@ -90,6 +91,7 @@ fit::TargetFitOptions target_fit_options(const FitArgs& a) {
   o.fit = fit_options(a);
   o.base.faces = a.base_faces;
   o.base.soup = repair::soup_options(a.triangulate, a.repair);
+  o.base.soup.sharp_angle = a.sharp_angle;
   o.base.ignore_faces = a.ignore_faces;
   if (!fit::reconstruction_method_from_name(a.reconstruction, o.base.reconstruction.method))
     throw InputError("--reconstruction: '" + a.reconstruction + "' is not automatic, poisson or advancing-front");
@@ -124,8 +126,10 @@ void write_outputs(const FitArgs& a, const fit::TargetFit& f) {
   const fit::Base& base = f.base;
   const fit::FitResult& r = f.result;
   const fs::path dir(a.out);
-  write_mesh(dir / "base.obj", RgbMesh::from_triangles(base.mesh.points, base.mesh.triangles).snapshot());
-  write_mesh(dir / "fitted_base.obj", RgbMesh::from_triangles(r.control_points, base.mesh.triangles).snapshot());
+  // (With the base's creases and corners as OBJ tags, which read_mesh reads back.)
+  write_mesh(dir / "base.obj", RgbMesh::from_triangles(base.mesh.points, base.mesh.triangles, base.mesh.sharp).snapshot());
+  write_mesh(dir / "fitted_base.obj",
+             RgbMesh::from_triangles(r.control_points, base.mesh.triangles, base.mesh.sharp).snapshot());
   MeshSnapshot limit = limit_snapshot(r.stencils, r.control_points);
   fit::TriangleDistances per_triangle = fit::distances_per_triangle(r);
   limit.point_data.push_back({"distance_to_target", 1, f.distances.to_target});
@@ -343,6 +347,11 @@ void FitCommand::add(CLI::App& tool, CompressionOption& compression) {
       ->capture_default_str();
   app->add_flag("--repair", args.repair,
                 "Repair the --target faces and the --base mesh first (as info --repair)");
+  app->add_option("--sharp-angle", args.sharp_angle,
+                  "Keep a CAD target's edges: its edges sharper than DEG degrees become creases of the base, "
+                  "which decimation keeps and the fitted surface follows (a mesh target or --base)")
+      ->type_name("DEG")
+      ->check(number_in("a number of degrees in (0, 180)", [](double x) { return x > 0.0 && x < 180.0; }));
   app->add_option("--levels", args.levels, "Uniform level of the limit surface used in the fit")
       ->capture_default_str()
       ->check(number_in("an integer in [1, 6]", [](double x) { return x >= 1 && x <= 6; }));

@@ -17,6 +17,7 @@ struct FitArgs {
   bool ignore_faces = false;  // fit --target's vertices as a point cloud
   std::string reconstruction = "automatic";  // automatic, poisson, advancing-front
   bool repair = false;       // repair --target's faces and --base first (rgbmesh::repair)
+  double sharp_angle = 0;    // > 0: keep the target's edges sharper than this (--sharp-angle)
   std::size_t base_faces = 1000;
   int levels = 3;
   std::string loss = "huber";  // huber, cauchy, none

@@ -4,9 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <random>
+#include <set>
 #include <string>
 
 #include "public_data.hpp"
@@ -86,6 +89,43 @@ INSTANTIATE_TEST_SUITE_P(PublicMeshes, Decimation,
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
                            return name;
                          });
+
+TEST(Decimation, KeepsTheCreasesOfACadPartAsPolylinesOfFewerVertices) {
+  // Netgen's hinge (1,212 triangles, every vertex on an edge of the part) with its edges at 30
+  // degrees: the base keeps every crease's corners and runs its creases through vertices of
+  // the part's creases, which did not move.
+  SoupOptions read;
+  read.sharp_angle = 30;
+  const TriangleMeshData part = read_mesh(testing::public_data("netgen/hinge.stl"), read);
+  ASSERT_GT(part.sharp.edges.size(), 500u);
+  const TriangleMeshData base = decimate(part, 300);
+  EXPECT_LE(base.triangles.size(), 310u);
+  EXPECT_EQ(topology_of(base), topology_of(part));
+  ASSERT_GT(base.sharp.edges.size(), 50u);
+  std::set<std::array<double, 3>> on_crease;
+  std::map<std::array<double, 3>, int> crease_degree;
+  for (const SharpEdge& e : part.sharp.edges)
+    for (const std::int32_t v : {e.a, e.b}) {
+      const Vec3& p = part.points[static_cast<std::size_t>(v)];
+      on_crease.insert({p.x, p.y, p.z});
+      ++crease_degree[{p.x, p.y, p.z}];
+    }
+  for (const SharpEdge& e : base.sharp.edges)
+    for (const std::int32_t v : {e.a, e.b}) {
+      const Vec3& p = base.points[static_cast<std::size_t>(v)];
+      EXPECT_TRUE(on_crease.count({p.x, p.y, p.z})) << "a crease vertex of the base is not one of the part's";
+    }
+  std::set<std::array<double, 3>> base_points;
+  for (const Vec3& p : base.points) base_points.insert({p.x, p.y, p.z});
+  for (const auto& [p, degree] : crease_degree) {
+    if (degree != 2) {
+      EXPECT_TRUE(base_points.count(p)) << "a corner of the part's creases is gone";
+    }
+  }
+  // And the base is a valid mesh with them.
+  const RgbMesh mesh = RgbMesh::from_triangles(base.points, base.triangles, base.sharp);
+  EXPECT_EQ(mesh.validate(), "");
+}
 
 TEST(DecimationLimits, BelowWhatTheTopologyAllowsIsAValidMeshWithANote) {
   // Genus 9 needs at least 2V + 32 faces with V >= 14 (Heawood): 10 faces cannot be reached.

@@ -45,6 +45,16 @@ TriangleMeshData split_in_four(const TriangleMeshData& mesh) {
     out.triangles.push_back({ca, bc, t[2]});
     out.triangles.push_back({ab, bc, ca});
   }
+  // A sharp edge's halves keep its sharpness (the split surface is the same surface); corners
+  // stay where they are.
+  out.sharp.method = mesh.sharp.method;
+  out.sharp.vertices = mesh.sharp.vertices;
+  for (const SharpEdge& e : mesh.sharp.edges) {
+    const auto it = midpoint.find(std::minmax(e.a, e.b));
+    if (it == midpoint.end()) continue;
+    out.sharp.edges.push_back({e.a, it->second, e.sharpness});
+    out.sharp.edges.push_back({it->second, e.b, e.sharpness});
+  }
   return out;
 }
 
@@ -117,6 +127,9 @@ Base make_base(const PolygonSoup& target, const std::vector<Vec3>& normals, cons
                            with_thousands(surface.triangles.size() / given) + " (" +
                            with_thousands(surface.triangles.size()) + " faces, the same surface)");
   } else {
+    if (options.soup.sharp_angle > 0)
+      base.notes.push_back("the sharp angle keeps the edges of a target's faces; a point cloud has none, so the "
+                           "base is smooth");
     ReconstructionOptions reconstruction = options.reconstruction;
     reconstruction.faces = std::max(reconstruction.faces, 4 * options.faces);
     Reconstruction r = reconstruct_surface(target.points, normals, reconstruction, control);

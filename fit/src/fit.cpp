@@ -199,7 +199,7 @@ LimitStencils limit_stencils(const TriangleMeshData& base, int level, const Stag
   }
 
   // The refined topology, with the real points (also the check below).
-  RgbMesh real = RgbMesh::from_triangles(base.points, base.triangles);
+  RgbMesh real = RgbMesh::from_triangles(base.points, base.triangles, base.sharp);
   selective_refinement(real, UniformLevel(level));
   LimitStencils st;
   std::vector<std::int32_t> index_of(static_cast<std::size_t>(real.vertex_slots()), -1);
@@ -240,8 +240,9 @@ LimitStencils limit_stencils(const TriangleMeshData& base, int level, const Stag
       const int c = colour[j] - 3 * r;
       probe[j] = Vec3(c == 0, c == 1, c == 2);
     }
-    // Indicator coordinates put many corners at one point: values, not a surface.
-    RgbMesh m = RgbMesh::from_triangles(probe, base.triangles, PointRole::values);
+    // Indicator coordinates put many corners at one point: values, not a surface. The base's
+    // creases and corners shape the stencils as they shape the surface.
+    RgbMesh m = RgbMesh::from_triangles(probe, base.triangles, base.sharp, PointRole::values);
     selective_refinement(m, UniformLevel(level));
     for (std::size_t i = 0; i < vertices.size(); ++i) {
       const Vec3 l = m.limit_position(vertices[i]);

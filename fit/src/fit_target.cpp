@@ -20,6 +20,7 @@ TargetFit prepare_target_fit(const PolygonSoup& target, const std::vector<Vec3>&
     if (out.target_is_surface) {
       from.points = out.target_surface.points;
       for (const auto& t : out.target_surface.triangles) from.faces.push_back({t[0], t[1], t[2]});
+      from.sharp = out.target_surface.sharp;  // its creases, which the base keeps
     } else {
       from.points = target.points;
     }

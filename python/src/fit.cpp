@@ -168,8 +168,8 @@ py::dict run_fit(const py::object& target, const py::object& triangles, const py
   const fit::Base& b = f.base;
   const fit::FitResult& r = f.result;
   py::dict out;
-  out["mesh"] = RgbMesh::from_triangles(r.control_points, b.mesh.triangles);
-  out["base"] = RgbMesh::from_triangles(b.mesh.points, b.mesh.triangles);
+  out["mesh"] = RgbMesh::from_triangles(r.control_points, b.mesh.triangles, b.mesh.sharp);
+  out["base"] = RgbMesh::from_triangles(b.mesh.points, b.mesh.triangles, b.mesh.sharp);
   out["base_source"] = fit::to_string(b.source);
   out["topology"] = fit::to_string(b.topology);
   out["rms"] = r.rms;
