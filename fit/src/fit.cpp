@@ -42,6 +42,28 @@ std::vector<std::vector<std::int32_t>> adjacency(const TriangleMeshData& m) {
   return adj;
 }
 
+// The neighbours whose mean the smoothness term pulls each control point to. With sharp
+// features, a crease's points are smoothed along their crease only (its two crease
+// neighbours), and corners, crossings and dart ends not at all: the smoothing would round the
+// very edges the creases keep.
+std::vector<std::vector<std::int32_t>> smoothing_neighbours(const TriangleMeshData& m) {
+  std::vector<std::vector<std::int32_t>> adj = adjacency(m);
+  if (m.sharp.empty()) return adj;
+  std::vector<std::vector<std::int32_t>> along(m.points.size());
+  for (const SharpEdge& e : m.sharp.edges) {
+    if (e.sharpness <= 0.0f) continue;
+    along[static_cast<std::size_t>(e.a)].push_back(e.b);
+    along[static_cast<std::size_t>(e.b)].push_back(e.a);
+  }
+  for (const SharpVertex& v : m.sharp.vertices)
+    if (v.sharpness > 0.0f) adj[static_cast<std::size_t>(v.v)].clear();
+  for (std::size_t v = 0; v < along.size(); ++v) {
+    if (along[v].empty() || adj[v].empty()) continue;
+    adj[v] = along[v].size() == 2 ? along[v] : std::vector<std::int32_t>();
+  }
+  return adj;
+}
+
 // Base vertices within `radius` edges of the seeds.
 std::vector<std::int32_t> ball(const std::vector<std::vector<std::int32_t>>& adj, const std::vector<std::int32_t>& seeds,
                                int radius, std::vector<int>& mark, int stamp) {
@@ -407,7 +429,7 @@ FitResult fit(const TriangleMeshData& base, const std::vector<Vec3>& targets, co
   const std::string stage = "fitting " + with_thousands(base.points.size()) + " control points to " +
                             with_thousands(targets.size()) + " targets";
   const LimitStencils& st = res.stencils;
-  const auto adj = adjacency(base);
+  const auto adj = smoothing_neighbours(base);
   std::vector<double> x(3 * base.points.size());
   for (std::size_t j = 0; j < base.points.size(); ++j) {
     x[3 * j] = base.points[j].x;
