@@ -1,4 +1,6 @@
-// Loop-basis elements on a uniformly refined closed mesh (see loop_elements.hpp).
+// Loop-basis elements on a uniformly refined closed mesh (see loop_elements.hpp): the space, the
+// assembly, Nitsche's boundary terms and the solves. What is computed from a solution lives
+// apart: its errors and the estimator in loop_estimate.cpp, its pictures in loop_views.cpp.
 
 #include "rgbmesh/fem/loop_elements.hpp"
 
@@ -15,6 +17,7 @@
 
 #include "for_each_index.hpp"
 #include "loop_assembly.hpp"
+#include "loop_points.hpp"
 #include "rgbmesh/canonical.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/loop_rules.hpp"
@@ -24,6 +27,17 @@
 namespace rgbmesh::fem {
 
 namespace {
+
+using detail::dirichlet_at;
+using detail::Frame;
+using detail::frame_at;
+using detail::laplacian_weights;
+using detail::LaplacianWeights;
+using detail::neumann_side;
+using detail::point_source;
+using detail::PointSource;
+using detail::side_points;
+using detail::SidePoint;
 
 Vec3 patch_sum(const Eigen::MatrixXd& weights, Eigen::Index point, const std::vector<std::int32_t>& dofs,
                const std::vector<Vec3>& control) {
@@ -40,16 +54,17 @@ Vec3 projected_tangent(const Projection& p, const Vec3& x, const Vec3& a) {
   return (p(x + h * a) - p(x - h * a)) * (0.5 / h);
 }
 
-// The geometry at one quadrature point: the point on the surface, the metric's inverse and
-// the area density.
-struct Frame {
-  Vec3 x, xu, xv;                    // on the limit surface
-  Vec3 y, yu, yv;                    // on the surface computed on (the projection's image, or the same)
-  double g11 = 0, g12 = 0, g22 = 0;  // the inverse metric
-  double density = 0;
-};
+// D²P[a, b] at x by central differences, with steps of 1e-4 of |x| in space (the projections
+// are onto surfaces of that scale: the error is then ~1e-8 relative).
+Vec3 projection_hessian(const Projection& p, const Vec3& x, const Vec3& a, const Vec3& b) {
+  const double s = 1e-4 * std::max(norm(x), 1e-3) / std::max({norm(a), norm(b), 1e-300});
+  return (p(x + s * a + s * b) - p(x + s * a - s * b) - p(x - s * a + s * b) + p(x - s * a - s * b)) *
+         (0.25 / (s * s));
+}
 
-Frame frame_at(const LoopSpace& space, const LoopSpace::Element& e, Eigen::Index p) {
+}  // namespace
+
+detail::Frame detail::frame_at(const LoopSpace& space, const LoopSpace::Element& e, Eigen::Index p) {
   const LoopQuadrature& r = *e.rule;
   Frame f;
   f.x = patch_sum(r.value, p, e.dofs, space.control);
@@ -69,23 +84,8 @@ Frame frame_at(const LoopSpace& space, const LoopSpace::Element& e, Eigen::Index
   return f;
 }
 
-// D²P[a, b] at x by central differences, with steps of 1e-4 of |x| in space (the projections
-// are onto surfaces of that scale: the error is then ~1e-8 relative).
-Vec3 projection_hessian(const Projection& p, const Vec3& x, const Vec3& a, const Vec3& b) {
-  const double s = 1e-4 * std::max(norm(x), 1e-3) / std::max({norm(a), norm(b), 1e-300});
-  return (p(x + s * a + s * b) - p(x + s * a - s * b) - p(x - s * a + s * b) + p(x - s * a - s * b)) *
-         (0.25 / (s * s));
-}
-
-// The Laplace-Beltrami operator at a point as weights of a function's derivatives:
-// Δ_Γ u = A u_uu + B u_uv + C u_vv + D u_u + E u_v, from g^{ab} (u_ab - Γ^c_ab u_c) with
-// Γ^c_ab u_c = y_ab · ∇u and ∇u = u_u t_u + u_v t_v, t_u = g^{1c} y_c, t_v = g^{2c} y_c.
-struct LaplacianWeights {
-  double a = 0, b = 0, c = 0, d = 0, e = 0;
-};
-
-LaplacianWeights laplacian_weights(const LoopSpace& space, const LoopSpace::Element& el, Eigen::Index p,
-                                   const Frame& f) {
+detail::LaplacianWeights detail::laplacian_weights(const LoopSpace& space, const LoopSpace::Element& el,
+                                                   Eigen::Index p, const Frame& f) {
   const LoopQuadrature& r = *el.rule;
   // Second derivatives of the surface: those of the limit surface, and through the projection
   // y = P(x): y_ab = D²P[x_a, x_b] + DP x_ab.
@@ -102,20 +102,7 @@ LaplacianWeights laplacian_weights(const LoopSpace& space, const LoopSpace::Elem
   return {f.g11, 2 * f.g12, f.g22, -dot(christoffel, tu), -dot(christoffel, tv)};
 }
 
-// Δ_Γ u_h at a quadrature point whose frame is known (the estimator and the error norms have
-// it already; loop_laplacian computes it).
-double laplacian_at(const LoopSpace& space, const LoopSpace::Element& e, Eigen::Index p, const Frame& f,
-                    const Eigen::VectorXd& u) {
-  const LoopQuadrature& r = *e.rule;
-  const LaplacianWeights w = laplacian_weights(space, e, p, f);
-  double sum = 0;
-  for (std::size_t i = 0; i < e.dofs.size(); ++i) {
-    const Eigen::Index k = static_cast<Eigen::Index>(i);
-    sum += u(e.dofs[i]) *
-           (w.a * r.duu(k, p) + w.b * r.duv(k, p) + w.c * r.dvv(k, p) + w.d * r.du(k, p) + w.e * r.dv(k, p));
-  }
-  return sum;
-}
+namespace {
 
 // The sparsity of the Loop space's matrices: i and j are coupled when one patch holds both.
 // Per DOF, the patches holding it (a CSR incidence), then each column's rows on every core.
@@ -248,17 +235,9 @@ void local_parts(const LoopSpace& space, std::size_t element, const Form& form, 
   }
 }
 
-// The source at every quadrature point when it is a batch function (one call with all the
-// points); empty otherwise (problem.source is then called point by point).
-struct PointSource {
-  std::vector<std::size_t> first;  // per element, its first point's index
-  std::vector<double> values;
-  const double* of(std::size_t element) const {
-    return values.empty() ? nullptr : values.data() + first[element];
-  }
-};
+}  // namespace
 
-PointSource point_source(const LoopSpace& space, const PointValues& batch) {
+detail::PointSource detail::point_source(const LoopSpace& space, const PointValues& batch) {
   PointSource s;
   if (!batch) return s;
   s.first.assign(space.elements.size() + 1, 0);
@@ -272,8 +251,6 @@ PointSource point_source(const LoopSpace& space, const PointValues& batch) {
   s.values = detail::point_values(batch, points);
   return s;
 }
-
-}  // namespace
 
 LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
                            const LoopQuadratureOptions& quadrature, LoopBoundary boundary) {
@@ -644,17 +621,10 @@ void require_closed(const LoopSpace& space, const std::string& name) {
 void add_boundary_terms(const LoopSpace& space, const Problem& problem, const LoopNitscheOptions& o,
                         detail::LoopSystem& s);
 
-// The basis along a boundary side at the Gauss points gauss_t (in [0, 1] along the side):
-// the values, the co-normal derivatives ∂ₘφ = ∇_Γφ · m with m = y_t × n / |y_t| (outward: the
-// parameter triangle runs counter-clockwise about the normal n = y_u × y_v / |y_u × y_v|),
-// the speed |y_t| and the point (projected, if the space has a projection).
-struct SidePoint {
-  Eigen::VectorXd value, dm;
-  double speed = 0;
-  Vec3 y;
-};
-std::vector<SidePoint> side_points(const LoopSpace& space, const LoopSpace::Side& side,
-                                   const std::vector<double>& gauss_t) {
+}  // namespace
+
+std::vector<detail::SidePoint> detail::side_points(const LoopSpace& space, const LoopSpace::Side& side,
+                                                   const std::vector<double>& gauss_t) {
   const LoopSpace::Element& e = space.elements[side.element];
   std::vector<SidePoint> out;
   for (const double t : gauss_t) {
@@ -688,8 +658,7 @@ std::vector<SidePoint> side_points(const LoopSpace& space, const LoopSpace::Side
   return out;
 }
 
-// The Dirichlet data g at points, in one call of a batch function (zero if the problem has none).
-std::vector<double> dirichlet_at(const Problem& problem, const std::vector<Vec3>& points) {
+std::vector<double> detail::dirichlet_at(const Problem& problem, const std::vector<Vec3>& points) {
   if (problem.dirichlet_values) return detail::point_values(problem.dirichlet_values, points);
   std::vector<double> g(points.size(), 0.0);
   if (problem.dirichlet)
@@ -697,12 +666,9 @@ std::vector<double> dirichlet_at(const Problem& problem, const std::vector<Vec3>
   return g;
 }
 
-// Whether a boundary side takes a flux (problem.is_neumann at its midpoint).
-bool neumann_side(const LoopSpace& space, const LoopSpace::Side& side, const Problem& problem) {
+bool detail::neumann_side(const LoopSpace& space, const LoopSpace::Side& side, const Problem& problem) {
   return problem.is_neumann && problem.is_neumann(side_points(space, side, {0.5}).front().y);
 }
-
-}  // namespace
 
 void detail::add_loop_boundary_terms(const LoopSpace& space, const Problem& problem,
                                      const LoopNitscheOptions& options, LoopSystem& s) {
@@ -869,299 +835,6 @@ Solution solve_loop_biharmonic(const LoopSpace& space, const BiharmonicProblem& 
   Solution sol = solve_linear_system(s.a, s.b, detail::loop_solver(options, s.a), problem.name);
   sol.assembly_seconds = s.seconds;
   return sol;
-}
-
-BiharmonicErrors loop_biharmonic_errors(const LoopSpace& space, const Eigen::VectorXd& u,
-                                        const BiharmonicProblem& problem) {
-  if (!problem.exact || !problem.exact_laplacian)
-    throw InputError("problem '" + problem.name + "' has no exact solution");
-  const ErrorNorms norms = loop_error_norms(space, u, *problem.exact);
-  std::vector<double> squares(space.elements.size(), 0.0);
-  detail::for_each_index(space.elements.size(), [&](std::size_t e) {
-    const LoopSpace::Element& el = space.elements[e];
-    for (std::size_t p = 0; p < el.rule->size(); ++p) {
-      const Frame fr = frame_at(space, el, static_cast<Eigen::Index>(p));
-      const double difference =
-          problem.exact_laplacian(fr.y) - laplacian_at(space, el, static_cast<Eigen::Index>(p), fr, u);
-      squares[e] += el.rule->weight[p] * fr.density * difference * difference;
-    }
-  });
-  double sum = 0;
-  for (const double x : squares) sum += x;
-  return {norms.l2, norms.h1, std::sqrt(sum)};
-}
-
-ErrorNorms loop_error_norms(const LoopSpace& space, const Eigen::VectorXd& u, const ExactSolution& exact,
-                            bool subtract_mean) {
-  const std::size_t m = space.elements.size();
-  std::vector<std::array<double, 4>> sums(m);  // ∫(u - u_h)², ∫|∇(u - u_h)|², ∫u, area
-  detail::for_each_index(m, [&](std::size_t e) {
-    const LoopSpace::Element& el = space.elements[e];
-    std::array<double, 4> s{};
-    for (std::size_t p = 0; p < el.rule->size(); ++p) {
-      const LoopPoint q = loop_point(space, e, p);
-      double uh = 0;
-      Vec3 grad_uh;
-      for (std::size_t i = 0; i < el.dofs.size(); ++i) {
-        const double ui = u(el.dofs[i]);
-        uh += el.rule->value(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(p)) * ui;
-        grad_uh += ui * q.gradient[i];
-      }
-      const double w = el.rule->weight[p] * q.density;
-      const double ue = exact.value(q.x);
-      const Vec3 grad_error = exact.surface_gradient(q.x) - grad_uh;
-      s[0] += w * (ue - uh) * (ue - uh);
-      s[1] += w * dot(grad_error, grad_error);
-      s[2] += w * (ue - uh);
-      s[3] += w;
-    }
-    sums[e] = s;
-  });
-  std::array<double, 4> total{};
-  for (const auto& s : sums)
-    for (int k = 0; k < 4; ++k) total[static_cast<std::size_t>(k)] += s[static_cast<std::size_t>(k)];
-  ErrorNorms out;
-  // With the mean removed: ‖e - ē‖² = ‖e‖² - |Γ| ē².
-  const double mean = subtract_mean ? total[2] / total[3] : 0.0;
-  out.l2 = std::sqrt(std::max(0.0, total[0] - total[3] * mean * mean));
-  out.h1 = std::sqrt(total[1]);
-  return out;
-}
-
-double loop_laplacian(const LoopSpace& space, std::size_t element, std::size_t point,
-                      const Eigen::VectorXd& u) {
-  const LoopSpace::Element& e = space.elements[element];
-  const Eigen::Index p = static_cast<Eigen::Index>(point);
-  return laplacian_at(space, e, p, frame_at(space, e, p), u);
-}
-
-Estimate loop_residual_estimate(const LoopSpace& space, const Problem& problem, const Eigen::VectorXd& u) {
-  const PointSource f = point_source(space, problem.source_values);
-  Estimate out;
-  out.eta.assign(space.elements.size(), 0.0);
-  out.geometric.assign(space.elements.size(), 0.0);
-  detail::for_each_index(space.elements.size(), [&](std::size_t e) {
-    const LoopSpace::Element& el = space.elements[e];
-    const double* source = f.of(e);
-    double residual = 0, area = 0;
-    for (std::size_t p = 0; p < el.rule->size(); ++p) {
-      const Frame fr = frame_at(space, el, static_cast<Eigen::Index>(p));
-      double uh = 0;
-      for (std::size_t i = 0; i < el.dofs.size(); ++i)
-        uh += el.rule->value(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(p)) * u(el.dofs[i]);
-      const double fp = source != nullptr ? source[p] : problem.source(fr.y);
-      const double r = fp - problem.c * uh + laplacian_at(space, el, static_cast<Eigen::Index>(p), fr, u);
-      const double w = el.rule->weight[p] * fr.density;
-      residual += w * r * r;
-      area += w;
-    }
-    const double h2 = 4 * area / std::sqrt(3.0);  // the squared side of the equilateral triangle of this area
-    out.eta[e] = std::sqrt(h2 * residual);
-  });
-  // On the boundary, what the weak conditions leave: h_E⁻¹ ‖g - u_h‖² on a Dirichlet side
-  // (Nitsche's solution does not interpolate g) and h_E ‖h - ∂ₘu_h‖² on a Neumann side.
-  if (!space.boundary.empty()) {
-    std::vector<double> gauss_t, gauss_w;
-    gauss_legendre(6, gauss_t, gauss_w);
-    std::vector<std::vector<SidePoint>> points(space.boundary.size());
-    std::vector<char> neumann(space.boundary.size(), 0);
-    detail::for_each_index(space.boundary.size(),
-                           [&](std::size_t k) { points[k] = side_points(space, space.boundary[k], gauss_t); });
-    // The problem's own functions are called on one thread, as the solve calls them.
-    for (std::size_t k = 0; k < points.size(); ++k)
-      neumann[k] = neumann_side(space, space.boundary[k], problem) ? 1 : 0;
-    std::vector<Vec3> at;
-    for (std::size_t k = 0; k < points.size(); ++k)
-      if (!neumann[k])
-        for (const SidePoint& p : points[k]) at.push_back(p.y);
-    const std::vector<double> g = dirichlet_at(problem, at);
-    std::size_t next = 0;
-    for (std::size_t k = 0; k < points.size(); ++k) {
-      const LoopSpace::Element& el = space.elements[space.boundary[k].element];
-      double length = 0, squares = 0;
-      for (std::size_t q = 0; q < points[k].size(); ++q) {
-        const SidePoint& p = points[k][q];
-        double uh = 0, dm = 0;
-        for (std::size_t i = 0; i < el.dofs.size(); ++i) {
-          uh += p.value(static_cast<Eigen::Index>(i)) * u(el.dofs[i]);
-          dm += p.dm(static_cast<Eigen::Index>(i)) * u(el.dofs[i]);
-        }
-        const double r =
-            neumann[k] ? (problem.neumann_flux ? problem.neumann_flux(p.y) : 0.0) - dm : g[next++] - uh;
-        length += gauss_w[q] * p.speed;
-        squares += gauss_w[q] * p.speed * r * r;
-      }
-      double& eta = out.eta[space.boundary[k].element];
-      eta = std::sqrt(eta * eta + (neumann[k] ? length * squares : squares / length));
-    }
-  }
-  // On the seams the functions are continuous but not smooth, and the weak form asks the two
-  // outward co-normal derivatives to cancel: ½ h_E ‖∂ₘu_h + ∂ₘ'u_h‖²_E to each element, as the
-  // P1 estimator's jumps.
-  if (!space.seams.empty()) {
-    std::vector<double> gauss_s, gauss_w;
-    gauss_legendre(6, gauss_s, gauss_w);
-    std::vector<std::array<double, 2>> jumps(space.seams.size());  // h_E ∫ jump², per seam
-    detail::for_each_index(space.seams.size(), [&](std::size_t k) {
-      const LoopSpace::Seam& seam = space.seams[k];
-      std::array<std::vector<SidePoint>, 2> points;
-      for (std::size_t i = 0; i < 2; ++i) {
-        std::vector<double> t;
-        for (const double x : gauss_s) t.push_back(seam.from[i] + x * (seam.to[i] - seam.from[i]));
-        points[i] = side_points(space, {seam.element[i], seam.edge[i]}, t);
-      }
-      double length = 0, squares = 0;
-      for (std::size_t q = 0; q < gauss_s.size(); ++q) {
-        double jump = 0;
-        for (std::size_t i = 0; i < 2; ++i) {
-          const LoopSpace::Element& el = space.elements[seam.element[i]];
-          for (std::size_t j = 0; j < el.dofs.size(); ++j)
-            jump += points[i][q].dm(static_cast<Eigen::Index>(j)) * u(el.dofs[j]);
-        }
-        const double ds = gauss_w[q] * points[0][q].speed * std::abs(seam.to[0] - seam.from[0]);
-        length += ds;
-        squares += ds * jump * jump;
-      }
-      jumps[k] = {length, squares};
-    });
-    for (std::size_t k = 0; k < space.seams.size(); ++k)
-      for (const std::size_t e : space.seams[k].element)
-        out.eta[e] = std::sqrt(out.eta[e] * out.eta[e] + 0.5 * jumps[k][0] * jumps[k][1]);
-  }
-  double sum = 0;
-  for (const double x : out.eta) sum += x * x;
-  out.total = std::sqrt(sum);
-  return out;
-}
-
-MeshSnapshot loop_refined_view(const LoopSpace& space, const Eigen::VectorXd& u, int levels) {
-  if (levels < 0 || levels > 6) throw std::invalid_argument("loop_refined_view: levels in [0, 6]");
-  const int m = 1 << levels;
-  // The grid points (i/m, j/m) of the parameter triangle, and the basis there, once per rule.
-  std::vector<std::array<int, 2>> grid;
-  for (int j = 0; j <= m; ++j)
-    for (int i = 0; i + j <= m; ++i) grid.push_back({i, j});
-  const auto grid_index = [m](int i, int j) { return j * (m + 1) - j * (j - 1) / 2 + i; };
-  std::map<const LoopQuadrature*, Eigen::MatrixXd> weights;  // n x grid points
-  MeshSnapshot view;
-  std::vector<double> values;
-  std::vector<double> element;
-  // A grid point on an element's edge or corner is shared: named by the edge's end DOFs and
-  // its place counted from the lower one.
-  std::map<std::array<std::int64_t, 3>, std::int32_t> shared;
-  std::vector<std::int32_t> point(grid.size());
-  for (std::size_t e = 0; e < space.elements.size(); ++e) {
-    const LoopSpace::Element& el = space.elements[e];
-    Eigen::MatrixXd& w = weights[el.rule.get()];
-    if (w.size() == 0) {
-      w.resize(static_cast<Eigen::Index>(el.dofs.size()), static_cast<Eigen::Index>(grid.size()));
-      for (std::size_t g = 0; g < grid.size(); ++g)
-        w.col(static_cast<Eigen::Index>(g)) =
-            evaluate_loop_basis(el.rule->patch, grid[g][0] / double(m), grid[g][1] / double(m)).value;
-    }
-    const std::array<std::int64_t, 3> d = {el.dofs[0], el.dofs[1], el.dofs[2]};
-    for (std::size_t g = 0; g < grid.size(); ++g) {
-      const int i = grid[g][0], j = grid[g][1];
-      std::array<std::int64_t, 3> key{-1, -1, -1};
-      const auto on_edge = [&](std::int64_t a, std::int64_t b, int t) {  // t steps from a towards b
-        key = a < b ? std::array<std::int64_t, 3>{a, b, t} : std::array<std::int64_t, 3>{b, a, m - t};
-      };
-      if (j == 0)
-        on_edge(d[0], d[1], i);
-      else if (i + j == m)
-        on_edge(d[1], d[2], j);
-      else if (i == 0)
-        on_edge(d[0], d[2], j);
-      if (key[0] >= 0 && (key[2] == 0 || key[2] == m))
-        key = {key[2] == 0 ? key[0] : key[1], -1, 0};  // a corner
-      if (key[0] >= 0) {
-        const auto [it, inserted] = shared.emplace(key, static_cast<std::int32_t>(view.points.size()));
-        point[g] = it->second;
-        if (!inserted) continue;
-      } else {
-        point[g] = static_cast<std::int32_t>(view.points.size());
-      }
-      Vec3 x;
-      double value = 0;
-      for (std::size_t k = 0; k < el.dofs.size(); ++k) {
-        const double wk = w(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(g));
-        x += wk * space.control[static_cast<std::size_t>(el.dofs[k])];
-        value += wk * u(el.dofs[k]);
-      }
-      view.points.push_back(space.projection ? (*space.projection)(x) : x);
-      values.push_back(value);
-    }
-    for (int j = 0; j < m; ++j) {
-      for (int i = 0; i + j < m; ++i) {
-        view.triangles.push_back({point[static_cast<std::size_t>(grid_index(i, j))],
-                                  point[static_cast<std::size_t>(grid_index(i + 1, j))],
-                                  point[static_cast<std::size_t>(grid_index(i, j + 1))]});
-        element.push_back(static_cast<double>(e));
-        if (i + j + 1 < m) {
-          view.triangles.push_back({point[static_cast<std::size_t>(grid_index(i + 1, j))],
-                                    point[static_cast<std::size_t>(grid_index(i + 1, j + 1))],
-                                    point[static_cast<std::size_t>(grid_index(i, j + 1))]});
-          element.push_back(static_cast<double>(e));
-        }
-      }
-    }
-  }
-  view.point_data.push_back({"solution", 1, std::move(values)});
-  view.cell_data.push_back({"element", 1, std::move(element)});
-  return view;
-}
-
-Eigen::VectorXd loop_vertex_values(const LoopSpace& space, const Eigen::VectorXd& u) {
-  Eigen::VectorXd out = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(space.num_dofs()),
-                                                  std::numeric_limits<double>::quiet_NaN());
-  std::vector<char> done(space.num_dofs(), 0);
-  for (const LoopSpace::Element& e : space.elements) {
-    for (int corner = 0; corner < 3; ++corner) {
-      const std::int32_t dof = e.dofs[static_cast<std::size_t>(corner)];
-      if (done[static_cast<std::size_t>(dof)]) continue;
-      const Eigen::VectorXd w = loop_corner_limit(e.rule->patch, corner);
-      double value = 0;
-      for (std::size_t i = 0; i < e.dofs.size(); ++i) value += w(static_cast<Eigen::Index>(i)) * u(e.dofs[i]);
-      out(dof) = value;
-      done[static_cast<std::size_t>(dof)] = 1;
-    }
-  }
-  return out;
-}
-
-Eigen::VectorXd loop_values_on(const LoopSpace& space, const Eigen::VectorXd& u, const SurfaceMesh& p1) {
-  if (p1.order != 1 || p1.num_dofs() != space.num_dofs())
-    throw std::invalid_argument("loop_values_on: the P1 mesh of the Loop space's triangles is needed");
-  const Eigen::VectorXd at_vertices = loop_vertex_values(space, u);
-  Eigen::VectorXd out = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(p1.num_dofs()),
-                                                  std::numeric_limits<double>::quiet_NaN());
-  for (std::size_t d = 0; d < space.num_dofs(); ++d) {
-    const std::size_t slot = static_cast<std::size_t>(space.vertex[d].idx);
-    const std::int32_t to = slot < p1.dof_of_vertex.size() ? p1.dof_of_vertex[slot] : -1;
-    if (to < 0 || static_cast<std::size_t>(to) >= p1.num_dofs())
-      throw std::invalid_argument("loop_values_on: the P1 mesh is not of the Loop space's vertices");
-    out(to) = at_vertices(static_cast<Eigen::Index>(d));
-  }
-  return out;
-}
-
-std::vector<double> loop_element_values_on(const LoopSpace& space, const std::vector<double>& per_element,
-                                           const SurfaceMesh& p1) {
-  if (per_element.size() != space.elements.size() || p1.triangle.size() != space.elements.size())
-    throw std::invalid_argument("loop_element_values_on: one value per element of the same triangles");
-  std::int32_t slots = 0;
-  for (const LoopSpace::Element& e : space.elements) slots = std::max(slots, e.triangle.idx + 1);
-  std::vector<double> by_slot(static_cast<std::size_t>(slots), 0.0);
-  for (std::size_t e = 0; e < space.elements.size(); ++e)
-    by_slot[static_cast<std::size_t>(space.elements[e].triangle.idx)] = per_element[e];
-  std::vector<double> out;
-  out.reserve(p1.triangle.size());
-  for (const TriangleHandle t : p1.triangle) {
-    if (t.idx < 0 || t.idx >= slots)
-      throw std::invalid_argument("loop_element_values_on: the P1 mesh is not of the Loop space's triangles");
-    out.push_back(by_slot[static_cast<std::size_t>(t.idx)]);
-  }
-  return out;
 }
 
 }  // namespace rgbmesh::fem
