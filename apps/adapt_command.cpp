@@ -669,7 +669,9 @@ class RunFiles {
                          series_file(s_.moving, r.cycle, listed_order(), pieces));
     // The sharp edges as lines, part 1 of the cycle in the series (ParaView draws both).
     const fs::path creases = sharp_edges_path(dir_ / file);
-    if (a_.writes && write_sharp_edges(creases, snapshot, output_options(creases.string(), a_.compression)))
+    // (A distributed mesh has no whole snapshot on any process: its pieces carry vertex_rule.)
+    if (a_.writes && !s_.options.distribution.distributed_mesh &&
+        write_sharp_edges(creases, snapshot, output_options(creases.string(), a_.compression)))
       crease_series_.emplace_back(s_.moving ? r.time : r.cycle, creases.filename().string());
     if (a_.writes) write_series();  // after every cycle: usable while running
     progress_.cycles.push_back(r);

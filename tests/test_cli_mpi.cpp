@@ -149,6 +149,17 @@ TEST_F(Mpi, AGaussianOnATorusWithAHoleIsTheSerialRun) {
   expect_same_runs("adapt --mesh " + path("holed_torus.obj") + " --cycles 10", "cycle_009");
 }
 
+TEST_F(Mpi, ACreasedCubeIsTheSerialRun) {
+  // Sharp features (issue 42) travel with the pieces' states: the cube of 12 triangles with its
+  // edges at 30 degrees, the same cycles and meshes on every number of processes.
+  std::ofstream off(path("cube.off"));
+  off << "OFF\n8 12 0\n";
+  for (int i = 0; i < 8; ++i) off << (i & 1) << " " << ((i >> 1) & 1) << " " << ((i >> 2) & 1) << "\n";
+  off << "3 0 2 3\n3 0 3 1\n3 4 5 7\n3 4 7 6\n3 0 1 5\n3 0 5 4\n3 2 6 7\n3 2 7 3\n3 0 4 6\n3 0 6 2\n3 1 3 7\n3 1 7 5\n";
+  off.close();
+  expect_same_runs("adapt --mesh " + path("cube.off") + " --sharp-angle 30 --min-level 2 --cycles 8", "cycle_007");
+}
+
 TEST_F(Mpi, AMovingPeakWithCoarseningIsTheSerialRun) {
   // Removals decided by the owners, the ghost layers made exact again after each round: the
   // serial steps, and pieces only.

@@ -90,6 +90,24 @@ TEST_F(CliSharp, CubeCosineReportsItsExactErrorsAndTheCreasesAsPartOfTheSeries) 
   EXPECT_NE(pvd.find("part=\"1\" file=\"cycle_002.creases.vtp\""), std::string::npos) << pvd;
 }
 
+TEST_F(CliSharp, AResumedRunWithSharpFeaturesIsTheUninterruptedOne) {
+  const std::string cube = write_cube("cube.off");
+  ASSERT_EQ(run("adapt --mesh " + cube + " --sharp-angle 30 --min-level 2 --cycles 7 --out " + path("whole")).code, 0);
+  ASSERT_EQ(run("adapt --mesh " + cube + " --sharp-angle 30 --min-level 2 --cycles 4 --out " + path("part")).code, 0);
+  const RunResult resumed = run("adapt --resume " + path("part") + " --cycles 7");
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  // The last cycle's estimate (written with every digit) and mesh are the same.
+  const std::string whole = read_text(path("whole/report.json")), part = read_text(path("part/report.json"));
+  const auto last_estimate = [](const std::string& report) {
+    const std::size_t at = report.rfind("\"estimate\": ");
+    return report.substr(at, report.find_first_of(",}", at) - at);
+  };
+  EXPECT_EQ(last_estimate(whole), last_estimate(part));
+  EXPECT_EQ(read_vtp(path("whole/cycle_006.vtp"))->GetNumberOfCells(), read_vtp(path("part/cycle_006.vtp"))->GetNumberOfCells());
+  EXPECT_TRUE(fs::exists(path("part/cycle_006.creases.vtp")));
+  EXPECT_NE(read_text(path("part/solution.pvd")).find("part=\"1\" file=\"cycle_001.creases.vtp\""), std::string::npos);
+}
+
 TEST_F(CliSharp, SharpAngleAndCubeCosineRefuseWhatTheyCannotDo) {
   const std::string cube = write_cube("cube.off");
   RunResult r = run("info " + cube + " --sharp-angle 180");
