@@ -18,6 +18,7 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -158,6 +159,25 @@ TEST_F(Mpi, ACreasedCubeIsTheSerialRun) {
   off << "3 0 2 3\n3 0 3 1\n3 4 5 7\n3 4 7 6\n3 0 1 5\n3 0 5 4\n3 2 6 7\n3 2 7 3\n3 0 4 6\n3 0 6 2\n3 1 3 7\n3 1 7 5\n";
   off.close();
   expect_same_runs("adapt --mesh " + path("cube.off") + " --sharp-angle 30 --min-level 2 --cycles 8", "cycle_007");
+  // The pieces carry each point's rule (no process holds the whole crease lines): the points
+  // of the joined pieces with their rules are the serial mesh's.
+  const auto rules = [](vtkPolyData* mesh) {
+    std::set<std::array<long long, 4>> out;
+    vtkDataArray* rule = mesh->GetPointData()->GetArray("vertex_rule");
+    if (rule == nullptr) return out;
+    for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i) {
+      double x[3];
+      mesh->GetPoint(i, x);
+      out.insert({std::llround(x[0] * 1e9), std::llround(x[1] * 1e9), std::llround(x[2] * 1e9),
+                  static_cast<long long>(rule->GetTuple1(i))});
+    }
+    return out;
+  };
+  const auto serial = rules(read_vtp(path("serial/cycle_007.vtp")));
+  std::size_t corners = 0;
+  for (const auto& r : serial) corners += r[3] == 3 ? 1 : 0;
+  EXPECT_EQ(corners, 8u);
+  EXPECT_EQ(rules(read_pvtp(path("p3/cycle_007.pvtp"))), serial);
 }
 
 TEST_F(Mpi, AMovingPeakWithCoarseningIsTheSerialRun) {

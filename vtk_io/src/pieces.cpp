@@ -22,6 +22,7 @@ MeshSnapshot snapshot_piece(const MeshSnapshot& whole, const std::vector<std::in
   take(whole.points, cells.point_rows, piece.points);
   take(whole.vertex_level, cells.point_rows, piece.vertex_level);
   take(whole.vertex_handle, cells.point_rows, piece.vertex_handle);
+  take(whole.vertex_rule, cells.point_rows, piece.vertex_rule);  // sharp features: each point's rule
   take(whole.triangle_level, cells.cell_rows, piece.triangle_level);
   take(whole.triangle_color, cells.cell_rows, piece.triangle_color);
   take(whole.triangle_handle, cells.cell_rows, piece.triangle_handle);
@@ -60,6 +61,7 @@ void write_pvtp(const std::filesystem::path& pvtp, const MeshSnapshot& like, con
   stand_in.points.resize(1);
   stand_in.triangles.resize(1);
   if (!like.vertex_level.empty()) stand_in.vertex_level.resize(1);
+  if (!like.vertex_rule.empty()) stand_in.vertex_rule.resize(1);
   if (!like.triangle_level.empty()) stand_in.triangle_level.resize(1);
   if (!like.triangle_color.empty()) stand_in.triangle_color.resize(1);
   for (const NamedArray& a : like.point_data)
