@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 
@@ -170,6 +171,23 @@ BENCHMARK(BM_RatioToOpenSubdiv)->Arg(3)->Arg(4)->Arg(5)->Unit(benchmark::kMillis
 // The scan of 58,784 triangles to level 3 (3.76 M triangles).
 void BM_RatioToOpenSubdivScan(benchmark::State& state) { ratio_to_opensubdiv(state, scan_58k()); }
 BENCHMARK(BM_RatioToOpenSubdivScan)->Arg(3)->Unit(benchmark::kMillisecond);
+
+// Any mesh file (RGBMESH_BENCH_MESH, e.g. CGAL's data/meshes/armadillo.off), to level 3: the
+// speed targets that name a model of their own.
+void BM_RatioToOpenSubdivFile(benchmark::State& state) {
+  const char* file = std::getenv("RGBMESH_BENCH_MESH");
+  if (file == nullptr) {
+    state.SkipWithError("set RGBMESH_BENCH_MESH to a mesh file");
+    return;
+  }
+  static const Base base = [file] {
+    const TriangleMeshData mesh = read_mesh(file);
+    return Base{mesh.points, mesh.triangles};
+  }();
+  ratio_to_opensubdiv(state, base);
+  state.counters["base_triangles"] = static_cast<double>(base.triangles.size());
+}
+BENCHMARK(BM_RatioToOpenSubdivFile)->Arg(3)->Unit(benchmark::kMillisecond);
 
 // Sharp features against none, alternately in each iteration on the same torus: `ratio` = time
 // per insertion with sharp features / without (the goal: at most 1.2), and the bytes per vertex

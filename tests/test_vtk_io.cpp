@@ -253,6 +253,42 @@ TEST_F(VtkIo, PlyErrorsNameTheProblem) {
   }
 }
 
+TEST_F(VtkIo, PlyFreeTextHeaderLinesOfOldExportersAreReadAsComments) {
+  // Old Blender exporters wrote "Created by ..." without 'comment'; VTK's reader skips such
+  // lines. The file reads as the same file without the line, with one note naming the line.
+  const int n = 40;
+  const std::string clean = binary_ply(false, n);
+  std::string old = clean;
+  old.insert(old.find("element vertex"), "Created by Blender 2.49 - www.blender.org\nExported from a.blend\n");
+  const PolygonSoup expected = read_polygon_soup(write_file("clean.ply", clean));
+  const PolygonSoup s = read_polygon_soup(write_file("old.ply", old));
+  EXPECT_EQ(s.points, expected.points);
+  EXPECT_EQ(s.faces, expected.faces);
+  ASSERT_EQ(s.notes.size(), 1u);  // one note, for the first such line
+  EXPECT_NE(s.notes[0].find("line 3: free text 'Created ...'"), std::string::npos) << s.notes[0];
+  EXPECT_TRUE(expected.notes.empty());
+  // Point clouds too, with the file named.
+  const fs::path cloud = write_file("cloud.ply", "ply\nformat ascii 1.0\nScanned with a turntable, 2004\n"
+                                                 "element vertex 2\nproperty float x\nproperty float y\n"
+                                                 "property float z\nend_header\n0 0 0\n1 2 3\n");
+  const rgbmesh::PointCloud c = rgbmesh::read_point_cloud(cloud);
+  ASSERT_EQ(c.points.size(), 2u);
+  EXPECT_EQ(c.points[1], Vec3(1, 2, 3));
+  ASSERT_EQ(c.notes.size(), 1u);
+  EXPECT_EQ(c.notes[0].rfind(cloud.string() + ": line 3: free text", 0), 0u) << c.notes[0];
+}
+
+TEST_F(VtkIo, PlyHeaderLinesThatLookLikeDamagedDeclarationsAreRefused) {
+  // Skipping a damaged 'property' line would shift every value after it: refused, as before.
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n";
+  for (const std::string line : {"bogus", "propery float z", "proprety float z", "elemnt face 1",
+                                 "vertex_color uchar red", "faces list uchar int vertex_indices", "end_headr x y"}) {
+    const fs::path f = write_file("bad.ply", head + line + "\nproperty float z\nend_header\n0 0 0\n");
+    const std::string first = line.substr(0, line.find(' '));
+    expect_names(input_error([&] { read_polygon_soup(f); }), f, {"line 6: unexpected '" + first + "' in the PLY header"});
+  }
+}
+
 // vtkPLYReader 9.1 reads out of bounds on this file.
 TEST_F(VtkIo, PlyIndexOutOfRangeIsNamed) {
   const fs::path f =

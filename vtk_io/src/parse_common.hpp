@@ -202,9 +202,13 @@ class Cursor {
   std::size_t position() const { return pos_; }
   void rewind(std::size_t pos) { pos_ = pos; }
 
+  // The number of the line last read (from 1).
+  std::size_t line_number() const {
+    return 1 + static_cast<std::size_t>(std::count(data_.begin(), data_.begin() + static_cast<std::ptrdiff_t>(mark_), '\n'));
+  }
+
   InputError error(const std::string& what) const {
-    const auto line = 1 + std::count(data_.begin(), data_.begin() + static_cast<std::ptrdiff_t>(mark_), '\n');
-    return InputError(path_ + ": line " + std::to_string(line) + ": " + what);
+    return InputError(path_ + ": line " + std::to_string(line_number()) + ": " + what);
   }
 
  private:

@@ -44,7 +44,35 @@ int property_index(const PlyElement& element, std::string_view name) {
 struct PlyHeader {
   bool ascii = true, swap = false;
   std::vector<PlyElement> elements;
+  std::vector<std::string> notes;  // free-text lines read as comments
 };
+
+// At most `limit` single-character edits between a and b (Levenshtein, cut off early).
+bool within_edits(std::string_view a, std::string_view b, std::size_t limit) {
+  if (a.size() > b.size() + limit || b.size() > a.size() + limit) return false;
+  std::vector<std::size_t> row(b.size() + 1), next(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    next[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      next[j] = std::min({row[j] + 1, next[j - 1] + 1, row[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    row.swap(next);
+  }
+  return row[b.size()] <= limit;
+}
+
+// Whether a header line that is no PLY keyword is free text that an old exporter wrote without
+// 'comment' ("Created by Blender 2.49", read by VTK's reader too) rather than a damaged
+// declaration. A damaged 'element' or 'property' line skipped would shift every value after it,
+// so anything that looks like one is refused: a single word ("bogus"), a first word a couple of
+// letters away from a keyword ("propery float x"), a PLY type or 'list' as the second word.
+bool is_free_text(const std::vector<std::string_view>& tokens) {
+  if (tokens.size() < 2) return false;
+  for (const std::string_view keyword : {"element", "property", "format", "comment", "obj_info", "end_header"})
+    if (within_edits(tokens[0], keyword, 2)) return false;
+  Scalar type;
+  return tokens[1] != "list" && !ply_scalar(tokens[1], type);
+}
 
 PlyHeader parse_ply_header(Cursor& c, const std::string& path) {
   if ((!c.starts_with("ply\n") && !c.starts_with("ply\r\n")) || c.line() != "ply")
@@ -84,6 +112,11 @@ PlyHeader parse_ply_header(Cursor& c, const std::string& path) {
       property.is_list = list;
       property.name = tokens.back();
       header.elements.back().properties.push_back(std::move(property));
+    } else if (is_free_text(tokens)) {
+      if (header.notes.empty())
+        header.notes.push_back("line " + std::to_string(c.line_number()) + ": free text '" + printable(keyword) +
+                               " ...' in the PLY header read as a comment (old exporters wrote such lines without "
+                               "'comment')");
     } else {
       throw c.error("unexpected '" + printable(keyword) + "' in the PLY header");
     }
@@ -263,6 +296,7 @@ PolygonSoup parse_ply(std::string_view data, const std::string& path, const Read
   const PlyHeader header = parse_ply_header(c, path);
   const PlyLayout layout = ply_layout(header, path);
   PolygonSoup soup;
+  soup.notes = header.notes;
   for (std::size_t e = 0; e < header.elements.size(); ++e) {
     if (header.ascii)
       read_ascii_element(c, header, layout, static_cast<int>(e), path, soup, options.normals);

@@ -231,6 +231,7 @@ PointCloud read_point_cloud(const fs::path& path) {
   cloud.points = std::move(soup.points);
   cloud.faces = std::move(soup.faces);
   cloud.numbered_vertices = soup.numbered_vertices;
+  for (const std::string& note : soup.notes) cloud.notes.push_back(path.string() + ": " + note);
   if (cloud.points.empty()) throw InputError(path.string() + ": no points");
   for (std::size_t i = 0; i < cloud.points.size(); ++i)
     if (!is_finite(cloud.points[i]))
