@@ -933,7 +933,7 @@ void AdaptCommand::add(CLI::App& tool, CompressionOption& compression) {
   // (Empty is refused: an unset shell variable would silently give the icosahedron.)
   app->add_option("--mesh", args.mesh, "Base mesh (default: an embedded icosahedron)")->check(kNonEmptyPath);
   app->add_flag("--triangulate", args.triangulate,
-                "Fan-split the mesh's polygons with more than three vertices");
+                "Split the mesh's polygons into triangles (fans for planar convex ones, ears for the others)");
   app->add_flag("--repair", args.repair, kRepairHelp);
   add_sharp_angle(app, args.sharp_angle);
   app->add_option(

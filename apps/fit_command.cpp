@@ -335,7 +335,7 @@ void FitCommand::add(CLI::App& tool, CompressionOption& compression) {
       ->capture_default_str()
       ->check(number_in("an integer in [4, 10^8]", [](double x) { return x >= 4 && x <= 1e8; }))
       ->excludes(fit_base);
-  app->add_flag("--triangulate", args.triangulate, "Fan-split polygons of the --target and --base faces");
+  app->add_flag("--triangulate", args.triangulate, "Split polygons of the --target and --base faces into triangles");
   app->add_flag(
       "--ignore-faces", args.ignore_faces,
       "Fit the --target's vertices as a point cloud, whatever its faces (by default a mesh target is "

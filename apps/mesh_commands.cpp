@@ -273,7 +273,7 @@ void InfoCommand::add(CLI::App& tool) {
       ->required()
       ->check(kNonEmptyPath);
   app->add_flag("--json", json, "Print one JSON object instead of text");
-  app->add_flag("--triangulate", triangulate, "Fan-split polygons with more than three vertices");
+  app->add_flag("--triangulate", triangulate, "Split polygons into triangles (fans for planar convex ones, ears for the others)");
   app->add_flag("--repair", repair, kRepairHelp);
   add_sharp_angle(app, sharp_angle);
 }
@@ -288,7 +288,7 @@ void ConvertCommand::add(CLI::App& tool, CompressionOption& compression) {
   app->add_option("OUT", out, "Output mesh (" + supported_output_extensions() + ")")
       ->required()
       ->check(kNonEmptyPath);
-  app->add_flag("--triangulate", triangulate, "Fan-split polygons with more than three vertices");
+  app->add_flag("--triangulate", triangulate, "Split polygons into triangles (fans for planar convex ones, ears for the others)");
   app->add_flag("--repair", repair, kRepairHelp);
   add_sharp_angle(app, sharp_angle);
   compression.add_to(*app);
@@ -339,7 +339,7 @@ void RefineCommand::add(CLI::App& tool, CompressionOption& compression) {
                      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   app->add_flag("--stats", stats,
                 "Print one JSON object with counts, timings and peak memory as the last line");
-  app->add_flag("--triangulate", triangulate, "Fan-split polygons with more than three vertices");
+  app->add_flag("--triangulate", triangulate, "Split polygons into triangles (fans for planar convex ones, ears for the others)");
   app->add_flag("--repair", repair, kRepairHelp);
   add_sharp_angle(app, sharp_angle);
   app->add_flag("--limit", limit,

@@ -18,7 +18,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dest=${1:-build/public-data}
-version=4
+version=5
 [ -f "$dest/.complete" ] && [ "$(cat "$dest/.complete")" = "$version" ] && exit 0
 
 files=(
@@ -42,6 +42,10 @@ files=(
   data/points_3/before_upsample.xyz       # open creased sheet, 850 points with normals
   data/points_3/fin90_with_PCA_normals.xyz  # folded CAD part, 757 points, principal-direction normals
   data/points_3/points.xyz                # 49 points: too few for a surface
+  data/meshes/mpi.off                     # polygons of up to 10 corners, concave, corners in line (issue 43)
+  data/meshes/P.off                       # a letter P of hexagons, two concave
+  data/meshes/corner_poly.off             # concave hexagons
+  data/meshes/double-torus-3-holes.off    # 201 polygons of up to 7 corners, 16 concave
 )
 # Meshes as tools export them, by package (extract below says where they go).
 openscad_files=(

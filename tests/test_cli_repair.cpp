@@ -330,7 +330,7 @@ TEST_F(CliRepair, AssimpModels) {
   EXPECT_EQ(i["euler_characteristic"], 2);
   // Polygons still need --triangulate, and the message says so.
   expect_refused(run("info --repair " + cube),
-                 "(use --triangulate to fan-split polygons; a repair needs it too)");
+                 "(use --triangulate to split polygons; a repair needs it too)");
 
   // Wuson.off: numbered vertices keep their numbers in messages; --repair makes it valid.
   const std::string wuson = public_data("assimp/Wuson.off");
@@ -344,13 +344,85 @@ TEST_F(CliRepair, GeomviewModels) {
   ASSERT_EQ(cam.code, 0) << cam.err;
   EXPECT_EQ(cam["components"], 2);
   EXPECT_NE(cam.err.find("split 1 non-manifold vertex into 2"), std::string::npos) << cam.err;
-  // br2.off: polygons with collinear corners, whose fan-split gives zero-area triangles.
+  // br2.off: pentagons with corners in line, whose fan-split gave zero-area triangles; cut
+  // into ears, they are a closed surface as they are.
   const std::string br2 = public_data("geomview/br2.off");
-  expect_refused(run("info --triangulate " + br2), "(--repair collapses degenerate triangles)");
+  const Info plain = info("--triangulate " + br2);
+  ASSERT_EQ(plain.code, 0) << plain.err;
+  EXPECT_EQ(plain["triangles"], 36);
+  EXPECT_EQ(plain["euler_characteristic"], 2);
   const Info fixed = info("--triangulate --repair " + br2);
   ASSERT_EQ(fixed.code, 0) << fixed.err;
   EXPECT_EQ(fixed["boundary_loops"], 0);
   EXPECT_EQ(fixed["euler_characteristic"], 2);
+}
+
+// The polygons of an OFF file, as corner lists.
+std::vector<std::vector<std::array<double, 3>>> off_polygons(const std::string& file) {
+  std::ifstream in(file);
+  std::string line, magic;
+  const auto next_line = [&]() {
+    while (std::getline(in, line))
+      if (line.find_first_not_of(" \t\r") != std::string::npos && line[line.find_first_not_of(" \t")] != '#') return true;
+    return false;
+  };
+  next_line();
+  std::istringstream head(line);
+  head >> magic;
+  long v = 0, f = 0;
+  if (!(head >> v >> f)) {
+    next_line();
+    std::istringstream counts(line);
+    counts >> v >> f;
+  }
+  std::vector<std::array<double, 3>> points(static_cast<std::size_t>(v));
+  for (auto& p : points) {
+    next_line();
+    std::istringstream(line) >> p[0] >> p[1] >> p[2];
+  }
+  std::vector<std::vector<std::array<double, 3>>> polygons;
+  for (long i = 0; i < f && next_line(); ++i) {
+    std::istringstream face(line);
+    long n = 0, k = 0;
+    face >> n;
+    polygons.emplace_back();
+    for (long j = 0; j < n && face >> k; ++j) polygons.back().push_back(points[static_cast<std::size_t>(k)]);
+  }
+  return polygons;
+}
+
+// The area of a polygon: half the length of Newell's area vector.
+double polygon_area(const std::vector<std::array<double, 3>>& p) {
+  double a[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto &u = p[i], &w = p[(i + 1) % p.size()];
+    a[0] += u[1] * w[2] - u[2] * w[1];
+    a[1] += u[2] * w[0] - u[0] * w[2];
+    a[2] += u[0] * w[1] - u[1] * w[0];
+  }
+  return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) / 2;
+}
+
+TEST_F(CliRepair, ConcavePolygonsOfRealModelsAreSplitWithoutOverlaps) {
+  // CGAL's polygon models (concave hexagons and 10-gons, corners in line) and geomview's
+  // br2.off: the triangles' areas add up to the polygons' (a fan over a concave polygon folds
+  // triangles over each other, whose areas then add up to more), one triangle fewer than
+  // corners per polygon, less two.
+  for (const std::string name : {"mpi.off", "P.off", "corner_poly.off", "double-torus-3-holes.off", "geomview/br2.off"}) {
+    const std::string file = public_data(name), out = path("split.off");
+    const RunResult r = run("convert --triangulate " + file + " " + out);
+    ASSERT_EQ(r.code, 0) << name << ": " << r.err;
+    EXPECT_NE(r.err.find("by cutting ears in their planes"), std::string::npos) << name << ": " << r.err;
+    const auto polygons = off_polygons(file);
+    double expected = 0;
+    std::size_t triangles = 0;
+    for (const auto& p : polygons) expected += polygon_area(p), triangles += p.size() - 2;
+    const OffMesh m = read_off(out);
+    EXPECT_EQ(m.triangles.size(), triangles) << name;
+    double area = 0;
+    for (const auto& t : m.triangles) area += polygon_area({m.points[t[0]], m.points[t[1]], m.points[t[2]]});
+    EXPECT_NEAR(area, expected, 1e-6 * expected) << name;
+  }
 }
 
 TEST_F(CliRepair, InfoOnPointClouds) {

@@ -139,10 +139,10 @@ TEST(Soup, PolygonsNeedTriangulate) {
   PolygonSoup s = square();
   s.faces = {{0, 1, 2, 3}};
   EXPECT_EQ(error_of(s),
-            "face 0 has 4 vertices; only triangles are supported (use --triangulate to fan-split polygons)");
+            "face 0 has 4 vertices; only triangles are supported (use --triangulate to split polygons)");
 }
 
-TEST(Soup, TriangulateFanSplitsPolygons) {
+TEST(Soup, TriangulateFanSplitsPlanarConvexPolygons) {
   PolygonSoup s;
   // A pentagon (convex, counter-clockwise) followed by a triangle sharing its edge (1, 2).
   s.points = {{0, 0, 0}, {2, 0, 0}, {3, 2, 0}, {1, 3, 0}, {-1, 2, 0}, {3, -1, 0}};
@@ -152,7 +152,7 @@ TEST(Soup, TriangulateFanSplitsPolygons) {
   const TriangleMeshData m = prepare_triangle_mesh(s, options);
   EXPECT_EQ(m.triangles, (std::vector<Triangle>{{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {1, 5, 2}}));
   ASSERT_EQ(m.notes.size(), 1u);
-  EXPECT_EQ(m.notes[0], "fan-split 1 polygon into triangles (4 triangles in all)");
+  EXPECT_EQ(m.notes[0], "split 1 polygon into triangles (4 triangles in all): 1 planar and convex as fans");
   expect_clean(m);
 }
 

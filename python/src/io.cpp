@@ -53,7 +53,7 @@ void bind_io(py::module_& m) {
       py::arg("path"), py::arg("triangulate") = false, py::arg("repair") = false, py::arg("sharp_angle") = py::none(),
       "Reads a mesh file (.obj, .off, .ply, .stl, .vtk, .vtp, .vtu). A .vtp/.vtu that rgbmesh wrote comes "
       "back with its RGB state (levels, colours, every inserted vertex); any other file as a base mesh. "
-      "triangulate: fan-split polygons. repair: merge vertices at equal positions, collapse degenerate and "
+      "triangulate: split polygons into triangles. repair: merge vertices at equal positions, collapse degenerate and "
       "needle triangles, split non-manifold edges and vertices, orient consistently (as the tool's --repair; "
       "not for a file with an RGB state; what was changed is said in UserWarnings). An OBJ file's crease and "
       "corner tags (OpenSubdiv's 't crease', 't corner', 't creasemethod') are read; sharp_angle: also every "

@@ -6,11 +6,13 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <iomanip>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "rgbmesh/polygons.hpp"
 #include "triangle_checks.hpp"
 
 namespace rgbmesh {
@@ -115,7 +117,8 @@ void check_faces(const PolygonSoup& soup) {
   detail::check_indices(soup.faces, soup.points.size(), detail::file_wording);
 }
 
-// Triangles in face order; polygons are fan-split from their first vertex when allowed.
+// Triangles in face order; polygons are split when allowed (triangulate_polygon: fans for
+// planar convex ones, ears for the others, self-crossing ones refused with the face named).
 // source_face stays empty when every face is a triangle (then triangle i is face i).
 std::vector<Triangle> triangles_of(const PolygonSoup& soup, const SoupOptions& options,
                                    std::vector<std::int64_t>& source_face, std::vector<std::string>& notes) {
@@ -125,7 +128,7 @@ std::vector<Triangle> triangles_of(const PolygonSoup& soup, const SoupOptions& o
     if (n > 3) {
       if (!options.triangulate)
         throw InputError("face " + std::to_string(f) + " has " + std::to_string(n) +
-                         " vertices; only triangles are supported (use --triangulate to fan-split polygons" +
+                         " vertices; only triangles are supported (use --triangulate to split polygons" +
                          (options.repair ? "; a repair needs it too)" : ")"));
       ++polygons;
     }
@@ -136,17 +139,56 @@ std::vector<Triangle> triangles_of(const PolygonSoup& soup, const SoupOptions& o
   std::vector<Triangle> triangles;
   triangles.reserve(total);
   if (polygons > 0) source_face.reserve(total);
+  std::uint64_t by_kind[3] = {0, 0, 0};
+  double most_out_of_plane = 0;
+  std::vector<Vec3> corners;
   for (std::size_t f = 0; f < soup.faces.size(); ++f) {
     const auto& face = soup.faces[f];
-    for (std::size_t i = 1; i + 1 < face.size(); ++i) {
-      triangles.push_back({static_cast<std::int32_t>(face[0]), static_cast<std::int32_t>(face[i]),
-                           static_cast<std::int32_t>(face[i + 1])});
+    if (face.size() == 3) {
+      triangles.push_back({static_cast<std::int32_t>(face[0]), static_cast<std::int32_t>(face[1]),
+                           static_cast<std::int32_t>(face[2])});
       if (polygons > 0) source_face.push_back(static_cast<std::int64_t>(f));
+      continue;
+    }
+    corners.clear();
+    for (const std::int64_t v : face) corners.push_back(soup.points[static_cast<std::size_t>(v)]);
+    PolygonTriangles split;
+    try {
+      split = triangulate_polygon(corners);
+    } catch (const InputError& e) {
+      throw InputError("face " + std::to_string(f) + " (a polygon of " + std::to_string(face.size()) +
+                       " vertices) " + e.what());
+    }
+    ++by_kind[static_cast<int>(split.split)];
+    if (split.split == PolygonSplit::warped_ears) most_out_of_plane = std::max(most_out_of_plane, split.out_of_plane);
+    for (const auto& t : split.triangles) {
+      triangles.push_back({static_cast<std::int32_t>(face[static_cast<std::size_t>(t[0])]),
+                           static_cast<std::int32_t>(face[static_cast<std::size_t>(t[1])]),
+                           static_cast<std::int32_t>(face[static_cast<std::size_t>(t[2])])});
+      source_face.push_back(static_cast<std::int64_t>(f));
     }
   }
-  if (polygons > 0)
-    notes.push_back("fan-split " + plural(polygons, "polygon", "polygons") + " into triangles (" +
-                    plural(total, "triangle", "triangles") + " in all)");
+  if (polygons > 0) {
+    std::string how;
+    const auto add = [&how](std::uint64_t count, const std::string& what) {
+      if (count > 0) how += (how.empty() ? "" : ", ") + std::to_string(count) + " " + what;
+    };
+    add(by_kind[0], "planar and convex as fans");
+    add(by_kind[1], "concave or with corners in line by cutting ears in their planes");
+    add(by_kind[2], "not planar by cutting ears (next note)");
+    notes.push_back("split " + plural(polygons, "polygon", "polygons") + " into triangles (" +
+                    plural(total, "triangle", "triangles") + " in all): " + how);
+  }
+  if (by_kind[2] > 0) {
+    std::ostringstream percent;
+    percent << std::setprecision(2) << 100 * most_out_of_plane;
+    const bool one = by_kind[2] == 1;
+    notes.push_back(plural(by_kind[2], "polygon is", "polygons are") + " not planar (corners up to " + percent.str() +
+                    (one ? "% of its size off its best-fit plane): split by cutting ears in that plane"
+                         : "% of their sizes off their best-fit planes): split by cutting ears in those planes") +
+                    ", best-shaped triangles first; where " + (one ? "it bends" : "they bend") +
+                    " between corners is a guess (split such polygons in the file to choose)");
+  }
   return triangles;
 }
 

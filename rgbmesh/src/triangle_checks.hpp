@@ -40,7 +40,7 @@ inline constexpr Wording file_wording{"face", "faces", "the file"};
 inline constexpr Wording mesh_wording{"triangle", "triangles", "the mesh"};
 
 // Names the elements of the input in messages. Triangles: without triangulation triangle i is
-// face i of the input; after fan-splitting, the source face is given too so that the user can
+// face i of the input; after splitting polygons, the source face is given too so that the user can
 // find it in the file. Vertices: by their number where the input numbers them; by their position
 // where it does not (STL, whose vertices are the facets' corners merged by position, and a
 // repaired mesh, whose vertices are no longer the file's).

@@ -7,7 +7,7 @@
 /// element (face or vertex index, 0-based, in the file's own numbering; vertices by position where
 /// the file does not number them); the caller prefixes the file name. Defects of the mesh itself
 /// that a repair would fix are MeshDefectErrors (errors.hpp). Repairs that do not need guessing
-/// (re-orienting an orientable surface, dropping unreferenced vertices, fan-splitting polygons
+/// (re-orienting an orientable surface, dropping unreferenced vertices, splitting polygons
 /// when asked) are applied and described in `notes`, one line each, so that the user is told;
 /// the others only when the caller supplies a repair (SoupOptions::repair, rgbmesh::repair), so
 /// that rgbmesh::core needs nothing but the standard library.
@@ -45,7 +45,7 @@ struct PolygonSoup {
 };
 
 /// A repair of a triangle soup: receives the points (all finite) and the triangles (indices in
-/// range; polygons already fan-split), may change both in any way (merge, remove, add points;
+/// range; polygons already split), may change both in any way (merge, remove, add points;
 /// remove, reorder, re-orient triangles), and appends to `notes` one line per kind of change, with
 /// counts. Throws InputError when nothing usable is left. rgbmesh::repair::soup_repair() gives
 /// one (rgbmesh/repair/repair.hpp).

@@ -86,7 +86,7 @@ SoupRepair soup_repair(const RepairOptions& options = {});
 /// --triangulate and --repair ask for.
 SoupOptions soup_options(bool triangulate, bool repair);
 
-/// `soup` through prepare_triangle_mesh with soup_repair() (and fan-split when `triangulate`),
+/// `soup` through prepare_triangle_mesh with soup_repair() (and polygons split when `triangulate`),
 /// given back as a soup of the valid triangle mesh that came out, its notes appended to `notes`:
 /// for code that takes soups (rgbmesh::fit's make_base). When no valid mesh comes out, `soup` is
 /// given back unchanged, with a note saying why.
