@@ -55,13 +55,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } else if (format == "xyz") {
     std::vector<Vec3> normals;
     accepted([&] { detail::parse_xyz(text, path, normals); });
+  } else if (format == "3mf") {
+    accepted([&] { detail::parse_3mf(bytes, path); });  // lib3mf (uninstrumented) unzips and parses
   } else if (format == "xml") {
     accepted([&] { detail::check_vtk_xml(bytes, path, "PolyData"); });
     accepted([&] { detail::check_vtk_xml(bytes, path, "UnstructuredGrid"); });
   } else {
     static_assert(format == "off" || format == "obj" || format == "ply" || format == "vtk" ||
-                      format == "stl" || format == "xyz" || format == "xml",
-                  "RGBMESH_FUZZ_FORMAT: off, obj, ply, vtk, stl, xyz or xml");
+                      format == "stl" || format == "xyz" || format == "xml" || format == "3mf",
+                  "RGBMESH_FUZZ_FORMAT: off, obj, ply, vtk, stl, xyz, xml or 3mf");
   }
   return 0;
 }

@@ -9,6 +9,7 @@
 #     into DEST/geomview, assimp's test models (assimp-testmodels) into DEST/assimp;
 #   - CAD parts as meshers' examples ship them: Netgen's hinge and part1 (netgen-doc) into
 #     DEST/netgen (the pictures of docs/sharp-features.md);
+#   - 3MF files as a slicer ships them: Cura's printer platforms (cura) into DEST/cura;
 #   - OpenSubdiv's Loop regression shapes with crease and corner tags (issue 42), which Debian
 #     ships only inside the test program bfr_evaluate (opensubdiv-tools): each is cut out of it
 #     by its SHA-256 into DEST/opensubdiv/NAME.obj.
@@ -18,7 +19,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dest=${1:-build/public-data}
-version=5
+version=6
 [ -f "$dest/.complete" ] && [ "$(cat "$dest/.complete")" = "$version" ] && exit 0
 
 files=(
@@ -73,6 +74,14 @@ assimp_files=(
   OBJ/point_cloud.obj                     # 3 points, no faces
   OFF/Wuson.off                           # duplicate positions, non-manifold vertices
 )
+cura_files=(
+  rigid3d_mucit2_platform.3mf             # 3MF: two components in a transformed build item
+  ideagen3D_sapphire_plus.3mf             # 3MF: a component, an item transform
+  weedo_x40.3mf                           # 3MF: 167,004 vertices, an item transform, lib3mf warnings
+  blv_mgn_cube_300_platform.3mf           # 3MF: an item transform
+  101hero-platform.3mf                    # 3MF: plain
+  cr-x.3mf                                # 3MF: triangles that repeat a vertex, which lib3mf refuses
+)
 
 # OpenSubdiv's shapes (OBJ text with 't crease', 't corner', 't creasemethod' tags), by the
 # SHA-256 of their text as OpenSubdiv 3.5.0 and 3.6.0 hold it.
@@ -125,6 +134,7 @@ extract openscad-testing-data usr/share/openscad/testdata openscad "${openscad_f
 extract geomview usr/share/geomview/geom geomview "${geomview_files[@]}"
 extract assimp-testmodels usr/share/assimp/models assimp "${assimp_files[@]}"
 extract netgen-doc usr/share/doc/netgen/examples netgen hinge.stl part1.stl
+extract cura usr/share/cura/resources/meshes cura "${cura_files[@]}"
 download opensubdiv-tools
 dpkg-deb --fsys-tarfile "$tmp"/opensubdiv-tools_*.deb | tar -x -C "$tmp" ./usr/bin/bfr_evaluate
 mkdir -p "$dest/opensubdiv"

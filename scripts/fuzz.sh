@@ -26,8 +26,9 @@ cd "$(dirname "$0")/.."
 root=$PWD
 build=$root/build-fuzz
 
-all_targets=(fuzz_off fuzz_obj fuzz_ply fuzz_stl fuzz_vtk fuzz_xyz fuzz_xml fuzz_vtp fuzz_vtu fuzz_pieces
-             fuzz_mesh_off fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_stl fuzz_mesh_vtk fuzz_mesh_vtp fuzz_mesh_vtu)
+all_targets=(fuzz_off fuzz_obj fuzz_ply fuzz_stl fuzz_vtk fuzz_xyz fuzz_xml fuzz_vtp fuzz_vtu fuzz_pieces fuzz_3mf
+             fuzz_mesh_off fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_stl fuzz_mesh_vtk fuzz_mesh_vtp fuzz_mesh_vtu
+             fuzz_mesh_3mf)
 
 # The input extensions of a target's seeds, and its dictionary.
 extensions_of() {
@@ -134,13 +135,38 @@ for ext in vtp vtu; do
   "$cli" refine "$seeds/valid/octahedron.obj" "$seeds/valid/octahedron-ball.$ext" --ball 1,0,0,0.5,4 > /dev/null
 done
 # Pieces of a distributed run with their states (read_rgb_pieces), where mpirun is there.
+# 3MF seeds stored without compression, so that mutations reach the XML.
+python3 - "$seeds/valid" <<'PY' || echo "fuzz.sh: no python3: no 3MF seeds of our own" >&2
+import sys, zipfile
+out = sys.argv[1]
+core = "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"
+types = ('<?xml version="1.0" encoding="UTF-8"?><Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
+         '<Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
+         '<Default Extension="model" ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/></Types>')
+rels = ('<?xml version="1.0" encoding="UTF-8"?><Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+        '<Relationship Target="/3D/3dmodel.model" Id="rel0" Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/></Relationships>')
+pts = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)]
+tris = [(0, 2, 4), (2, 1, 4), (1, 3, 4), (3, 0, 4), (2, 0, 5), (1, 2, 5), (3, 1, 5), (0, 3, 5)]
+mesh = ("<mesh><vertices>" + "".join('<vertex x="%g" y="%g" z="%g"/>' % p for p in pts) + "</vertices><triangles>" +
+        "".join('<triangle v1="%d" v2="%d" v3="%d"/>' % t for t in tris) + "</triangles></mesh>")
+for name, build in [("octahedron", '<item objectid="1"/>'),
+                    ("components", '<item objectid="2" transform="0 1 0 -1 0 0 0 0 1 5 0 0"/>')]:
+    model = ('<?xml version="1.0" encoding="UTF-8"?><model unit="millimeter" xmlns="%s"><resources>'
+             '<object id="1" type="model">%s</object><object id="2" type="model"><components>'
+             '<component objectid="1" transform="-1 0 0 0 1 0 0 0 1 0 0 2"/><component objectid="1"/></components></object>'
+             '</resources><build>%s</build></model>' % (core, mesh, build))
+    with zipfile.ZipFile("%s/%s.3mf" % (out, name), "w", zipfile.ZIP_STORED) as z:
+        z.writestr("[Content_Types].xml", types)
+        z.writestr("_rels/.rels", rels)
+        z.writestr("3D/3dmodel.model", model)
+PY
 mkdir -p "$seeds/pieces"
 if command -v mpirun > /dev/null; then
   OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun --oversubscribe -np 2 "$cli" adapt --cycles 3 \
     --coarsen 0.5 --out "$seeds/run" > /dev/null 2>&1 && cp "$seeds/run"/cycle_00[0-2]_r[01].vtp "$seeds/pieces/"
   rm -rf "$seeds/run"
 fi
-for ext in obj off ply stl vtk vtp vtu xyz pwn; do
+for ext in obj off ply stl vtk vtp vtu xyz pwn 3mf; do
   mkdir -p "$seeds/$ext"
   for f in "$seeds/valid"/*."$ext" "$root/build/public-data"/*."$ext" "$root/build/public-data"/*/*."$ext" \
            "$root/tests/corpus/files"/*."$ext"; do

@@ -8,7 +8,7 @@
 # route: neither is needed to build, and a user installs the one of the route taken.
 set -euo pipefail
 
-main_packages=(cmake ninja-build g++ pkg-config libvtk9-dev libeigen3-dev libsuitesparse-dev libopenblas0-pthread libceres-dev libcli11-dev libcgal-dev libpetsc-real-dev libmetis-dev openmpi-bin python3-dev python3-numpy pybind11-dev python3-setuptools python3-wheel)
+main_packages=(cmake ninja-build g++ pkg-config libvtk9-dev lib3mf-dev libeigen3-dev libsuitesparse-dev libopenblas0-pthread libceres-dev libcli11-dev libcgal-dev libpetsc-real-dev libmetis-dev openmpi-bin python3-dev python3-numpy pybind11-dev python3-setuptools python3-wheel)
 test_packages=(libgtest-dev libgmock-dev libbenchmark-dev libosd-dev doxygen python3-vtk9 python3-pytest python3-venv python3-pip)
 
 packages=("${main_packages[@]}")

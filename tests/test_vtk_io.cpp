@@ -614,7 +614,7 @@ TEST_F(VtkIo, MissingDirectoryAndUnknownFilesAreNamed) {
   const fs::path f = write_file("mesh.xyz", "1 2 3\n");
   expect_names(read_error(f), f,
                {"unknown mesh format '.xyz' (supported: " + rgbmesh::supported_input_extensions() + ")"});
-  EXPECT_EQ(rgbmesh::supported_input_extensions(), ".obj, .off, .ply, .stl, .vtk, .vtp, .vtu");
+  EXPECT_EQ(rgbmesh::supported_input_extensions(), ".3mf, .obj, .off, .ply, .stl, .vtk, .vtp, .vtu");
   EXPECT_EQ(rgbmesh::supported_output_extensions(), ".obj, .off, .ply, .stl, .vtp, .vtu");
 }
 

@@ -51,7 +51,7 @@ void bind_io(py::module_& m) {
         return std::move(file.mesh);
       },
       py::arg("path"), py::arg("triangulate") = false, py::arg("repair") = false, py::arg("sharp_angle") = py::none(),
-      "Reads a mesh file (.obj, .off, .ply, .stl, .vtk, .vtp, .vtu). A .vtp/.vtu that rgbmesh wrote comes "
+      "Reads a mesh file (.3mf, .obj, .off, .ply, .stl, .vtk, .vtp, .vtu). A .vtp/.vtu that rgbmesh wrote comes "
       "back with its RGB state (levels, colours, every inserted vertex); any other file as a base mesh. "
       "triangulate: split polygons into triangles. repair: merge vertices at equal positions, collapse degenerate and "
       "needle triangles, split non-manifold edges and vertices, orient consistently (as the tool's --repair; "

@@ -13,8 +13,8 @@
 
 namespace rgbmesh::detail {
 
-inline constexpr const char* input_extensions[] = {".obj", ".off", ".ply", ".stl", ".vtk", ".vtp", ".vtu"};
-inline constexpr const char* point_cloud_extensions[] = {".obj", ".off", ".ply", ".pwn", ".stl",
+inline constexpr const char* input_extensions[] = {".3mf", ".obj", ".off", ".ply", ".stl", ".vtk", ".vtp", ".vtu"};
+inline constexpr const char* point_cloud_extensions[] = {".3mf", ".obj", ".off", ".ply", ".pwn", ".stl",
                                                          ".vtk", ".vtp", ".vtu", ".xyz"};
 inline constexpr const char* output_extensions[] = {".obj", ".off", ".ply", ".stl", ".vtp", ".vtu"};
 

@@ -47,6 +47,11 @@ PolygonSoup parse_off(std::string_view text, const std::string& path);
 PolygonSoup parse_obj(std::string_view text, const std::string& path, const ReadOptions& options = {});
 PolygonSoup parse_ply(std::string_view data, const std::string& path, const ReadOptions& options = {});
 PolygonSoup parse_legacy_vtk(std::string_view data, const std::string& path, const ReadOptions& options = {});
+// 3MF through lib3mf (read_3mf.cpp): the triangles of every mesh object in the build, with the
+// build items' and components' transforms applied (mirroring ones turn the triangles back
+// outwards); supports and "other" objects are left out. A note says how many meshes and the
+// file's unit (coordinates are kept as the file has them).
+PolygonSoup parse_3mf(std::string_view data, const std::string& path);
 
 // A point cloud as text (.xyz, .pwn): one point per line, "x y z" or "x y z nx ny nz", the same
 // number of columns on every line; empty lines and '#' comments are skipped. Errors name the

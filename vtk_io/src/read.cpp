@@ -194,6 +194,7 @@ PolygonSoup read_soup(const fs::path& path, const char* const (&extensions)[N], 
     return soup;
   }
   if (ext == ".vtp" || ext == ".vtu") return read_vtk_xml(path, file.bytes(), ext, options);
+  if (ext == ".3mf") return detail::parse_3mf(file.bytes(), name);
   const std::string_view text = without_utf8_bom(file.bytes());
   if (ext == ".off") return detail::parse_off(text, name);
   if (ext == ".obj") return detail::parse_obj(text, name, options);
