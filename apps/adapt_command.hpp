@@ -19,7 +19,7 @@ namespace rgbmesh::cli {
 struct AdaptArgs {
   Compression compression = Compression::lz4;  // of the .vtp files (--compression)
   std::string mesh;                   // empty: the embedded icosahedron
-  bool triangulate = false;           // fan-split the mesh's polygons
+  bool triangulate = false;           // split the mesh's polygons (polygons.hpp)
   bool repair = false;                // repair the mesh first (rgbmesh::repair)
   double sharp_angle = 0;             // > 0: edges sharper than this are creases (--sharp-angle)
   std::string problem;                // sphere-harmonic, sphere-peak, moving-peak, gaussian;

@@ -1,6 +1,8 @@
 #include "fit_command.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -162,7 +164,46 @@ std::string back_json(const fit::TwoSidedDistances& d) {
       .str();
 }
 
-void write_report(const FitArgs& a, const PointCloud& cloud, const fit::TargetFit& f, double total_seconds) {
+// One fit of an escalating run: its settings, two-sided figures (relative to the diagonal) and
+// verdict.
+struct Attempt {
+  std::size_t base_faces = 0;  // asked for
+  int levels = 0;
+  double seconds = 0;
+  double rms = 0, max = 0, back_rms = 0, back_max = 0;
+  bool accepted = false;
+  std::string reason;
+  // How far from accepted, to keep the best: the larger of the two maxima.
+  double badness() const { return std::max(max, back_max); }
+};
+
+Attempt attempt_of(const fit::TargetFit& f, std::size_t faces, int levels, double seconds) {
+  Attempt t;
+  t.base_faces = faces;
+  t.levels = levels;
+  t.seconds = seconds;
+  const double diagonal = f.result.diagonal;
+  t.rms = f.result.rms / diagonal;
+  t.max = f.result.max / diagonal;
+  t.back_rms = f.distances.to_target_rms / diagonal;
+  t.back_max = f.distances.to_target_max / diagonal;
+  t.accepted = f.verdict.accepted;
+  t.reason = f.verdict.reason;
+  return t;
+}
+
+std::string describe(const Attempt& t) {
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "base of %s faces, level %d: targets to surface rms %.2f%% max %.2f%%, surface to target rms %.2f%% "
+                "max %.2f%% of the diagonal, %.1f s: %s",
+                fit::with_thousands(t.base_faces).c_str(), t.levels, 100 * t.rms, 100 * t.max, 100 * t.back_rms,
+                100 * t.back_max, t.seconds, t.accepted ? "accepted" : "rejected");
+  return text;
+}
+
+void write_report(const FitArgs& a, const PointCloud& cloud, const fit::TargetFit& f, double total_seconds,
+                  const std::vector<Attempt>& attempts) {
   const fit::Base& base = f.base;
   const fit::FitResult& r = f.result;
   const fit::TwoSidedDistances& two_sided = f.distances;
@@ -227,6 +268,19 @@ void write_report(const FitArgs& a, const PointCloud& cloud, const fit::TargetFi
       .raw("surface_to_target", back_json(two_sided))
       .add("seconds", r.seconds)
       .add("total_seconds", total_seconds);
+  std::vector<std::string> tried;
+  for (const Attempt& t : attempts)
+    tried.push_back(JsonObject()
+                        .add("base_faces", static_cast<std::uint64_t>(t.base_faces))
+                        .add("levels", t.levels)
+                        .add("seconds", t.seconds)
+                        .add("rms_relative", t.rms)
+                        .add("max_relative", t.max)
+                        .add("surface_rms_relative", t.back_rms)
+                        .add("surface_max_relative", t.back_max)
+                        .add("status", t.accepted ? "accepted" : "rejected")
+                        .str());
+  report.raw("attempts", json_list(tried));
   write_text_atomically(a.report, report.str() + "\n");
 }
 
@@ -294,10 +348,86 @@ int run_fit(const FitArgs& a) {
       control);
   for (std::size_t i = notes_before_fit; i < f.notes.size(); ++i)
     std::cerr << "rgbmesh: note: " << one_line(f.notes[i]) << "\n";
+  const auto elapsed = [&start] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  std::vector<Attempt> attempts = {attempt_of(f, a.base_faces, a.levels, elapsed())};
 
-  write_outputs(a, f);
-  const double total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!a.report.empty()) write_report(a, cloud, f, total_seconds);
+  // Escalation: a rejected fit of a base built from the target is tried again with what the
+  // rejection would advise, a finer base (twice, then four times the faces) and then one more
+  // level, while the attempt's predicted time (the first one's, scaled by faces and by 4 per
+  // level) fits in --retry-seconds, its memory under the ceiling and its base in
+  // --max-base-faces. The best attempt (accepted, or the smallest of the two maxima) is written.
+  FitArgs used = a;
+  if (!f.verdict.accepted && a.retry && a.base.empty()) {
+    const double first_seconds = attempts.front().seconds;
+    const std::size_t faces = a.base_faces;
+    const std::vector<std::pair<std::size_t, int>> steps = {
+        {2 * faces, a.levels}, {4 * faces, a.levels}, {4 * faces, std::min(a.levels + 1, 6)}};
+    const std::size_t total = steps.size() + 1;
+    std::optional<fit::Base> last_base;
+    std::printf("rgbmesh fit: attempt 1 of %zu: %s\n", total, describe(attempts.front()).c_str());
+    std::size_t number = 1;
+    for (const auto& [step_faces, step_levels] : steps) {
+      ++number;
+      const std::string head = "rgbmesh fit: attempt " + std::to_string(number) + " of " + std::to_string(total) + ": ";
+      if (step_faces > a.max_base_faces) {
+        std::printf("%sskipped: a base of %s faces is beyond --max-base-faces %s\n", head.c_str(),
+                    fit::with_thousands(step_faces).c_str(), fit::with_thousands(a.max_base_faces).c_str());
+        continue;
+      }
+      const double predicted = first_seconds * static_cast<double>(step_faces) / static_cast<double>(faces) *
+                               std::pow(4.0, step_levels - a.levels);
+      if (elapsed() + predicted > a.retry_seconds) {
+        std::printf("%sskipped: it would take about %.0f s, beyond --retry-seconds %.0f\n", head.c_str(), predicted,
+                    a.retry_seconds);
+        break;
+      }
+      if (fit::estimated_fit_bytes(f.targets.size(), step_faces, step_levels) > static_cast<double>(ceiling.headroom())) {
+        std::printf("%sskipped: it would need more than the memory limit of %s\n", head.c_str(),
+                    ceiling.describe().c_str());
+        break;
+      }
+      fit::TargetFitOptions retry_options = options;
+      retry_options.base.faces = step_faces;
+      retry_options.fit.levels = step_levels;
+      const double begin = elapsed();
+      fit::TargetFit g;
+      try {
+        // One more level on the same base: the base of the previous attempt, not made again.
+        std::optional<fit::Base> same_base;
+        if (last_base && attempts.back().base_faces == step_faces) same_base = last_base;
+        g = fit::prepare_target_fit(soup, cloud.normals, same_base, retry_options, control);
+        if (same_base) g.base.source = last_base->source;
+        fit::run_target_fit(g, retry_options, {}, control);
+      } catch (const std::exception& e) {
+        // An attempt that fails (a reconstruction that CGAL gives up on, the memory ceiling)
+        // ends the escalation; the attempts so far stand.
+        std::printf("%sfailed, no more attempts: %s\n", head.c_str(), one_line(e.what()).c_str());
+        break;
+      }
+      attempts.push_back(attempt_of(g, step_faces, step_levels, elapsed() - begin));
+      last_base = g.base;
+      std::printf("%s%s\n", head.c_str(), describe(attempts.back()).c_str());
+      std::fflush(stdout);
+      const Attempt& best = *std::min_element(attempts.begin(), attempts.end() - 1, [](const Attempt& x, const Attempt& y) {
+        return x.badness() < y.badness();
+      });
+      if (g.verdict.accepted || attempts.back().badness() < best.badness()) {
+        f = std::move(g);
+        used.base_faces = step_faces;
+        used.levels = step_levels;
+      }
+      if (attempts.back().accepted) break;
+    }
+    if (f.verdict.accepted || attempts.size() > 1)
+      std::printf("rgbmesh fit: kept the base of %s faces at level %d (%s)\n", fit::with_thousands(used.base_faces).c_str(),
+                  used.levels, f.verdict.accepted ? "accepted" : "the closest of the attempts");
+  }
+
+  write_outputs(used, f);
+  const double total_seconds = elapsed();
+  if (!a.report.empty()) write_report(used, cloud, f, total_seconds, attempts);
   const fit::FitResult& r = f.result;
   const fit::TwoSidedDistances& d = f.distances;
   std::printf(
@@ -308,10 +438,16 @@ int run_fit(const FitArgs& a) {
       100 * d.to_target_rms / r.diagonal, d.to_target_max, 100 * d.to_target_max / r.diagonal, r.seconds,
       total_seconds, a.out.c_str());
   std::fflush(stdout);
-  if (!f.verdict.accepted)
+  if (!f.verdict.accepted) {
+    if (attempts.size() > 1)
+      throw InputError(f.verdict.reason + "; " + std::to_string(attempts.size()) + " attempts (finer bases, more levels), " +
+                       "the closest written; " + a.out +
+                       "/limit_surface.vtp shows where (point data distance_to_target). A base of your own (--base), "
+                       "--sharp-angle for a part with edges, or for a cloud more points may fit");
     throw InputError(f.verdict.reason + "; " + a.out +
                      "/limit_surface.vtp shows where (point data distance_to_target). A finer base (--base-faces), "
                      "more levels (--levels) or a base of your own (--base) may fit; for a cloud, more points");
+  }
   return 0;
 }
 
@@ -364,6 +500,15 @@ void FitCommand::add(CLI::App& tool, CompressionOption& compression) {
       ->check(number_in("an integer in [1, 1000]", [](double x) { return x >= 1 && x <= 1000; }));
   out = app->add_option("--out", args.out, "Output directory")->capture_default_str()->check(kNonEmptyPath);
   app->add_option("--report", args.report, "Write a JSON report to this file")->check(kNonEmptyPath);
+  app->add_flag("!--no-retry", args.retry,
+                "Without --base, a rejected fit is not tried again with finer bases and one more level");
+  app->add_option("--retry-seconds", args.retry_seconds,
+                  "Time the attempts after a rejected fit may take, the first one's included (predicted from it)")
+      ->capture_default_str()
+      ->check(number_in("a number of seconds >= 0", [](double x) { return x >= 0 && std::isfinite(x); }));
+  app->add_option("--max-base-faces", args.max_base_faces, "The largest base the attempts after a rejected fit try")
+      ->capture_default_str()
+      ->check(number_in("an integer in [4, 10^8]", [](double x) { return x >= 4 && x <= 1e8; }));
   compression.add_to(*app);
 }
 

@@ -13,7 +13,7 @@ struct FitArgs {
   Compression compression = Compression::lz4;  // of the .vtp files (--compression)
   std::string target;        // points: a point cloud (.xyz, .pwn, or a mesh format without faces) or a mesh
   std::string base;          // empty: built from the target (decimated, or reconstructed and decimated)
-  bool triangulate = false;  // fan-split the polygons of --target's and --base's faces
+  bool triangulate = false;  // split the polygons of --target's and --base's faces (polygons.hpp)
   bool ignore_faces = false;  // fit --target's vertices as a point cloud
   std::string reconstruction = "automatic";  // automatic, poisson, advancing-front
   bool repair = false;       // repair --target's faces and --base first (rgbmesh::repair)
@@ -27,6 +27,11 @@ struct FitArgs {
   std::string report;
   std::string command_line;  // for the report; may be empty
   std::string memory_limit;  // --memory-limit's text ("": the default ceiling)
+  // Escalation (a rejected fit of a base built from the target tries finer bases and one more
+  // level, fit_command.cpp): off with --no-retry; bounded by time and base size.
+  bool retry = true;
+  double retry_seconds = 300;
+  std::size_t max_base_faces = 16000;
 };
 
 // Reads the target, builds or reads the base, runs the fit, measures it in both directions

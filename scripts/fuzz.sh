@@ -188,6 +188,9 @@ remove_stale_scratch_files() {
   return 0
 }
 
+# Leaks of the libraries outside rgbmesh (fuzz/lsan.supp says which and why) are not findings.
+export LSAN_OPTIONS="suppressions=$root/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
+
 share=$((total / ${#targets[@]}))
 [ "$share" -ge 10 ] || share=10
 summary=()

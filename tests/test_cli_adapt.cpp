@@ -501,7 +501,7 @@ TEST_F(Cli, TriangulateWorksForAdaptAndFit) {
   EXPECT_NE(no.err.find("--triangulate"), std::string::npos) << no.err;
   const RunResult yes = run("adapt --mesh " + public_data("3torus.off") + " --triangulate --cycles 2 --out " + path("t"));
   EXPECT_EQ(yes.code, 0) << yes.err;
-  // fit: the quads fan-split, the base is the target itself (fewer faces than asked), genus 3.
+  // fit: the quads split, the base is the target itself (fewer faces than asked), genus 3.
   const RunResult fit = run("fit --target " + public_data("3torus.off") + " --triangulate --iterations 2 --out " +
                             path("f") + " --report " + path("f.json"));
   ASSERT_EQ(fit.code, 0) << fit.err;

@@ -428,7 +428,7 @@ TEST(Repair, WhatARepairCannotDoIsStillRefused) {
   } catch (const InputError& e) {
     EXPECT_EQ(
         std::string(e.what()),
-        "face 8 has 4 vertices; only triangles are supported (use --triangulate to fan-split polygons; a "
+        "face 8 has 4 vertices; only triangles are supported (use --triangulate to split polygons; a "
         "repair needs it too)");
   }
   // Nothing left: a lone zero-area triangle.
