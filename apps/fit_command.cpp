@@ -234,7 +234,9 @@ void write_report(const FitArgs& a, const PointCloud& cloud, const fit::TargetFi
   if (!a.base.empty()) base_json.add("file", a.base);
   if (a.base.empty()) base_json.add("requested_faces", static_cast<std::uint64_t>(a.base_faces));
   if (base.source == fit::BaseSource::reconstructed)
-    base_json.add("reconstruction", fit::to_string(base.reconstruction)).add("unsupported_area", base.unsupported);
+    base_json.add("reconstruction", fit::to_string(base.reconstruction))
+        .add("unsupported_area", base.unsupported)
+        .add("trimmed_area", base.trimmed);
   base_json.add("vertices", static_cast<std::uint64_t>(base.mesh.points.size()))
       .add("faces", static_cast<std::uint64_t>(base.mesh.triangles.size()))
       .add("components", base.topology.components)

@@ -13,6 +13,7 @@
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/statistics.hpp"
 #include "rgbmesh/timing.hpp"
+#include "reconstruction_methods.hpp"
 
 namespace rgbmesh::fit {
 namespace {
@@ -151,6 +152,20 @@ Base make_base(const PolygonSoup& target, const std::vector<Vec3>& normals, cons
   base.decimation_seconds = seconds_since(start);
   base.notes.insert(base.notes.end(), base.mesh.notes.begin(), base.mesh.notes.end());
   base.mesh.notes.clear();
+  // An open scan: the base follows the points' border, not the decimation's bridges over what
+  // the scan did not see (CGAL's hippo1: 28 of 999 triangles, surface-to-target
+  // RMS 1.1% of the diagonal before, 0.18% after).
+  if (!has_surface && base.reconstruction == ReconstructionMethod::advancing_front) {
+    base.trimmed = detail::trim_unsupported(base.mesh, target.points, 4.0);
+    if (base.trimmed > 0) {
+      char text[200];
+      std::snprintf(text, sizeof text,
+                    "trimmed %.2g%% of the base's area where no points lie (over parts the scan did not see): "
+                    "the surface is open there",
+                    100 * base.trimmed);
+      base.notes.push_back(text);
+    }
+  }
   if (!has_surface)
     base.source = BaseSource::reconstructed;
   else

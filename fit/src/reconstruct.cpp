@@ -393,4 +393,78 @@ Reconstruction reconstruct_surface(const std::vector<Vec3>& points, const std::v
   return result;
 }
 
+double detail::trim_unsupported(TriangleMeshData& mesh, const std::vector<Vec3>& points, double spacings) {
+  if (points.size() < 2 || mesh.triangles.empty()) return 0;
+  const PointIndex index(points);
+  const std::vector<double> spacing = local_spacing(points, index);
+  const auto supported = [&](const Vec3& p) {
+    const auto [nearest, distance] = index.nearest(p);
+    return distance <= spacings * spacing[nearest];
+  };
+  PolygonSoup soup;
+  soup.points = mesh.points;
+  double area = 0, removed = 0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3 &a = mesh.points[t[0]], &b = mesh.points[t[1]], &c = mesh.points[t[2]];
+    const double triangle_area = 0.5 * norm(cross(b - a, c - a));
+    area += triangle_area;
+    if (supported((a + b + c) * (1.0 / 3)) && supported((a + b) * 0.5) && supported((b + c) * 0.5) &&
+        supported((c + a) * 0.5))
+      soup.faces.push_back({t[0], t[1], t[2]});
+    else
+      removed += triangle_area;
+  }
+  if (soup.faces.size() == mesh.triangles.size() || soup.faces.empty()) return 0;
+  // Where trimmed parts met only at a vertex, its triangles now form several fans: all but the
+  // largest go (a few rounds: each removal may pinch another vertex).
+  for (int round = 0; round < 8; ++round) {
+    std::vector<std::vector<std::size_t>> around(soup.points.size());
+    for (std::size_t f = 0; f < soup.faces.size(); ++f)
+      for (const std::int64_t v : soup.faces[f]) around[static_cast<std::size_t>(v)].push_back(f);
+    std::vector<char> drop(soup.faces.size(), 0);
+    bool any = false;
+    for (std::size_t v = 0; v < around.size(); ++v) {
+      const std::vector<std::size_t>& fan = around[v];
+      if (fan.size() < 2) continue;
+      // Fans: the triangles at v joined through their other corners (an edge (v, w) is shared).
+      std::vector<std::size_t> group(fan.size());
+      std::iota(group.begin(), group.end(), 0);
+      const auto find = [&](std::size_t x) {
+        while (group[x] != x) x = group[x] = group[group[x]];
+        return x;
+      };
+      for (std::size_t i = 0; i < fan.size(); ++i)
+        for (std::size_t j = i + 1; j < fan.size(); ++j)
+          for (const std::int64_t a : soup.faces[fan[i]])
+            for (const std::int64_t b : soup.faces[fan[j]])
+              if (a == b && a != static_cast<std::int64_t>(v)) group[find(i)] = find(j);
+      std::map<std::size_t, std::size_t> sizes;
+      for (std::size_t i = 0; i < fan.size(); ++i) ++sizes[find(i)];
+      if (sizes.size() < 2) continue;
+      const std::size_t largest =
+          std::max_element(sizes.begin(), sizes.end(), [](const auto& x, const auto& y) { return x.second < y.second; })->first;
+      for (std::size_t i = 0; i < fan.size(); ++i)
+        if (find(i) != largest) drop[fan[i]] = 1, any = true;
+    }
+    if (!any) break;
+    std::vector<std::vector<std::int64_t>> kept;
+    for (std::size_t f = 0; f < soup.faces.size(); ++f)
+      if (!drop[f]) kept.push_back(std::move(soup.faces[f]));
+    soup.faces = std::move(kept);
+  }
+  try {
+    // Pieces that the trimming cut off and that hold under 5% of the triangles are debris.
+    TriangleMeshData trimmed = main_components(prepare_triangle_mesh(soup), 0.05).first;
+    topology_of(trimmed);
+    double kept = 0;
+    for (const auto& t : trimmed.triangles)
+      kept += 0.5 * norm(cross(trimmed.points[t[1]] - trimmed.points[t[0]], trimmed.points[t[2]] - trimmed.points[t[0]]));
+    trimmed.notes = std::move(mesh.notes);
+    mesh = std::move(trimmed);
+    return area > 0 ? 1 - kept / area : 0;
+  } catch (const InputError&) {
+    return 0;  // not a valid surface once trimmed: kept whole
+  }
+}
+
 }  // namespace rgbmesh::fit

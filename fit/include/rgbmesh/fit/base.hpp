@@ -82,6 +82,9 @@ struct Base {
   /// area that no point supports (reconstruct.hpp).
   ReconstructionMethod reconstruction = ReconstructionMethod::automatic;
   double unsupported = 0;
+  /// An open scan's base (advancing front): the fraction of its area trimmed away where no
+  /// points support it (reconstruction over parts the scan did not see), 0 when none.
+  double trimmed = 0;
   std::vector<std::string> notes;  ///< every note of every stage, in order
 };
 
