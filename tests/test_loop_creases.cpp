@@ -322,31 +322,10 @@ BaseMesh unit_sharp_cube() {
   return cube;
 }
 
-// -Δu + u = f on the cube's surface with u = cos(πx): smooth on each face, its co-normal
-// derivative zero on every edge (sin(πx) vanishes where x is normal to an edge, and u does not
-// change across the others), so it is the exact weak solution. On the four faces along x,
-// f = (π² + 1) cos(πx); on the faces x = 0 and x = 1 u is constant, f = u.
-fem::Problem cube_cosine() {
-  fem::Problem p;
-  p.name = "cube-cosine";
-  p.c = 1;
-  p.source = [](const Vec3& x) {
-    // The face a point is on: the nearest of the six planes.
-    double nearest = 1e300;
-    int axis = 0;
-    for (int i = 0; i < 3; ++i)
-      for (const double plane : {0.0, 1.0})
-        if (std::abs(x[i] - plane) < nearest) nearest = std::abs(x[i] - plane), axis = i;
-    const double u = std::cos(kPi * x.x);
-    return axis == 0 ? u : (kPi * kPi + 1) * u;
-  };
-  // ∇u = (-π sin(πx), 0, 0) is tangential where x varies along the face and zero on x = 0, 1.
-  p.exact = fem::ExactSolution{[](const Vec3& x) { return std::cos(kPi * x.x); },
-                               [](const Vec3& x) {
-                                 return Vec3{-kPi * std::sin(kPi * x.x), 0, 0};
-                               }};
-  return p;
-}
+// -Δu + u = f on the cube's surface with u = cos(πx) is fem::cube_cosine() (the problem of
+// `adapt --problem cube-cosine`): smooth on each face, its co-normal derivative zero on every
+// edge, so it is the exact weak solution.
+using fem::cube_cosine;
 
 // u = p(x) with p the quintic smoothstep 6x⁵ - 15x⁴ + 10x³: p', and p'' too, vanish at 0 and 1,
 // so its co-normal derivative and its second normal derivative vanish on every edge. The
@@ -357,13 +336,11 @@ fem::Problem cube_smoothstep() {
   p.name = "cube-smoothstep";
   p.c = 1;
   p.source = [](const Vec3& x) {
-    double nearest = 1e300;
-    int axis = 0;
-    for (int i = 0; i < 3; ++i)
-      for (const double plane : {0.0, 1.0})
-        if (std::abs(x[i] - plane) < nearest) nearest = std::abs(x[i] - plane), axis = i;
+    // u is constant on the faces x = 0 and x = 1; quadrature points of the other faces lie
+    // strictly inside 0 < x < 1.
+    const bool end_face = x.x <= 1e-12 || x.x >= 1.0 - 1e-12;
     const double t = x.x, u = t * t * t * (10 - 15 * t + 6 * t * t), upp = 60 * t * (1 - t) * (1 - 2 * t);
-    return axis == 0 ? u : u - upp;
+    return end_face ? u : u - upp;
   };
   p.exact = fem::ExactSolution{[](const Vec3& x) {
                                  const double t = x.x;
