@@ -6,8 +6,8 @@
 # measured in the same process), the command-line tool's --stats on the Stanford bunny refined
 # to uniform level 5 (1.9 million vertices: peak memory per vertex) and coarsened back, the
 # finite-element benchmark (assembly and solve, 10^4 to 10^6 unknowns, each solver; the
-# adaptive cycle), the fit, the Python package's arrays against refining
-# (bench/python_overhead.py), and the output formats on 1.9 million vertices (bench_write:
+# adaptive cycle), the fit, --repair against reading (bench_repair), the Python package's
+# arrays against refining (bench/python_overhead.py), and the output formats on 1.9 million vertices (bench_write:
 # seconds against PLY, memory); against deal.II where it is installed (bench_vs_dealii); the
 # adaptive loop on 1, 2 and 4 MPI processes (mpi_cycles.sh) and the partition among them
 # (bench_partition). Arguments are passed to bench_refinement.
@@ -28,10 +28,12 @@ echo "stamp: $(date +%Y-%m-%d), commit $commit, $(nproc) cores (${cpu:-unknown C
 scripts/install-deps.sh test
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DRGBMESH_BUILD_TESTS=ON -DRGBMESH_BUILD_BENCH=ON
 cmake --build build --target bench_refinement bench_fem bench_fit bench_write rgbmesh_cli
+cmake --build build --target bench_repair 2>/dev/null || true  # (without CGAL: no repair)
 cmake --build build --target rgbmesh_python 2>/dev/null || true  # (without Python/pybind11: no package)
 build/bin/bench_refinement --benchmark_min_time=1 "$@"
 build/bin/bench_fem
 build/bin/bench_fit
+[ -x build/bin/bench_repair ] && build/bin/bench_repair
 echo
 echo "writing 1.9 million vertices in each output format (seconds against PLY, peak memory):"
 build/bin/bench_write 3 3

@@ -6,15 +6,19 @@
 //   mesh: remaining non-manifold vertices, degenerate triangles, needles, caps.
 // Counts for the note come from CGAL's return values and its orientation visitor, or from
 // comparing before and after where CGAL returns none.
+//
+// Most exports need little of this, so the costly steps run only where they have work: the soup's
+// surface is checked in linear time (surface_defects), only the components that fail go through
+// orient_polygon_soup, and the halfedge mesh is built only when some triangle is degenerate, a
+// needle or a cap within the bounds (needs_geometric_repair). Triangles are fixed-size arrays,
+// not vectors, so that a million of them cost no million allocations.
 
 #include "rgbmesh/repair/repair.hpp"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/manifoldness.h>
-#include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
-#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
+#include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>  // isolated and duplicate points
 #include <CGAL/Polygon_mesh_processing/shape_predicates.h>
 #include <CGAL/Surface_mesh.h>
 
@@ -25,9 +29,12 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <stdexcept>
+#include <tuple>
 #include <utility>
 
 #include "rgbmesh/errors.hpp"
+#include "rgbmesh/repair/orient_triangles.hpp"
 
 namespace rgbmesh::repair {
 namespace {
@@ -35,7 +42,7 @@ namespace {
 namespace PMP = CGAL::Polygon_mesh_processing;
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
-using Polygon = std::vector<std::size_t>;
+using Polygon = std::array<std::size_t, 3>;
 using Mesh = CGAL::Surface_mesh<Point>;
 using Edge = std::pair<std::size_t, std::size_t>;  // lower id first
 using Key = std::array<std::size_t, 3>;            // a triangle's corners, sorted
@@ -45,7 +52,7 @@ constexpr double zero_snap = 1e-12;
 
 struct Soup {
   std::vector<Point> points;
-  std::vector<Polygon> polygons;  // triangles (repair_polygon_soup wants resizable polygons)
+  std::vector<Polygon> polygons;  // triangles
 };
 
 Edge edge_of(std::size_t a, std::size_t b) { return {std::min(a, b), std::max(a, b)}; }
@@ -75,21 +82,101 @@ class UnionFind {
   std::vector<std::size_t> parent_;
 };
 
+// Points at equal positions merged into the first of them, the others' numbers following in
+// order: what CGAL's merge_duplicate_points_in_polygon_soup gives, by a sort instead of a map
+// (several times faster on a million points). Returns how many points went.
+std::size_t merge_duplicate_points(Soup& soup) {
+  const std::size_t n = soup.points.size();
+  std::vector<std::size_t> order(n);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  const auto less = [&](std::size_t a, std::size_t b) {
+    const Point &p = soup.points[a], &q = soup.points[b];
+    if (p.x() != q.x()) return p.x() < q.x();
+    if (p.y() != q.y()) return p.y() < q.y();
+    if (p.z() != q.z()) return p.z() < q.z();
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<std::size_t> first(n);  // the first point at each point's position
+  for (std::size_t i = 0; i < n; ++i)
+    first[order[i]] =
+        i > 0 && soup.points[order[i]] == soup.points[order[i - 1]] ? first[order[i - 1]] : order[i];
+  std::vector<std::size_t> number(n);
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (first[i] == i) {
+      soup.points[kept] = soup.points[i];
+      number[i] = kept++;
+    }
+  if (kept == n) return 0;
+  for (Polygon& t : soup.polygons)
+    for (std::size_t& v : t) v = number[first[v]];
+  soup.points.resize(kept);
+  return n - kept;
+}
+
 // Isolated points, positions shared by several points, triangles that lost a corner to the merge
 // (two corners at one position: zero area; removing one joins its neighbours directly, which is
-// what collapsing it would do, so no hole opens) and exact repeats of a triangle (one copy kept).
-void clean_soup(Soup& soup, RepairReport& report) {
+// what collapsing it would do, so no hole opens) and exact repeats of a triangle (same corners in
+// the same cyclic order: one copy kept, the first). (CGAL's repair_polygon_soup does the last two
+// for polygons of any size, with a vector per polygon; for triangles a sort of fixed-size keys is
+// several times faster.) Returns the opposite copies that are left (same corners, the other
+// order; the lower triangle number first): the back-to-back pairs, decided next.
+std::vector<std::array<std::size_t, 2>> clean_soup(Soup& soup, RepairReport& report) {
   report.isolated_vertices = PMP::remove_isolated_points_in_polygon_soup(soup.points, soup.polygons);
-  report.merged_vertices = PMP::merge_duplicate_points_in_polygon_soup(soup.points, soup.polygons);
-  const auto coincident = static_cast<std::size_t>(
-      std::count_if(soup.polygons.begin(), soup.polygons.end(),
-                    [](const Polygon& p) { return p[0] == p[1] || p[1] == p[2] || p[2] == p[0]; }));
-  const std::size_t before = soup.polygons.size();
-  // Orientation matters here: opposite copies are the back-to-back pairs, decided below.
-  PMP::repair_polygon_soup(soup.points, soup.polygons,
-                           CGAL::parameters::erase_all_duplicates(false).require_same_orientation(true));
-  report.zero_area_triangles += coincident;
-  report.repeated_triangles = before - soup.polygons.size() - coincident;
+  report.merged_vertices = merge_duplicate_points(soup);
+  const auto coincident = [](const Polygon& p) { return p[0] == p[1] || p[1] == p[2] || p[2] == p[0]; };
+  // The corners sorted, then the cyclic rotation that starts at the smallest: copies are side by
+  // side, repeats equal in both.
+  struct Copy {
+    Key corners;
+    Polygon rotation;
+    std::size_t triangle;
+    bool operator<(const Copy& o) const {
+      return std::tie(corners, rotation, triangle) < std::tie(o.corners, o.rotation, o.triangle);
+    }
+  };
+  std::vector<Copy> copies;
+  copies.reserve(soup.polygons.size());
+  std::vector<char> remove(soup.polygons.size(), 0);
+  for (std::size_t t = 0; t < soup.polygons.size(); ++t) {
+    const Polygon& p = soup.polygons[t];
+    if (coincident(p)) {
+      remove[t] = 1;
+      ++report.zero_area_triangles;
+      continue;
+    }
+    const int first = p[0] < p[1] ? (p[0] < p[2] ? 0 : 2) : (p[1] < p[2] ? 1 : 2);
+    copies.push_back({key_of(p), Polygon{p[first], p[(first + 1) % 3], p[(first + 2) % 3]}, t});
+  }
+  std::sort(copies.begin(), copies.end());
+  std::vector<std::array<std::size_t, 2>> pairs;
+  for (std::size_t i = 0, j; i < copies.size(); i = j) {
+    // A triangle has two cyclic orders: the first copy of each stays.
+    std::size_t kept[2] = {copies[i].triangle, 0}, orders = 1;
+    for (j = i + 1; j < copies.size() && copies[j].corners == copies[i].corners; ++j) {
+      if (copies[j].rotation == copies[j - 1].rotation) {
+        remove[copies[j].triangle] = 1;
+        ++report.repeated_triangles;
+      } else {
+        kept[orders++] = copies[j].triangle;
+      }
+    }
+    if (orders == 2) pairs.push_back({std::min(kept[0], kept[1]), std::max(kept[0], kept[1])});
+  }
+  if (report.zero_area_triangles + report.repeated_triangles == 0) return pairs;
+  std::vector<std::size_t> number(soup.polygons.size());
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < soup.polygons.size(); ++t)
+    if (!remove[t]) {
+      number[t] = kept;
+      soup.polygons[kept++] = soup.polygons[t];
+    }
+  soup.polygons.resize(kept);
+  for (auto& pair : pairs) pair = {number[pair[0]], number[pair[1]]};
+  // Points only the removed triangles used (not counted: they were not isolated in the input).
+  PMP::remove_isolated_points_in_polygon_soup(soup.points, soup.polygons);
+  return pairs;
 }
 
 // Back-to-back pairs: two triangles with the same corners in opposite orders. Between two parts
@@ -99,14 +186,8 @@ void clean_soup(Soup& soup, RepairReport& report) {
 // has a rim and other triangles continue from every edge of it; a sheet's rim is free, and a
 // closed two-sided surface has no rim. A pair of zero-area triangles always goes: it covers
 // nothing from either side (OpenSCAD writes such pairs where a vertex lies on an edge).
-void resolve_back_to_back(Soup& soup, RepairReport& report) {
-  std::vector<std::pair<Key, std::size_t>> keys;  // sorted: the copies of a triangle side by side
-  keys.reserve(soup.polygons.size());
-  for (std::size_t t = 0; t < soup.polygons.size(); ++t) keys.emplace_back(key_of(soup.polygons[t]), t);
-  std::sort(keys.begin(), keys.end());
-  std::vector<std::array<std::size_t, 2>> pairs;  // after clean_soup: at most one copy per orientation
-  for (std::size_t i = 0; i + 1 < keys.size(); ++i)
-    if (keys[i].first == keys[i + 1].first) pairs.push_back({keys[i].second, keys[i + 1].second});
+void resolve_back_to_back(Soup& soup, const std::vector<std::array<std::size_t, 2>>& pairs,
+                          RepairReport& report) {
   if (pairs.empty()) return;
 
   std::map<Edge, std::vector<std::size_t>> pairs_of_edge;  // the pairs along each of their edges
@@ -114,9 +195,12 @@ void resolve_back_to_back(Soup& soup, RepairReport& report) {
     const Polygon& t = soup.polygons[pairs[p][0]];
     for (int k = 0; k < 3; ++k) pairs_of_edge[edge_of(t[k], t[(k + 1) % 3])].push_back(p);
   }
+  std::vector<char> on_pair(soup.points.size(), 0);  // (to look up only the sides that may count)
+  for (const auto& [edge, along] : pairs_of_edge) on_pair[edge.first] = on_pair[edge.second] = 1;
   std::map<Edge, std::size_t> uses;  // triangles along those edges, the pairs' own included
   for (const Polygon& t : soup.polygons)
     for (int k = 0; k < 3; ++k) {
+      if (!on_pair[t[k]] || !on_pair[t[(k + 1) % 3]]) continue;
       const auto it = pairs_of_edge.find(edge_of(t[k], t[(k + 1) % 3]));
       if (it != pairs_of_edge.end()) ++uses[it->first];
     }
@@ -152,79 +236,169 @@ void resolve_back_to_back(Soup& soup, RepairReport& report) {
   report.isolated_vertices += PMP::remove_isolated_points_in_polygon_soup(soup.points, soup.polygons);
 }
 
-// What orient_polygon_soup reports while it works (it takes its visitor by value: hence the
-// pointer to the counts).
-struct OrientationCounts {
-  std::set<Edge> non_manifold_edges;
-  std::size_t split_vertices = 0, copies = 0, reversed = 0;
-  std::map<std::size_t, std::size_t> original;  // a copy's point -> the point it copies
+// Lists by key in one array (a counting sort): the items of key k are
+// items[start[k]] .. items[start[k + 1] - 1], in the order they were given.
+template <class Item>
+struct Buckets {
+  std::vector<std::size_t> start;
+  std::vector<Item> items;
 };
 
-struct CountingVisitor : public PMP::Default_orientation_visitor {
-  explicit CountingVisitor(OrientationCounts* into) : counts(into) {}
-  void non_manifold_edge(std::size_t a, std::size_t b, std::size_t) {
-    counts->non_manifold_edges.insert(edge_of(a, b));
-  }
-  void non_manifold_vertex(std::size_t, std::size_t fans) {
-    ++counts->split_vertices;
-    counts->copies += fans;
-  }
-  void duplicated_vertex(std::size_t from, std::size_t copy) { counts->original[copy] = from; }
-  void polygon_orientation_reversed(std::size_t) { ++counts->reversed; }
-  OrientationCounts* counts;
+template <class Item, class Each>
+Buckets<Item> buckets(std::size_t keys, std::size_t count, Each each) {
+  Buckets<Item> out;
+  out.start.assign(keys + 1, 0);
+  each([&](std::size_t key, const Item&) { ++out.start[key + 1]; });
+  std::partial_sum(out.start.begin(), out.start.end(), out.start.begin());
+  out.items.resize(count);
+  std::vector<std::size_t> next(out.start.begin(), out.start.end() - 1);
+  each([&](std::size_t key, const Item& item) { out.items[next[key]++] = item; });
+  return out;
+}
+
+// A triangle's corner at a vertex: the corners after and before it, and the triangle.
+struct Corner {
+  std::size_t next, previous, triangle;
 };
 
-// The two triangles along each edge that has exactly two: those orientation may cut apart.
-std::vector<std::pair<Edge, std::array<std::size_t, 2>>> two_sided_edges(
-    const std::vector<Polygon>& polygons) {
-  std::vector<std::pair<Edge, std::size_t>> sides;
-  sides.reserve(3 * polygons.size());
-  for (std::size_t t = 0; t < polygons.size(); ++t)
-    for (int k = 0; k < 3; ++k) sides.emplace_back(edge_of(polygons[t][k], polygons[t][(k + 1) % 3]), t);
-  std::sort(sides.begin(), sides.end());
-  std::vector<std::pair<Edge, std::array<std::size_t, 2>>> out;
-  for (std::size_t i = 0, j; i < sides.size(); i = j) {
-    for (j = i + 1; j < sides.size() && sides[j].first == sides[i].first;) ++j;
-    if (j - i == 2) out.push_back({sides[i].first, {sides[i].second, sides[i + 1].second}});
+// Whether the triangles around one vertex form a single fan, consistently oriented: each corner
+// contributes the edge (next corner -> previous corner) of the vertex's link, and the link must be
+// one path or one cycle. Linear for the small valences of real meshes, k log k for a huge one.
+class FanCheck {
+ public:
+  bool one_fan(const Corner* link, std::size_t k) {
+    if (k <= 1) return true;
+    successor_.assign(k, kNone);
+    in_degree_.assign(k, 0);
+    const auto link_to = [&](std::size_t i, std::size_t j) {
+      successor_[i] = j;
+      return ++in_degree_[j] == 1;
+    };
+    if (k <= 16) {
+      for (std::size_t i = 0; i < k; ++i)
+        for (std::size_t j = 0; j < k; ++j) {
+          if (i != j && link[i].next == link[j].next) return false;  // an edge twice, one way
+          if (link[i].previous == link[j].next && successor_[i] == kNone && !link_to(i, j)) return false;
+        }
+    } else {
+      sorted_.clear();
+      for (std::size_t i = 0; i < k; ++i) sorted_.emplace_back(link[i].next, i);
+      std::sort(sorted_.begin(), sorted_.end());
+      for (std::size_t i = 1; i < k; ++i)
+        if (sorted_[i].first == sorted_[i - 1].first) return false;
+      for (std::size_t i = 0; i < k; ++i) {
+        const auto it = std::lower_bound(sorted_.begin(), sorted_.end(),
+                                         std::make_pair(link[i].previous, std::size_t{0}));
+        if (it != sorted_.end() && it->first == link[i].previous && !link_to(i, it->second)) return false;
+      }
+    }
+    std::size_t start = 0, starts = 0;
+    for (std::size_t i = 0; i < k; ++i)
+      if (in_degree_[i] == 0) start = i, ++starts;
+    if (starts > 1) return false;
+    std::size_t visited = 1;
+    for (std::size_t i = successor_[start]; i != kNone && i != start && visited <= k; i = successor_[i])
+      ++visited;
+    return visited == k;
+  }
+
+ private:
+  static constexpr std::size_t kNone = ~std::size_t{0};
+  std::vector<std::size_t> successor_, in_degree_;
+  std::vector<std::pair<std::size_t, std::size_t>> sorted_;
+};
+
+// What keeps a soup from being an oriented surface, in linear time (what CGAL's
+// is_polygon_soup_a_polygon_mesh decides, which is several times slower): the triangles along an
+// edge of more than two triangles or of two that run it the same way, and those around a vertex
+// whose triangles are not one fan. `component` labels the pieces joined across edges of two
+// triangles: what orient_polygon_soup would look at together.
+struct SurfaceDefects {
+  std::vector<char> off;
+  std::size_t count = 0;
+  std::vector<std::size_t> component;
+};
+
+SurfaceDefects surface_defects(const std::vector<Polygon>& polygons, std::size_t point_count) {
+  SurfaceDefects out;
+  out.off.assign(polygons.size(), 0);
+  // The corners by vertex: each gives the vertex's link an edge (next corner -> previous corner)
+  // and its triangle the sides (vertex -> next) and (previous -> vertex).
+  const auto corners = buckets<Corner>(point_count, 3 * polygons.size(), [&](auto&& add) {
+    for (std::size_t t = 0; t < polygons.size(); ++t)
+      for (std::size_t k = 0; k < 3; ++k)
+        add(polygons[t][k], Corner{polygons[t][(k + 1) % 3], polygons[t][(k + 2) % 3], t});
+  });
+  UnionFind pieces(polygons.size());
+  FanCheck fans;
+  struct Side {
+    std::size_t other, triangle;
+    bool outgoing;
+  };
+  std::vector<Side> sides;  // the sides from v to higher-numbered vertices, each edge seen once
+  for (std::size_t v = 0; v < point_count; ++v) {
+    const Corner* begin = corners.items.data() + corners.start[v];
+    const std::size_t k = corners.start[v + 1] - corners.start[v];
+    sides.clear();
+    for (const Corner* c = begin; c != begin + k; ++c) {
+      if (c->next > v) sides.push_back({c->next, c->triangle, true});
+      if (c->previous > v) sides.push_back({c->previous, c->triangle, false});
+    }
+    std::sort(sides.begin(), sides.end(), [](const Side& a, const Side& b) { return a.other < b.other; });
+    for (std::size_t i = 0, j; i < sides.size(); i = j) {
+      for (j = i + 1; j < sides.size() && sides[j].other == sides[i].other;) ++j;
+      const bool manifold = j - i == 1 || (j - i == 2 && sides[i].outgoing != sides[i + 1].outgoing);
+      if (j - i == 2) pieces.unite(sides[i].triangle, sides[i + 1].triangle);
+      if (!manifold)
+        for (std::size_t e = i; e < j; ++e) out.off[sides[e].triangle] = 1;
+    }
+    if (!fans.one_fan(begin, k))
+      for (const Corner* c = begin; c != begin + k; ++c) out.off[c->triangle] = 1;
+  }
+  out.component.resize(polygons.size());
+  for (std::size_t t = 0; t < polygons.size(); ++t) {
+    out.component[t] = pieces.find(t);
+    out.count += out.off[t];
   }
   return out;
 }
 
-// Consistent orientation by orient_polygon_soup, which splits non-manifold edges and vertices
-// (each fan gets its own copy of the vertex) and cuts a surface that cannot be oriented open along
-// the edges where the orientation would flip. Those cuts are the edges that two triangles shared
-// before and share no more (a non-manifold vertex's fans never share an edge).
+// Consistent orientation by orient_triangles (CGAL's orient_polygon_soup's rule), which splits
+// non-manifold edges and vertices (each fan gets its own copy of the vertex) and cuts a surface
+// that cannot be oriented open along the edges where the orientation would flip. Only the pieces
+// with a defect are walked: the others are oriented surfaces already, which the walk would leave
+// as they are, and they share no vertex with those walked (a shared vertex is not one fan).
 void orient(Soup& soup, RepairReport& report) {
-  const auto shared = two_sided_edges(soup.polygons);
-  OrientationCounts counts;
-  PMP::orient_polygon_soup(soup.points, soup.polygons, CGAL::parameters::visitor(CountingVisitor(&counts)));
-  report.non_manifold_edges = counts.non_manifold_edges.size();
-  report.split_vertices = counts.split_vertices;
-  report.vertex_copies = counts.copies;
-  report.reoriented_triangles = counts.reversed;
-  if (counts.original.empty()) return;
-  const auto original = [&](std::size_t v) {
-    const auto it = counts.original.find(v);
-    return it == counts.original.end() ? v : it->second;
-  };
-  // The points that triangle t has now at the ends of edge e (as it was before).
-  const auto now = [&](std::size_t t, const Edge& e) {
-    const Polygon& p = soup.polygons[t];
-    for (int k = 0; k < 3; ++k) {
-      const std::size_t a = p[k], b = p[(k + 1) % 3];
-      if (edge_of(original(a), original(b)) == e) return edge_of(a, b);
-    }
-    return Edge{0, 0};
-  };
-  for (const auto& [edge, triangles] : shared)
-    if (now(triangles[0], edge) != now(triangles[1], edge)) ++report.cut_edges;
+  const SurfaceDefects defects = surface_defects(soup.polygons, soup.points.size());
+  if (defects.count == 0) return;
+  std::vector<char> piece_off(soup.polygons.size(), 0);
+  for (std::size_t t = 0; t < soup.polygons.size(); ++t)
+    if (defects.off[t]) piece_off[defects.component[t]] = 1;
+  std::vector<std::size_t> chosen;  // the triangles of the pieces with a defect, in order
+  for (std::size_t t = 0; t < soup.polygons.size(); ++t)
+    if (piece_off[defects.component[t]]) chosen.push_back(t);
+  std::vector<Polygon> part;
+  part.reserve(chosen.size());
+  for (const std::size_t t : chosen) part.push_back(soup.polygons[t]);
+
+  const SoupOrientation orientation = orient_triangles(part, soup.points.size());
+  for (std::size_t i = 0; i < chosen.size(); ++i) soup.polygons[chosen[i]] = part[i];
+  for (const std::size_t from : orientation.copied_from) soup.points.push_back(soup.points[from]);
+  report.non_manifold_edges = orientation.non_manifold_edges;
+  report.cut_edges = orientation.cut_edges;
+  report.split_vertices = orientation.split_vertices;
+  report.vertex_copies = orientation.vertex_copies;
+  report.reoriented_triangles = orientation.reversed_triangles;
 }
 
-Mesh mesh_of(const Soup& soup) {
-  if (!PMP::is_polygon_soup_a_polygon_mesh(soup.polygons))
+void require_surface(const Soup& soup) {
+  if (surface_defects(soup.polygons, soup.points.size()).count > 0)
     throw InputError(
         "could not be repaired: the triangles make no surface even with their non-manifold edges "
         "and vertices split");
+}
+
+Mesh mesh_of(const Soup& soup) {
   Mesh mesh;
   PMP::polygon_soup_to_polygon_mesh(soup.points, soup.polygons, mesh);
   return mesh;
@@ -239,12 +413,46 @@ std::size_t degenerate_count(const Mesh& mesh) {
 std::set<Key> triangle_keys(const Mesh& mesh) {
   std::set<Key> keys;
   for (const Mesh::Face_index f : mesh.faces()) {
-    Polygon corners;
+    Polygon corners{};
+    int k = 0;
     for (const Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(f), mesh))
-      corners.push_back(v);
+      if (k < 3) corners[k++] = v;
     keys.insert(key_of(corners));
   }
   return keys;
+}
+
+// Whether collapse_and_flip could change anything: some triangle is degenerate (collinear
+// corners, CGAL's exact predicate), or a needle whose shortest edge is within the bound, or a cap
+// whose apex is within the bound of its longest edge (the tests of CGAL's
+// remove_almost_degenerate_faces, here with margins so that no triangle it would take is missed).
+// Most exports have none, and then the halfedge mesh is not needed at all.
+bool needs_geometric_repair(const Soup& soup, double max_move, const RepairOptions& options) {
+  const double pi = std::acos(-1.0);
+  const double cap_cosine = std::cos(options.cap_angle_degrees * pi / 180) + 1e-6;
+  const double ratio_squared = 0.99 * options.needle_ratio * options.needle_ratio;
+  const double reach = 1.01 * max_move, reach_squared = reach * reach;
+  for (const Polygon& t : soup.polygons) {
+    const Point &a = soup.points[t[0]], &b = soup.points[t[1]], &c = soup.points[t[2]];
+    if (CGAL::collinear(a, b, c)) return true;
+    if (!(max_move > 0)) continue;
+    const std::array<Point, 3> corner = {a, b, c};
+    std::array<double, 3> length_squared{};  // of the side opposite each corner
+    for (int k = 0; k < 3; ++k)
+      length_squared[k] = CGAL::to_double(CGAL::squared_distance(corner[(k + 1) % 3], corner[(k + 2) % 3]));
+    const auto [shortest, longest] = std::minmax_element(length_squared.begin(), length_squared.end());
+    if (*longest >= ratio_squared * *shortest && *shortest <= reach_squared) return true;
+    // The largest angle is opposite the longest side; the apex's height over that side is
+    // twice the area over the side's length.
+    const int apex = static_cast<int>(longest - length_squared.begin());
+    const auto u = corner[(apex + 1) % 3] - corner[apex], v = corner[(apex + 2) % 3] - corner[apex];
+    const double uu = u.squared_length(), vv = v.squared_length();
+    if (!(uu > 0 && vv > 0)) return true;
+    const double cosine = (u * v) / std::sqrt(uu * vv);
+    const double height_squared = CGAL::cross_product(u, v).squared_length() / *longest;
+    if (cosine <= cap_cosine && height_squared <= reach_squared) return true;
+  }
+  return false;
 }
 
 // Zero-area triangles (collinear corners), then needles and caps within the bounds. Collapses
@@ -360,20 +568,27 @@ RepairReport repair_triangles(std::vector<Vec3>& points, std::vector<std::array<
   for (const Vec3& p : points) soup.points.emplace_back(p.x, p.y, p.z);
   soup.polygons.reserve(triangles.size());
   for (const auto& t : triangles)
-    soup.polygons.push_back(
-        {static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]), static_cast<std::size_t>(t[2])});
+    soup.polygons.push_back(Polygon{static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]),
+                                    static_cast<std::size_t>(t[2])});
 
-  clean_soup(soup, report);
-  resolve_back_to_back(soup, report);
+  resolve_back_to_back(soup, clean_soup(soup, report), report);
   points.clear();
   triangles.clear();
   if (soup.polygons.empty()) return report;  // the caller says that nothing is left
   orient(soup, report);
-  Mesh mesh = mesh_of(soup);
-  if (const std::size_t created = PMP::duplicate_non_manifold_vertices(mesh); created > 0) {
-    ++report.split_vertices;  // (orient_polygon_soup leaves none: counted roughly, never seen)
-    report.vertex_copies += created + 1;
+  // Whether the result is a surface is checked after the repair with every input's checks
+  // (prepare_triangle_mesh), which name what is wrong; the halfedge mesh needs it before.
+  if (!needs_geometric_repair(soup, report.max_move, options)) {
+    // Back to the caller's form directly: the soup's points are all used (isolated ones went).
+    for (const Point& p : soup.points) points.emplace_back(p.x(), p.y(), p.z());
+    triangles.reserve(soup.polygons.size());
+    for (const Polygon& t : soup.polygons)
+      triangles.push_back({static_cast<std::int32_t>(t[0]), static_cast<std::int32_t>(t[1]),
+                           static_cast<std::int32_t>(t[2])});
+    return report;
   }
+  require_surface(soup);
+  Mesh mesh = mesh_of(soup);
   collapse_and_flip(mesh, report.max_move, options, report);
 
   // Back to the caller's form: the vertices the triangles use, in the mesh's order (the soup's).

@@ -312,10 +312,13 @@ TriangleMeshData repaired(const PolygonSoup& soup, std::vector<Triangle> triangl
   const auto less = [](const Vec3& a, const Vec3& b) {
     return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
   };
-  std::vector<std::int32_t> by_position(out.points.size());
-  for (std::size_t i = 0; i < by_position.size(); ++i) by_position[i] = static_cast<std::int32_t>(i);
-  std::sort(by_position.begin(), by_position.end(),
-            [&](std::int32_t i, std::int32_t j) { return less(out.points[i], out.points[j]); });
+  std::vector<std::int32_t> by_position;  // (sorted only when there are tags to follow)
+  if (!soup.sharp.edges.empty() || !soup.sharp.vertices.empty()) {
+    by_position.resize(out.points.size());
+    for (std::size_t i = 0; i < by_position.size(); ++i) by_position[i] = static_cast<std::int32_t>(i);
+    std::sort(by_position.begin(), by_position.end(),
+              [&](std::int32_t i, std::int32_t j) { return less(out.points[i], out.points[j]); });
+  }
   const auto new_vertex = [&](std::int64_t v) -> std::int32_t {
     const Vec3& p = soup.points[static_cast<std::size_t>(v)];
     const auto it = std::lower_bound(by_position.begin(), by_position.end(), p,

@@ -4,10 +4,14 @@
 /// (prepare_triangle_mesh, soup.hpp): positions that several vertices share are merged,
 /// degenerate and needle triangles collapsed (not deleted, so that no hole opens), duplicate
 /// triangles removed, non-manifold edges and vertices split, the surface oriented consistently
-/// (cut open where it cannot be), isolated vertices dropped. The work is done by CGAL's Polygon
-/// Mesh Processing (CGAL 5.5: repair_polygon_soup, orient_polygon_soup,
-/// polygon_soup_to_polygon_mesh, duplicate_non_manifold_vertices, remove_degenerate_faces,
-/// experimental::remove_almost_degenerate_faces); CGAL stays private to this module.
+/// (cut open where it cannot be), isolated vertices dropped. The geometric work is done by CGAL's
+/// Polygon Mesh Processing (CGAL 5.5: remove_isolated_points_in_polygon_soup,
+/// polygon_soup_to_polygon_mesh, remove_degenerate_faces,
+/// experimental::remove_almost_degenerate_faces); CGAL stays private to this module. The steps
+/// on the whole soup are linear-time array passes that follow CGAL's rules (orient_triangles.hpp
+/// follows orient_polygon_soup, tested against it), so that a repair costs about as much as a
+/// second reading of the file (bench/bench_repair.cpp); the halfedge mesh is built only when a
+/// triangle is degenerate, a needle or a cap.
 ///
 /// The geometry moves by at most RepairOptions::max_move times the bounding-box diagonal: only
 /// edges that short are collapsed, and only caps that flat flipped. Everything else is a change of
