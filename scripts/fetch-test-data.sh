@@ -19,7 +19,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dest=${1:-build/public-data}
-version=6
+version=7
 [ -f "$dest/.complete" ] && [ "$(cat "$dest/.complete")" = "$version" ] && exit 0
 
 files=(
@@ -38,6 +38,7 @@ files=(
   data/points_3/kitten.xyz                # point cloud, 5,210 points (with normals)
   data/points_3/sphere_20k.xyz            # point cloud, 21,000 points
   data/points_3/hippo1.ply                # point cloud, 6,104 points, binary PLY
+  data/points_3/hippo2.ply                # one-sided scan, 4,387 points, a lobe held by one vertex (issue 43)
   data/points_3/oni.pwn                   # point cloud, 1,435 points with normals
   data/points_3/blobby.xyz                # point cloud, 3,288 points
   data/points_3/before_upsample.xyz       # open creased sheet, 850 points with normals

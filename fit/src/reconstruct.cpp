@@ -393,7 +393,8 @@ Reconstruction reconstruct_surface(const std::vector<Vec3>& points, const std::v
   return result;
 }
 
-double detail::trim_unsupported(TriangleMeshData& mesh, const std::vector<Vec3>& points, double spacings) {
+double detail::trim_unsupported(TriangleMeshData& mesh, const std::vector<Vec3>& points, double spacings,
+                                bool border_only) {
   if (points.size() < 2 || mesh.triangles.empty()) return 0;
   const PointIndex index(points);
   const std::vector<double> spacing = local_spacing(points, index);
@@ -403,26 +404,40 @@ double detail::trim_unsupported(TriangleMeshData& mesh, const std::vector<Vec3>&
   };
   PolygonSoup soup;
   soup.points = mesh.points;
+  // With border_only, only the triangles along the boundary are tested (those with an edge of
+  // one triangle): a coarse mesh's border is peeled back to the points without cutting into its
+  // covered interior, where large triangles leave the points by their curvature alone.
+  std::vector<char> on_border(mesh.triangles.size(), !border_only);
+  if (border_only) {
+    std::map<std::pair<std::int32_t, std::int32_t>, int> uses;
+    for (const auto& t : mesh.triangles)
+      for (int k = 0; k < 3; ++k) ++uses[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}];
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        const auto& t = mesh.triangles[i];
+        if (uses[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}] == 1) on_border[i] = 1;
+      }
+  }
   double area = 0, removed = 0;
-  for (const auto& t : mesh.triangles) {
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const auto& t = mesh.triangles[i];
     const Vec3 &a = mesh.points[t[0]], &b = mesh.points[t[1]], &c = mesh.points[t[2]];
     const double triangle_area = 0.5 * norm(cross(b - a, c - a));
     area += triangle_area;
-    if (supported((a + b + c) * (1.0 / 3)) && supported((a + b) * 0.5) && supported((b + c) * 0.5) &&
-        supported((c + a) * 0.5))
+    if (!on_border[i] || (supported((a + b + c) * (1.0 / 3)) && supported((a + b) * 0.5) &&
+                          supported((b + c) * 0.5) && supported((c + a) * 0.5)))
       soup.faces.push_back({t[0], t[1], t[2]});
     else
       removed += triangle_area;
   }
   if (soup.faces.size() == mesh.triangles.size() || soup.faces.empty()) return 0;
   // Where trimmed parts met only at a vertex, its triangles now form several fans: all but the
-  // largest go (a few rounds: each removal may pinch another vertex).
-  for (int round = 0; round < 8; ++round) {
+  // largest get a copy of the vertex of their own (a part of the scan held to the rest by a
+  // vertex only is still scanned: CGAL's hippo2 has such a lobe of 56 points).
+  {  // (one pass: a split adds no pinch elsewhere; triangles across an edge share both fans)
     std::vector<std::vector<std::size_t>> around(soup.points.size());
     for (std::size_t f = 0; f < soup.faces.size(); ++f)
       for (const std::int64_t v : soup.faces[f]) around[static_cast<std::size_t>(v)].push_back(f);
-    std::vector<char> drop(soup.faces.size(), 0);
-    bool any = false;
     for (std::size_t v = 0; v < around.size(); ++v) {
       const std::vector<std::size_t>& fan = around[v];
       if (fan.size() < 2) continue;
@@ -443,18 +458,21 @@ double detail::trim_unsupported(TriangleMeshData& mesh, const std::vector<Vec3>&
       if (sizes.size() < 2) continue;
       const std::size_t largest =
           std::max_element(sizes.begin(), sizes.end(), [](const auto& x, const auto& y) { return x.second < y.second; })->first;
-      for (std::size_t i = 0; i < fan.size(); ++i)
-        if (find(i) != largest) drop[fan[i]] = 1, any = true;
+      std::map<std::size_t, std::int64_t> copy_of;  // fan -> its vertex
+      for (std::size_t i = 0; i < fan.size(); ++i) {
+        const std::size_t which = find(i);
+        if (which == largest) continue;
+        auto [it, fresh] = copy_of.try_emplace(which, static_cast<std::int64_t>(soup.points.size()));
+        if (fresh) soup.points.push_back(soup.points[v]);
+        for (std::int64_t& corner : soup.faces[fan[i]])
+          if (corner == static_cast<std::int64_t>(v)) corner = it->second;
+      }
     }
-    if (!any) break;
-    std::vector<std::vector<std::int64_t>> kept;
-    for (std::size_t f = 0; f < soup.faces.size(); ++f)
-      if (!drop[f]) kept.push_back(std::move(soup.faces[f]));
-    soup.faces = std::move(kept);
   }
   try {
-    // Pieces that the trimming cut off and that hold under 5% of the triangles are debris.
-    TriangleMeshData trimmed = main_components(prepare_triangle_mesh(soup), 0.05).first;
+    // Pieces that the trimming cut off and that hold under 0.5% of the triangles are debris
+    // (islands of a few triangles over gaps); larger ones are parts of the scan.
+    TriangleMeshData trimmed = main_components(prepare_triangle_mesh(soup), 0.005).first;
     topology_of(trimmed);
     double kept = 0;
     for (const auto& t : trimmed.triangles)

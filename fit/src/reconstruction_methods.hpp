@@ -38,12 +38,16 @@ PolygonSoup advancing_front_surface(const std::vector<Vec3>& points, const std::
 // triangulation of the hole, refined to its surroundings). Returns how many were filled.
 std::size_t fill_small_holes(TriangleMeshData& mesh, double length);
 
-// An open scan's base trimmed to the points (reconstruct.cpp): the triangles with a corner-edge
+// An open scan's surface trimmed to the points (reconstruct.cpp): the triangles with an edge
 // midpoint or centroid farther from the nearest point than `spacings` times that point's local
-// spacing go (a decimated or bridging triangle over a part the scan did not see), then the
-// components under 5% of the triangles. Returns the area fraction removed (0: nothing). The mesh
-// is left as it was when what is left is not a valid surface (a vertex where the trimmed parts
-// met only at a point).
-double trim_unsupported(TriangleMeshData& mesh, const std::vector<Vec3>& points, double spacings);
+// spacing go (a bridging triangle or a cap over a part the scan did not see); a vertex where
+// the parts left met only at a point is split, one copy per fan; then the components under 0.5%
+// of the triangles go (islands over gaps). With `border_only`, only the triangles along the
+// boundary are tested: a decimated surface's border is peeled back to the points without its
+// coarse interior being cut where curvature alone takes it off the points. Returns the area
+// fraction removed (0: nothing). The mesh is left as it was when what is left is not a valid
+// surface.
+double trim_unsupported(TriangleMeshData& mesh, const std::vector<Vec3>& points, double spacings,
+                        bool border_only = false);
 
 }  // namespace rgbmesh::fit::detail
