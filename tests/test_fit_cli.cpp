@@ -333,6 +333,34 @@ TEST_F(FitCli, OneSidedScansFitAsOpenSurfacesThatStopAtTheirBorder) {
   expect_within(read_text(path("s.json")), "half sphere");
 }
 
+// Points in one plane (CGAL's point_set_2.xyz is such a 2D set) crashed CGAL's Poisson solver,
+// whose Delaunay triangulation then has dimension 2. Now Poisson gives way with a note and the
+// advancing front makes the flat sheet that such points sample. Points a hair off the plane make
+// a 3D triangulation: whatever the outcome, no crash.
+TEST_F(FitCli, PointsInOnePlaneAreAFlatSheetNotACrash) {
+  for (const double lift : {0.0, 1e-9}) {
+    std::ofstream cloud(path("plane.xyz"));
+    std::uint64_t state = 11;
+    const auto uniform = [&state] {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      return static_cast<double>(state >> 11) * (1.0 / 9007199254740992.0);
+    };
+    for (int n = 0; n < 3000; ++n) {
+      const double x = uniform(), y = uniform();
+      cloud << x << " " << y << " " << lift * uniform() << " 0 0 1\n";
+    }
+    cloud.close();
+    const RunResult r = run("fit --target " + path("plane.xyz") + " --iterations 5 --no-retry --out " + path("p"));
+    if (lift == 0.0) {
+      EXPECT_EQ(r.code, 0) << r.err;
+      EXPECT_NE(r.err.find("Poisson: the points lie in one plane"), std::string::npos) << r.err;
+      EXPECT_NE(r.err.find("by advancing front"), std::string::npos) << r.err;
+    } else {
+      EXPECT_TRUE(r.code == 0 || r.code == 2) << r.code << ": " << r.err;
+    }
+  }
+}
+
 TEST_F(FitCli, PolygonTargetsAreRefusedLikeEverywhereElse) {
   // 3torus.off: quads of a genus-3 surface, once silently reconstructed from its vertices into
   // a genus-0 blob.

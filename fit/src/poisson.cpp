@@ -104,6 +104,21 @@ double area(const PolygonSoup& soup) {
   return sum;
 }
 
+// Whether every point lies in one plane (or on one line), by CGAL's exact predicates: a
+// triangle of points spanning the plane, then every point's orientation to it.
+bool in_one_plane(const std::vector<PointWithNormal>& samples) {
+  if (samples.size() < 4) return true;
+  const Point& a = samples[0].first;
+  std::size_t b = 1;
+  while (b < samples.size() && samples[b].first == a) ++b;
+  std::size_t c = b + 1;
+  while (c < samples.size() && CGAL::collinear(a, samples[b].first, samples[c].first)) ++c;
+  if (c >= samples.size()) return true;  // all on one line
+  for (const auto& [p, normal] : samples)
+    if (CGAL::orientation(a, samples[b].first, samples[c].first, p) != CGAL::COPLANAR) return false;
+  return true;
+}
+
 }  // namespace
 
 PolygonSoup poisson_surface(const OrientedCloud& cloud, double spacing, double diagonal,
@@ -115,6 +130,9 @@ PolygonSoup poisson_surface(const OrientedCloud& cloud, double spacing, double d
     const Vec3 &p = cloud.points[i], &n = cloud.normals[i];
     samples.emplace_back(Point(p.x, p.y, p.z), Kernel::Vector_3(n.x, n.y, n.z));
   }
+  // CGAL's solver needs a Delaunay triangulation of dimension 3: on points in one plane (CGAL's
+  // own point_set_2.xyz, a 2D set with z = 0) it read past its arrays and crashed.
+  if (in_one_plane(samples)) throw MethodFailed("the points lie in one plane: they enclose no volume");
   PoissonFunction function(samples.begin(), samples.end(), PointMap(), NormalMap());
   using Solver = CGAL::Eigen_solver_traits<
       Eigen::ConjugateGradient<CGAL::Eigen_sparse_symmetric_matrix<double>::EigenType>>;
