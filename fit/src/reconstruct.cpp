@@ -105,9 +105,10 @@ detail::OrientedCloud oriented_cloud(const std::vector<Vec3>& points, const std:
     for (const Vec3& p : points) samples.emplace_back(Point(p.x, p.y, p.z), Kernel::Vector_3(0, 0, 0));
     estimate = reorient = true;
   } else if (unusable > 0) {
-    notes.push_back(with_thousands(unusable) + " of " + with_thousands(points.size()) +
-                    " normals are zero or not finite: those points are left out of the reconstruction (they are "
-                    "still fitted)");
+    notes.push_back(
+        with_thousands(unusable) + " of " + with_thousands(points.size()) +
+        " normals are zero or not finite: those points are left out of the reconstruction (they are "
+        "still fitted)");
   }
   if (!estimate) {
     std::vector<Vec3> p, n;
@@ -118,8 +119,9 @@ detail::OrientedCloud oriented_cloud(const std::vector<Vec3>& points, const std:
     // A tenth of disagreeing pairs is far more than the thin parts of real scans give (CGAL's
     // oriented clouds: under 2%), and far less than arbitrary signs (about a half).
     if (const double opposite = disagreeing_neighbours(p, n); opposite > 0.1) {
-      notes.push_back("the file's normals are not consistently oriented (" + percent(opposite) +
-                      " of neighbouring normals point opposite ways): they are re-oriented along a spanning tree");
+      notes.push_back(
+          "the file's normals are not consistently oriented (" + percent(opposite) +
+          " of neighbouring normals point opposite ways): they are re-oriented along a spanning tree");
       reorient = true;
     }
   }
@@ -154,15 +156,17 @@ detail::OrientedCloud working_cloud(const detail::OrientedCloud& cloud, const de
   }
   char text[240];
   if (noisy)
-    std::snprintf(text, sizeof text,
-                  "the points are noisy (%.2g, %.2g times their spacing): the surface is reconstructed from %s "
-                  "averages over cells of %.2g",
-                  scale.noise, scale.noise / scale.spacing, with_thousands(out.points.size()).c_str(), cell);
+    std::snprintf(
+        text, sizeof text,
+        "the points are noisy (%.2g, %.2g times their spacing): the surface is reconstructed from %s "
+        "averages over cells of %.2g",
+        scale.noise, scale.noise / scale.spacing, with_thousands(out.points.size()).c_str(), cell);
   else
-    std::snprintf(text, sizeof text,
-                  "the surface is reconstructed from %s averages of the points over cells of %.2g (at most %s "
-                  "points; the fit uses every point)",
-                  with_thousands(out.points.size()).c_str(), cell, with_thousands(options.max_points).c_str());
+    std::snprintf(
+        text, sizeof text,
+        "the surface is reconstructed from %s averages of the points over cells of %.2g (at most %s "
+        "points; the fit uses every point)",
+        with_thousands(out.points.size()).c_str(), cell, with_thousands(options.max_points).c_str());
   notes.push_back(text);
   return out;
 }
@@ -214,7 +218,8 @@ double signed_volume6(const TriangleMeshData& mesh) {
 // spacings (clean or averaged: kitten, ball, sphere_20k, blobby); where it closes an opening
 // of the scan, its cap does not (one side of a hippo, hippo1: 65%).
 double unsupported_fraction(const TriangleMeshData& mesh, const std::vector<Vec3>& points,
-                            const detail::PointIndex& index, const std::vector<double>& spacing, double spacings) {
+                            const detail::PointIndex& index, const std::vector<double>& spacing,
+                            double spacings) {
   std::vector<Vec3> centroids;
   std::vector<double> areas;
   centroids.reserve(mesh.triangles.size());
@@ -236,7 +241,8 @@ double unsupported_fraction(const TriangleMeshData& mesh, const std::vector<Vec3
 // A method's soup as a checked base: its components of at least 5% of the triangles (the pieces
 // of a scene, or the parts of an object that the sampling leaves apart; smaller ones are debris
 // of noise, and a note counts them). MethodFailed when it is not a valid mesh.
-TriangleMeshData checked_surface(const PolygonSoup& soup, const char* method, std::vector<std::string>& notes) {
+TriangleMeshData checked_surface(const PolygonSoup& soup, const char* method,
+                                 std::vector<std::string>& notes) {
   try {
     auto [mesh, dropped] = main_components(prepare_triangle_mesh(soup), 0.05);
     if (dropped > 0)
@@ -252,27 +258,33 @@ struct Cloud {
   std::vector<Vec3> points;
   detail::PointIndex index;
   std::vector<double> spacing;
-  explicit Cloud(std::vector<Vec3> p) : points(std::move(p)), index(points), spacing(detail::local_spacing(points, index)) {}
+  explicit Cloud(std::vector<Vec3> p)
+      : points(std::move(p)), index(points), spacing(detail::local_spacing(points, index)) {}
 };
 
 Reconstruction by_poisson(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
-                          const detail::CloudScale& scale, double diagonal, const ReconstructionOptions& options,
-                          const StageControl& control, const std::string& stage) {
+                          const detail::CloudScale& scale, double diagonal,
+                          const ReconstructionOptions& options, const StageControl& control,
+                          const std::string& stage) {
   Reconstruction r;
   r.method = ReconstructionMethod::poisson;
   std::vector<std::string>& notes = r.mesh.notes;
   const detail::OrientedCloud oriented = oriented_cloud(points, normals, options.neighbours, notes);
-  if (oriented.points.size() < fewest_points) throw detail::MethodFailed("too few points with oriented normals");
+  if (oriented.points.size() < fewest_points)
+    throw detail::MethodFailed("too few points with oriented normals");
   const detail::OrientedCloud working = working_cloud(oriented, scale, options, notes);
-  const PolygonSoup level_set = detail::poisson_surface(working, scale.spacing, diagonal, options, control, stage);
+  const PolygonSoup level_set =
+      detail::poisson_surface(working, scale.spacing, diagonal, options, control, stage);
   TriangleMeshData mesh = checked_surface(level_set, "Poisson", notes);
   if (signed_volume6(mesh) < 0)
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
   const Cloud cloud(working.points);
-  r.unsupported = unsupported_fraction(mesh, cloud.points, cloud.index, cloud.spacing, options.support_spacings);
+  r.unsupported =
+      unsupported_fraction(mesh, cloud.points, cloud.index, cloud.spacing, options.support_spacings);
   if (options.method == ReconstructionMethod::automatic && r.unsupported > options.max_unsupported)
     throw detail::MethodFailed(
-        percent(r.unsupported) + " of Poisson's closed surface lies farther than twice the points' spacing from "
+        percent(r.unsupported) +
+        " of Poisson's closed surface lies farther than twice the points' spacing from "
         "the surface they sample: they do not enclose a volume (an open scan, or a scene)");
   r.mesh.points = std::move(mesh.points);
   r.mesh.triangles = std::move(mesh.triangles);
@@ -297,20 +309,24 @@ Reconstruction by_advancing_front(const std::vector<Vec3>& points, const detail:
     throw detail::MethodFailed("the largest surface through the points holds only " + percent(held) +
                                " of them: they do not sample one surface densely enough");
   std::vector<double> sorted = cloud.spacing;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
+                   sorted.end());
   const double median_spacing = sorted[sorted.size() / 2];
   if (const std::size_t filled =
           detail::fill_small_holes(mesh, options.fill_holes_shorter_than * median_spacing);
       filled > 0)
-    notes.push_back("filled " + with_thousands(filled) + " small holes of the advancing-front surface (gaps of the "
+    notes.push_back("filled " + with_thousands(filled) +
+                    " small holes of the advancing-front surface (gaps of the "
                     "sampling, shorter than " +
-                    with_thousands(static_cast<std::size_t>(options.fill_holes_shorter_than)) + " spacings around)");
+                    with_thousands(static_cast<std::size_t>(options.fill_holes_shorter_than)) +
+                    " spacings around)");
   try {
     topology_of(mesh);
   } catch (const InputError& e) {
     throw detail::MethodFailed(std::string("the advancing-front surface is not a valid base: ") + e.what());
   }
-  r.unsupported = unsupported_fraction(mesh, cloud.points, cloud.index, cloud.spacing, options.support_spacings);
+  r.unsupported =
+      unsupported_fraction(mesh, cloud.points, cloud.index, cloud.spacing, options.support_spacings);
   r.mesh.points = std::move(mesh.points);
   r.mesh.triangles = std::move(mesh.triangles);
   return r;
@@ -330,8 +346,8 @@ const char* to_string(ReconstructionMethod method) {
 }
 
 bool reconstruction_method_from_name(const std::string& name, ReconstructionMethod& method) {
-  for (const ReconstructionMethod m :
-       {ReconstructionMethod::automatic, ReconstructionMethod::poisson, ReconstructionMethod::advancing_front}) {
+  for (const ReconstructionMethod m : {ReconstructionMethod::automatic, ReconstructionMethod::poisson,
+                                       ReconstructionMethod::advancing_front}) {
     if (name == to_string(m)) {
       method = m;
       return true;
@@ -373,7 +389,8 @@ Reconstruction reconstruct_surface(const std::vector<Vec3>& points, const std::v
     } catch (const detail::MethodFailed& e) {
       poisson_failure = e.what();
       if (options.method == ReconstructionMethod::poisson)
-        throw refuse(poisson_failure + " (--reconstruction advancing-front reconstructs through the points instead)");
+        throw refuse(poisson_failure +
+                     " (--reconstruction advancing-front reconstructs through the points instead)");
     }
   }
   if (options.method == ReconstructionMethod::advancing_front || !poisson_failure.empty()) {
@@ -384,10 +401,11 @@ Reconstruction reconstruct_surface(const std::vector<Vec3>& points, const std::v
                    e.what() + ". Give a base mesh (--base FILE) for the fit to move, or more points");
     }
     if (!poisson_failure.empty())
-      result.mesh.notes.insert(result.mesh.notes.begin(),
-                               "Poisson: " + poisson_failure +
-                                   ": the surface is reconstructed through the points instead (advancing front; "
-                                   "open where they are)");
+      result.mesh.notes.insert(
+          result.mesh.notes.begin(),
+          "Poisson: " + poisson_failure +
+              ": the surface is reconstructed through the points instead (advancing front; "
+              "open where they are)");
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
@@ -418,7 +436,7 @@ double detail::trim_unsupported(TriangleMeshData& mesh, const std::vector<Vec3>&
         if (uses[{std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3])}] == 1) on_border[i] = 1;
       }
   }
-  double area = 0, removed = 0;
+  double area = 0;
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
     const auto& t = mesh.triangles[i];
     const Vec3 &a = mesh.points[t[0]], &b = mesh.points[t[1]], &c = mesh.points[t[2]];
@@ -427,8 +445,6 @@ double detail::trim_unsupported(TriangleMeshData& mesh, const std::vector<Vec3>&
     if (!on_border[i] || (supported((a + b + c) * (1.0 / 3)) && supported((a + b) * 0.5) &&
                           supported((b + c) * 0.5) && supported((c + a) * 0.5)))
       soup.faces.push_back({t[0], t[1], t[2]});
-    else
-      removed += triangle_area;
   }
   if (soup.faces.size() == mesh.triangles.size() || soup.faces.empty()) return 0;
   // Where trimmed parts met only at a vertex, its triangles now form several fans: all but the
@@ -448,16 +464,20 @@ double detail::trim_unsupported(TriangleMeshData& mesh, const std::vector<Vec3>&
         while (group[x] != x) x = group[x] = group[group[x]];
         return x;
       };
+      std::map<std::int64_t, std::size_t> first_at;  // other corner -> the first triangle with it
       for (std::size_t i = 0; i < fan.size(); ++i)
-        for (std::size_t j = i + 1; j < fan.size(); ++j)
-          for (const std::int64_t a : soup.faces[fan[i]])
-            for (const std::int64_t b : soup.faces[fan[j]])
-              if (a == b && a != static_cast<std::int64_t>(v)) group[find(i)] = find(j);
+        for (const std::int64_t w : soup.faces[fan[i]]) {
+          if (w == static_cast<std::int64_t>(v)) continue;
+          const auto [it, fresh] = first_at.try_emplace(w, i);
+          if (!fresh) group[find(i)] = find(it->second);
+        }
       std::map<std::size_t, std::size_t> sizes;
       for (std::size_t i = 0; i < fan.size(); ++i) ++sizes[find(i)];
       if (sizes.size() < 2) continue;
       const std::size_t largest =
-          std::max_element(sizes.begin(), sizes.end(), [](const auto& x, const auto& y) { return x.second < y.second; })->first;
+          std::max_element(sizes.begin(), sizes.end(), [](const auto& x, const auto& y) {
+            return x.second < y.second;
+          })->first;
       std::map<std::size_t, std::int64_t> copy_of;  // fan -> its vertex
       for (std::size_t i = 0; i < fan.size(); ++i) {
         const std::size_t which = find(i);
@@ -476,7 +496,8 @@ double detail::trim_unsupported(TriangleMeshData& mesh, const std::vector<Vec3>&
     topology_of(trimmed);
     double kept = 0;
     for (const auto& t : trimmed.triangles)
-      kept += 0.5 * norm(cross(trimmed.points[t[1]] - trimmed.points[t[0]], trimmed.points[t[2]] - trimmed.points[t[0]]));
+      kept += 0.5 * norm(cross(trimmed.points[t[1]] - trimmed.points[t[0]],
+                               trimmed.points[t[2]] - trimmed.points[t[0]]));
     trimmed.notes = std::move(mesh.notes);
     mesh = std::move(trimmed);
     return area > 0 ? 1 - kept / area : 0;

@@ -1,11 +1,12 @@
 // Orientation of triangle soups (see orient_triangles.hpp): the soup's edges found once by a
-// counting sort of the sides, then the walk and the fans on arrays, so that each step is linear
-// in the number of triangles.
+// counting sort of the sides (buckets.hpp), then the walk and the fans on arrays, so that each
+// step is linear in the number of triangles.
 
 #include "rgbmesh/repair/orient_triangles.hpp"
 
 #include <algorithm>
-#include <numeric>
+
+#include "buckets.hpp"
 
 namespace rgbmesh::repair {
 namespace {
@@ -30,30 +31,21 @@ struct Edges {
 
 Edges edges_of(const std::vector<Triangle>& triangles, std::size_t point_count) {
   const std::size_t sides = 3 * triangles.size();
-  const auto ends = [&](std::size_t s) {
-    const Triangle& t = triangles[s / 3];
-    const std::size_t a = t[s % 3], b = t[(s % 3 + 1) % 3];
-    return std::make_pair(std::min(a, b), std::max(a, b));
-  };
-  // The sides by lower end (a counting sort), each as (higher end, side).
-  std::vector<std::size_t> start(point_count + 1, 0);
-  for (std::size_t s = 0; s < sides; ++s) ++start[ends(s).first + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  std::vector<std::pair<std::size_t, std::size_t>> by_lower(sides);
-  {
-    std::vector<std::size_t> next(start.begin(), start.end() - 1);
+  // The sides by lower end, each as (higher end, side).
+  auto by_lower = buckets<std::pair<std::size_t, std::size_t>>(point_count, sides, [&](auto&& add) {
     for (std::size_t s = 0; s < sides; ++s) {
-      const auto [lower, higher] = ends(s);
-      by_lower[next[lower]++] = {higher, s};
+      const Triangle& t = triangles[s / 3];
+      const std::size_t a = t[s % 3], b = t[(s % 3 + 1) % 3];
+      add(std::min(a, b), std::make_pair(std::max(a, b), s));
     }
-  }
+  });
   Edges edges;
   edges.on_edge.assign(sides, kNone);
   edges.triangles.reserve(sides / 2 + 1);
   edges.closed.reserve(sides / 2 + 1);
   for (std::size_t v = 0; v < point_count; ++v) {
-    const auto first = by_lower.begin() + static_cast<std::ptrdiff_t>(start[v]);
-    const auto last = by_lower.begin() + static_cast<std::ptrdiff_t>(start[v + 1]);
+    const auto first = by_lower.items.begin() + static_cast<std::ptrdiff_t>(by_lower.start[v]);
+    const auto last = by_lower.items.begin() + static_cast<std::ptrdiff_t>(by_lower.start[v + 1]);
     std::sort(first, last);
     for (auto i = first, j = first; i != last; i = j) {
       for (j = i + 1; j != last && j->first == i->first;) ++j;
@@ -122,19 +114,14 @@ SoupOrientation orient_triangles(std::vector<Triangle>& triangles, std::size_t p
   }
 
   // The fans around each vertex: its triangles joined across open edges at the vertex.
-  std::vector<std::size_t> start(point_count + 1, 0), around(3 * n);
-  for (const Triangle& t : triangles)
-    for (const std::size_t v : t) ++start[v + 1];
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  {
-    std::vector<std::size_t> next(start.begin(), start.end() - 1);
+  const auto around = buckets<std::size_t>(point_count, 3 * n, [&](auto&& add) {
     for (std::size_t t = 0; t < n; ++t)
-      for (const std::size_t v : triangles[t]) around[next[v]++] = t;
-  }
-  std::vector<std::size_t> fan_of(n, kNone), fan_start;
+      for (const std::size_t v : triangles[t]) add(v, t);
+  });
+  std::vector<std::size_t> fan_of(n, kNone);
   for (std::size_t v = 0; v < point_count; ++v) {
-    const auto first = around.begin() + static_cast<std::ptrdiff_t>(start[v]);
-    const auto last = around.begin() + static_cast<std::ptrdiff_t>(start[v + 1]);
+    const auto first = around.items.begin() + static_cast<std::ptrdiff_t>(around.start[v]);
+    const auto last = around.items.begin() + static_cast<std::ptrdiff_t>(around.start[v + 1]);
     std::size_t fans = 0;
     for (auto it = first; it != last; ++it) {
       if (fan_of[*it] != kNone) continue;

@@ -33,6 +33,7 @@
 #include <tuple>
 #include <utility>
 
+#include "buckets.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/repair/orient_triangles.hpp"
 
@@ -234,26 +235,6 @@ void resolve_back_to_back(Soup& soup, const std::vector<std::array<std::size_t, 
     if (!remove[t]) kept.push_back(std::move(soup.polygons[t]));
   soup.polygons = std::move(kept);
   report.isolated_vertices += PMP::remove_isolated_points_in_polygon_soup(soup.points, soup.polygons);
-}
-
-// Lists by key in one array (a counting sort): the items of key k are
-// items[start[k]] .. items[start[k + 1] - 1], in the order they were given.
-template <class Item>
-struct Buckets {
-  std::vector<std::size_t> start;
-  std::vector<Item> items;
-};
-
-template <class Item, class Each>
-Buckets<Item> buckets(std::size_t keys, std::size_t count, Each each) {
-  Buckets<Item> out;
-  out.start.assign(keys + 1, 0);
-  each([&](std::size_t key, const Item&) { ++out.start[key + 1]; });
-  std::partial_sum(out.start.begin(), out.start.end(), out.start.begin());
-  out.items.resize(count);
-  std::vector<std::size_t> next(out.start.begin(), out.start.end() - 1);
-  each([&](std::size_t key, const Item& item) { out.items[next[key]++] = item; });
-  return out;
 }
 
 // A triangle's corner at a vertex: the corners after and before it, and the triangle.
