@@ -59,6 +59,36 @@ struct BoundedPriority {
   }
 };
 
+// Points in one plane: the Delaunay triangulation has dimension 2 (or less), which CGAL's
+// advancing front does not handle (it read outside the triangulation and crashed, now and
+// then, on CGAL's point_set_2.xyz, a 2D set with z = 0). The sheet is then the plane's Delaunay
+// triangles, less those the priority above would refuse (spanning more than `bridge` local
+// spacings), each corner's spacing as there.
+template <class Delaunay>
+PolygonSoup flat_sheet(const Delaunay& delaunay, const std::vector<Vec3>& points, const std::vector<double>& spacing) {
+  PolygonSoup soup;
+  soup.points = points;
+  if (delaunay.dimension() == 2) {
+    for (auto f = delaunay.finite_facets_begin(); f != delaunay.finite_facets_end(); ++f) {
+      const auto cell = f->first;
+      std::array<std::size_t, 3> corner{};
+      double allowed = 0;
+      for (int k = 0; k < 3; ++k) {
+        corner[k] = cell->vertex(k)->info();
+        allowed = std::max(allowed, spacing[corner[k]]);
+      }
+      const double radius = std::sqrt(CGAL::squared_radius(cell->vertex(0)->point(), cell->vertex(1)->point(),
+                                                           cell->vertex(2)->point()));
+      if (radius > bridge * allowed) continue;
+      soup.faces.push_back({static_cast<std::int64_t>(corner[0]), static_cast<std::int64_t>(corner[1]),
+                            static_cast<std::int64_t>(corner[2])});
+    }
+  }
+  if (soup.faces.empty()) throw MethodFailed("the advancing front found no plausible triangle through the points");
+  split_pinched_vertices(soup);  // (the advancing front's own surface has none)
+  return soup;
+}
+
 }  // namespace
 
 PolygonSoup advancing_front_surface(const std::vector<Vec3>& points, const std::vector<double>& spacing,
@@ -77,6 +107,7 @@ PolygonSoup advancing_front_surface(const std::vector<Vec3>& points, const std::
   for (std::size_t i = 0; i < points.size(); ++i) indexed.emplace_back(Point(points[i].x, points[i].y, points[i].z), i);
   control.step(stage + " (advancing front: Delaunay triangulation)");
   Delaunay delaunay(indexed.begin(), indexed.end());
+  if (delaunay.dimension() < 3) return flat_sheet(delaunay, points, spacing);
   const BoundedPriority priority{&spacing, &control, &stage};
   Reconstruction reconstruction(delaunay, priority);
   reconstruction.run();  // CGAL's defaults: radius ratio bound 5, beta 0.52

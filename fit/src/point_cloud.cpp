@@ -118,6 +118,13 @@ std::vector<double> local_spacing(const std::vector<Vec3>& points, const PointIn
   return spacing;
 }
 
+std::vector<double> support_spacing(std::vector<double> spacing) {
+  if (spacing.empty()) return spacing;
+  const double cap = 2 * median(spacing);
+  for (double& s : spacing) s = std::min(s, cap);
+  return spacing;
+}
+
 CloudScale measure_scale(const std::vector<Vec3>& points, int neighbours) {
   CloudScale scale;
   if (points.size() < 2) return scale;

@@ -34,6 +34,12 @@ class PointIndex {
 // Per point: the mean distance to its 6 nearest other points (0 for a point alone).
 std::vector<double> local_spacing(const std::vector<Vec3>& points, const PointIndex& index);
 
+// Per point: the spacing within which a surface near it counts as sampled by the points, from
+// their local spacings: each at most twice the median. A point on a scan's rim or on
+// a lone line of points has its neighbours on one side or along the line only, and its local
+// spacing grows with the gap beside it; uncapped, a surface spanning the gap counts as sampled.
+std::vector<double> support_spacing(std::vector<double> local_spacing);
+
 struct CloudScale {
   double spacing = 0;  // median over the points of the mean distance to their 6 nearest
   // Median over the points of the spread of their k nearest neighbours about the quadric that

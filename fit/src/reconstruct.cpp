@@ -258,8 +258,12 @@ struct Cloud {
   std::vector<Vec3> points;
   detail::PointIndex index;
   std::vector<double> spacing;
+  std::vector<double> support;  // detail::support_spacing
   explicit Cloud(std::vector<Vec3> p)
-      : points(std::move(p)), index(points), spacing(detail::local_spacing(points, index)) {}
+      : points(std::move(p)),
+        index(points),
+        spacing(detail::local_spacing(points, index)),
+        support(detail::support_spacing(spacing)) {}
 };
 
 Reconstruction by_poisson(const std::vector<Vec3>& points, const std::vector<Vec3>& normals,
@@ -280,7 +284,7 @@ Reconstruction by_poisson(const std::vector<Vec3>& points, const std::vector<Vec
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
   const Cloud cloud(working.points);
   r.unsupported =
-      unsupported_fraction(mesh, cloud.points, cloud.index, cloud.spacing, options.support_spacings);
+      unsupported_fraction(mesh, cloud.points, cloud.index, cloud.support, options.support_spacings);
   if (options.method == ReconstructionMethod::automatic && r.unsupported > options.max_unsupported)
     throw detail::MethodFailed(
         percent(r.unsupported) +
@@ -326,7 +330,7 @@ Reconstruction by_advancing_front(const std::vector<Vec3>& points, const detail:
     throw detail::MethodFailed(std::string("the advancing-front surface is not a valid base: ") + e.what());
   }
   r.unsupported =
-      unsupported_fraction(mesh, cloud.points, cloud.index, cloud.spacing, options.support_spacings);
+      unsupported_fraction(mesh, cloud.points, cloud.index, cloud.support, options.support_spacings);
   r.mesh.points = std::move(mesh.points);
   r.mesh.triangles = std::move(mesh.triangles);
   return r;
@@ -411,11 +415,52 @@ Reconstruction reconstruct_surface(const std::vector<Vec3>& points, const std::v
   return result;
 }
 
+void detail::split_pinched_vertices(PolygonSoup& soup) {
+  // (one pass: a split adds no pinch elsewhere; triangles across an edge share both fans)
+  std::vector<std::vector<std::size_t>> around(soup.points.size());
+  for (std::size_t f = 0; f < soup.faces.size(); ++f)
+    for (const std::int64_t v : soup.faces[f]) around[static_cast<std::size_t>(v)].push_back(f);
+  for (std::size_t v = 0; v < around.size(); ++v) {
+    const std::vector<std::size_t>& fan = around[v];
+    if (fan.size() < 2) continue;
+    // Fans: the triangles at v joined through their other corners (an edge (v, w) is shared).
+    std::vector<std::size_t> group(fan.size());
+    std::iota(group.begin(), group.end(), 0);
+    const auto find = [&](std::size_t x) {
+      while (group[x] != x) x = group[x] = group[group[x]];
+      return x;
+    };
+    std::map<std::int64_t, std::size_t> first_at;  // other corner -> the first triangle with it
+    for (std::size_t i = 0; i < fan.size(); ++i)
+      for (const std::int64_t w : soup.faces[fan[i]]) {
+        if (w == static_cast<std::int64_t>(v)) continue;
+        const auto [it, fresh] = first_at.try_emplace(w, i);
+        if (!fresh) group[find(i)] = find(it->second);
+      }
+    std::map<std::size_t, std::size_t> sizes;
+    for (std::size_t i = 0; i < fan.size(); ++i) ++sizes[find(i)];
+    if (sizes.size() < 2) continue;
+    const std::size_t largest =
+        std::max_element(sizes.begin(), sizes.end(), [](const auto& x, const auto& y) {
+          return x.second < y.second;
+        })->first;
+    std::map<std::size_t, std::int64_t> copy_of;  // fan -> its vertex
+    for (std::size_t i = 0; i < fan.size(); ++i) {
+      const std::size_t which = find(i);
+      if (which == largest) continue;
+      auto [it, fresh] = copy_of.try_emplace(which, static_cast<std::int64_t>(soup.points.size()));
+      if (fresh) soup.points.push_back(soup.points[v]);
+      for (std::int64_t& corner : soup.faces[fan[i]])
+        if (corner == static_cast<std::int64_t>(v)) corner = it->second;
+    }
+  }
+}
+
 double detail::trim_unsupported(TriangleMeshData& mesh, const std::vector<Vec3>& points, double spacings,
                                 bool border_only) {
   if (points.size() < 2 || mesh.triangles.empty()) return 0;
   const PointIndex index(points);
-  const std::vector<double> spacing = local_spacing(points, index);
+  const std::vector<double> spacing = support_spacing(local_spacing(points, index));
   const auto supported = [&](const Vec3& p) {
     const auto [nearest, distance] = index.nearest(p);
     return distance <= spacings * spacing[nearest];
@@ -447,48 +492,9 @@ double detail::trim_unsupported(TriangleMeshData& mesh, const std::vector<Vec3>&
       soup.faces.push_back({t[0], t[1], t[2]});
   }
   if (soup.faces.size() == mesh.triangles.size() || soup.faces.empty()) return 0;
-  // Where trimmed parts met only at a vertex, its triangles now form several fans: all but the
-  // largest get a copy of the vertex of their own (a part of the scan held to the rest by a
-  // vertex only is still scanned: CGAL's hippo2 has such a lobe of 56 points).
-  {  // (one pass: a split adds no pinch elsewhere; triangles across an edge share both fans)
-    std::vector<std::vector<std::size_t>> around(soup.points.size());
-    for (std::size_t f = 0; f < soup.faces.size(); ++f)
-      for (const std::int64_t v : soup.faces[f]) around[static_cast<std::size_t>(v)].push_back(f);
-    for (std::size_t v = 0; v < around.size(); ++v) {
-      const std::vector<std::size_t>& fan = around[v];
-      if (fan.size() < 2) continue;
-      // Fans: the triangles at v joined through their other corners (an edge (v, w) is shared).
-      std::vector<std::size_t> group(fan.size());
-      std::iota(group.begin(), group.end(), 0);
-      const auto find = [&](std::size_t x) {
-        while (group[x] != x) x = group[x] = group[group[x]];
-        return x;
-      };
-      std::map<std::int64_t, std::size_t> first_at;  // other corner -> the first triangle with it
-      for (std::size_t i = 0; i < fan.size(); ++i)
-        for (const std::int64_t w : soup.faces[fan[i]]) {
-          if (w == static_cast<std::int64_t>(v)) continue;
-          const auto [it, fresh] = first_at.try_emplace(w, i);
-          if (!fresh) group[find(i)] = find(it->second);
-        }
-      std::map<std::size_t, std::size_t> sizes;
-      for (std::size_t i = 0; i < fan.size(); ++i) ++sizes[find(i)];
-      if (sizes.size() < 2) continue;
-      const std::size_t largest =
-          std::max_element(sizes.begin(), sizes.end(), [](const auto& x, const auto& y) {
-            return x.second < y.second;
-          })->first;
-      std::map<std::size_t, std::int64_t> copy_of;  // fan -> its vertex
-      for (std::size_t i = 0; i < fan.size(); ++i) {
-        const std::size_t which = find(i);
-        if (which == largest) continue;
-        auto [it, fresh] = copy_of.try_emplace(which, static_cast<std::int64_t>(soup.points.size()));
-        if (fresh) soup.points.push_back(soup.points[v]);
-        for (std::int64_t& corner : soup.faces[fan[i]])
-          if (corner == static_cast<std::int64_t>(v)) corner = it->second;
-      }
-    }
-  }
+  // Where trimmed parts met only at a vertex (a part of the scan held to the rest by a vertex
+  // only is still scanned: CGAL's hippo2 has such a lobe of 56 points).
+  split_pinched_vertices(soup);
   try {
     // Pieces that the trimming cut off and that hold under 0.5% of the triangles are debris
     // (islands of a few triangles over gaps); larger ones are parts of the scan.

@@ -38,6 +38,11 @@ PolygonSoup advancing_front_surface(const std::vector<Vec3>& points, const std::
 // triangulation of the hole, refined to its surroundings). Returns how many were filled.
 std::size_t fill_small_holes(TriangleMeshData& mesh, double length);
 
+// Where a surface's triangles at a vertex form several fans (parts that meet only at that
+// point), all but the largest fan get a copy of the vertex of their own: the soup is then a
+// manifold at its vertices, and each part is kept.
+void split_pinched_vertices(PolygonSoup& soup);
+
 // An open scan's surface trimmed to the points (reconstruct.cpp): the triangles with an edge
 // midpoint or centroid farther from the nearest point than `spacings` times that point's local
 // spacing go (a bridging triangle or a cap over a part the scan did not see); a vertex where
