@@ -138,6 +138,9 @@ SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const A
 
 SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
                                SolutionTransfer& transfer, bool check_max_dofs = false) {
+  if (!options.distribution.prepare_mesh && !options.distribution.partition &&
+      mesh.live_fraction() < options.compact_below)
+    mesh.compact();
   if (options.element == AdaptOptions::Element::loop) return solve_loop_cycle(mesh, problem, options);
   SolvedCycle c;
   if (options.distribution.prepare_mesh) {

@@ -1,5 +1,6 @@
 #include "rgbmesh/adapt/solution_transfer.hpp"
 
+#include <algorithm>
 #include <utility>
 
 namespace rgbmesh::adapt {
@@ -23,6 +24,7 @@ SolutionTransfer::SolutionTransfer(RgbMesh& mesh) : mesh_(mesh) { observe(); }
 SolutionTransfer::~SolutionTransfer() {
   mesh_.remove_observer(insertion_id_);
   mesh_.remove_observer(removal_id_);
+  mesh_.remove_observer(renumbering_id_);
 }
 
 std::uint64_t SolutionTransfer::key(VertexHandle a, VertexHandle b) {
@@ -33,7 +35,15 @@ std::uint64_t SolutionTransfer::key(VertexHandle a, VertexHandle b) {
 
 const double* SolutionTransfer::edge_value(VertexHandle a, VertexHandle b) const {
   const auto it = edges_.find(key(a, b));
-  return it == edges_.end() ? nullptr : &it->second;
+  if (it == edges_.end()) return nullptr;
+  const auto low = static_cast<std::size_t>(std::min(a.idx, b.idx)), high = static_cast<std::size_t>(std::max(a.idx, b.idx));
+  if (it->second.born_low != born_[low] || it->second.born_high != born_[high]) return nullptr;
+  return &it->second.value;
+}
+
+void SolutionTransfer::set_edge_value(VertexHandle a, VertexHandle b, double value) {
+  const auto low = static_cast<std::size_t>(std::min(a.idx, b.idx)), high = static_cast<std::size_t>(std::max(a.idx, b.idx));
+  edges_[key(a, b)] = EdgeValue{value, born_[low], born_[high]};
 }
 
 void SolutionTransfer::store(const fem::SurfaceMesh& fe, const Eigen::VectorXd& u) {
@@ -64,7 +74,7 @@ void SolutionTransfer::store(const fem::SurfaceMesh& fe, const Eigen::VectorXd& 
       }
       for (int k = 0; k < 3; ++k) {
         const std::uint64_t edge = key(e.corners[k], e.corners[(k + 1) % 3]);
-        edges_[edge] = e.values[3 + k];
+        set_edge_value(e.corners[k], e.corners[(k + 1) % 3], e.values[3 + k]);
         const auto [it, inserted] = first.try_emplace(edge, ti, k);
         if (!inserted) {
           e.across[k] = it->second.first;
@@ -166,17 +176,20 @@ void SolutionTransfer::observe() {
   insertion_id_ = mesh_.add_insertion_observer(
       [this](VertexHandle v, VertexHandle a, VertexHandle b) { inserted(v, a, b); });
   removal_id_ = mesh_.add_removal_observer([this](VertexHandle v) { removing(v); });
+  renumbering_id_ = mesh_.add_renumbering_observer([this](const RgbMesh::Renumbering& map) { renumbered(map); });
 }
 
 void SolutionTransfer::grow() {
   const auto slots = static_cast<std::size_t>(mesh_.vertex_slots());
   if (values_.size() < slots) values_.resize(slots, 0.0);
+  if (born_.size() < slots) born_.resize(slots, 0);
   if (locations_.size() < slots) locations_.resize(slots);
   if (quadratic_ && old_star_.size() < slots) old_star_.resize(slots);
 }
 
 void SolutionTransfer::inserted(VertexHandle v, VertexHandle a, VertexHandle b) {
   grow();
+  ++born_[v.idx];
   const double mean = 0.5 * (values_[a.idx] + values_[b.idx]);
   if (!quadratic_) {
     values_[v.idx] = mean;
@@ -196,9 +209,46 @@ void SolutionTransfer::removing(VertexHandle v) {
   // slot may be reused by a vertex elsewhere).
   const auto [a, b] = mesh_.parents(v);
   for (const VertexHandle c : mesh_.star(v).neighbors) edges_.erase(key(v, c));
-  if (a.valid() && b.valid()) edges_[key(a, b)] = values_[v.idx];
+  if (a.valid() && b.valid()) set_edge_value(a, b, values_[v.idx]);
   locations_[v.idx] = Location{};
   old_star_[v.idx].clear();
+}
+
+void SolutionTransfer::renumbered(const RgbMesh::Renumbering& map) {
+  // Per-slot data moves with its vertex (a free slot's goes); old elements keep their corners,
+  // a removed one named by a number no slot has (-2 - its old slot), so that corners still
+  // compare equal exactly when they are the same vertex.
+  const auto keep = [&](auto& by_slot) {
+    std::size_t live = 0;
+    for (std::size_t i = 0; i < map.vertex.size() && i < by_slot.size(); ++i) {
+      if (map.vertex[i] < 0) continue;
+      ++live;
+      // (never upwards; not onto itself: a vector moved onto itself is left empty)
+      if (static_cast<std::size_t>(map.vertex[i]) != i) by_slot[static_cast<std::size_t>(map.vertex[i])] = std::move(by_slot[i]);
+    }
+    by_slot.resize(std::min(by_slot.size(), live));
+    by_slot.shrink_to_fit();
+  };
+  keep(values_);
+  keep(born_);
+  keep(locations_);
+  keep(old_star_);
+  const auto moved = [&](VertexHandle v) {
+    if (v.idx < 0) return v;
+    const std::int32_t to = map.vertex[static_cast<std::size_t>(v.idx)];
+    return VertexHandle(to >= 0 ? to : -2 - v.idx);
+  };
+  for (OldElement& e : old_)
+    for (VertexHandle& corner : e.corners) corner = moved(corner);
+  std::unordered_map<std::uint64_t, EdgeValue> edges;
+  edges.reserve(edges_.size());
+  for (const auto& [k, ev] : edges_) {
+    const auto low = static_cast<std::size_t>(k >> 32), high = static_cast<std::size_t>(k & 0xffffffffu);
+    const std::int32_t a = map.vertex[low], b = map.vertex[high];
+    if (a < 0 || b < 0) continue;  // an end was removed: the entry can never be read again
+    edges.emplace(key(VertexHandle(a), VertexHandle(b)), ev);  // (births moved with the slots)
+  }
+  edges_.swap(edges);
 }
 
 }  // namespace rgbmesh::adapt

@@ -228,6 +228,12 @@ void RgbMesh::remove_observer(int id) {
   };
   drop(insertion_observers_);
   drop(removal_observers_);
+  drop(renumbering_observers_);
+}
+
+int RgbMesh::add_renumbering_observer(RenumberingCallback cb) {
+  renumbering_observers_.push_back({next_observer_id_, std::move(cb)});
+  return next_observer_id_++;
 }
 
 namespace {

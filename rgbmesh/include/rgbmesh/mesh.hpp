@@ -179,6 +179,9 @@ class PropertyArrayBase {
   /// Gives slot i the default value again (a new vertex in a reused slot).
   virtual void reset(std::size_t i) = 0;
   virtual std::unique_ptr<PropertyArrayBase> clone() const = 0;
+  /// Keeps the slots whose new_slot is not -1, each moved down to new_slot (never above its
+  /// old slot, in order), in `size` slots: in place (RgbMesh::compact).
+  virtual void renumber(const std::vector<std::int32_t>& new_slot, std::size_t size) = 0;
 };
 
 template <class T>
@@ -189,6 +192,13 @@ class PropertyArray final : public PropertyArrayBase {
   void reset(std::size_t i) override { data[i] = default_; }
   std::unique_ptr<PropertyArrayBase> clone() const override {
     return std::make_unique<PropertyArray<T>>(*this);
+  }
+  void renumber(const std::vector<std::int32_t>& new_slot, std::size_t size) override {
+    for (std::size_t i = 0; i < new_slot.size() && i < data.size(); ++i)
+      if (new_slot[i] >= 0 && static_cast<std::size_t>(new_slot[i]) != i)
+        data[static_cast<std::size_t>(new_slot[i])] = std::move(data[i]);
+    if (size < data.size()) data.erase(data.begin() + static_cast<std::ptrdiff_t>(size), data.end());
+    data.shrink_to_fit();
   }
   std::vector<T> data;
 
@@ -585,6 +595,30 @@ class RgbMesh {
   int add_removal_observer(RemovalCallback cb);
   void remove_observer(int id);
 
+  // ---- compaction -------------------------------------------------------------------------
+  /// Where compact() moved each slot: new_slot[old] for every old slot, -1 for a free one.
+  struct Renumbering {
+    std::vector<std::int32_t> vertex, edge, triangle;
+  };
+  using RenumberingCallback = std::function<void(const Renumbering&)>;
+  /// Called by compact() once the mesh is renumbered, with the maps (observers that keep data
+  /// by slot move it; insertion and removal observers are usually renumbering ones too).
+  int add_renumbering_observer(RenumberingCallback cb);
+  /// The share of the vertex slots that hold a vertex (1 without free slots). A mesh keeps the
+  /// slots of its largest size: after coarsening, most may be free.
+  double live_fraction() const;
+  /// Gives the free slots' memory back: the live elements move down over the free slots in
+  /// their order (an iteration over the mesh visits them in the same order before and after,
+  /// base vertices keep slots 0..n-1) and every array is sized to them exactly. The mesh is the
+  /// same mesh: triangles, levels, colours, parents, control points, known limit positions,
+  /// properties and counters. Handles held outside refer to the old slots: renumbering
+  /// observers are told, and the maps are returned; with checked handles, every old handle is
+  /// stale. Elements created afterwards take new slots at the end (where they would have
+  /// reused free slots): only slot numbers differ from a mesh that was not compacted.
+  /// Not from an observer. Strong guarantee (std::bad_alloc leaves the mesh as it was);
+  /// a renumbering observer that throws is handled as insertion observers are.
+  Renumbering compact();
+
   // ---- per-vertex properties --------------------------------------------------------------
   /// A value per vertex slot that grows with the mesh; every new vertex starts with
   /// default_value (also in a reused slot). The returned view stays valid for the mesh's
@@ -925,8 +959,13 @@ class RgbMesh {
     int id;
     RemovalCallback cb;
   };
+  struct RenumberingObserver {
+    int id;
+    RenumberingCallback cb;
+  };
   std::vector<InsertionObserver> insertion_observers_;
   std::vector<RemovalObserver> removal_observers_;
+  std::vector<RenumberingObserver> renumbering_observers_;
   int next_observer_id_ = 1;
 };
 

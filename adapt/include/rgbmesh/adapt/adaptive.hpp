@@ -139,6 +139,11 @@ struct AdaptOptions {
   /// (fem::loop_refined_view with this many levels, CycleState::loop_view); 0 for none. Reduced
   /// on large meshes to stay within 3·10^6 pieces.
   int loop_view_levels = 0;
+  /// Memory back after coarsening: a cycle starts by compacting the mesh (RgbMesh::compact)
+  /// when fewer than this share of its vertex slots hold a vertex. Results are the same
+  /// (numberings are canonical, the solution transfer is told the new slots); 0: never. On one
+  /// process only (a distributed run's caches keep slots).
+  double compact_below = 0.5;
   Distribution distribution;  ///< several processes (rgbmesh::parallel); empty on one
   RunControl control;
 };

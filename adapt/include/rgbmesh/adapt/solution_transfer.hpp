@@ -54,8 +54,18 @@ class SolutionTransfer {
   void grow();
   void inserted(VertexHandle v, VertexHandle a, VertexHandle b);
   void removing(VertexHandle v);
+  void renumbered(const RgbMesh::Renumbering& map);
   static std::uint64_t key(VertexHandle a, VertexHandle b);
   const double* edge_value(VertexHandle a, VertexHandle b) const;
+  void set_edge_value(VertexHandle a, VertexHandle b, double value);
+
+  // A value on the edge between two vertex slots, valid while both slots hold the vertices
+  // they held when it was set (their births): an edge that a swap took away keeps its entry
+  // when one of its ends is removed later, and a vertex inserted in that slot must not read it.
+  struct EdgeValue {
+    double value;
+    std::uint32_t born_low, born_high;  ///< births of the smaller and the larger slot
+  };
 
   // P2: where a vertex is in the stored (old) elements. An old vertex is a corner of each
   // element of its old star; a vertex inserted since store() has barycentric coordinates in
@@ -76,9 +86,10 @@ class SolutionTransfer {
   std::optional<double> at_midpoint(VertexHandle p, VertexHandle q, Location* where = nullptr) const;
 
   RgbMesh& mesh_;
-  int insertion_id_ = -1, removal_id_ = -1;
-  std::vector<double> values_;                       ///< per vertex slot
-  std::unordered_map<std::uint64_t, double> edges_;  ///< P2: stored and merged edges (ends' slots)
+  int insertion_id_ = -1, removal_id_ = -1, renumbering_id_ = -1;
+  std::vector<double> values_;                          ///< per vertex slot
+  std::vector<std::uint32_t> born_;                     ///< per vertex slot: insertions into it
+  std::unordered_map<std::uint64_t, EdgeValue> edges_;  ///< P2: stored and merged edges (ends' slots)
   std::vector<Location> locations_;                  ///< P2: per vertex slot
   std::vector<OldElement> old_;                      ///< P2: the stored elements
   std::vector<std::vector<std::int32_t>> old_star_;  ///< P2: old vertex slot -> its old elements
