@@ -78,7 +78,9 @@ std::string cycles_json(const std::vector<adapt::CycleReport>& reports, bool dyn
         .add("splits", static_cast<std::uint64_t>(r.splits))
         .add("removals", static_cast<std::uint64_t>(r.removals))
         .add("solver", r.solver)
-        .add("solver_iterations", r.solver_iterations);
+        .add("solver_iterations", r.solver_iterations)
+        .add("mesh_mb", static_cast<double>(r.mesh_bytes) / 1048576.0);
+    if (r.resident_bytes > 0) o.add("resident_mb", static_cast<double>(r.resident_bytes) / 1048576.0);
     if (!r.note.empty()) o.add("note", r.note);
     out += (i ? ", " : "") + o.str();
   }
@@ -125,6 +127,8 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   Settings s;
   s.ceiling = MemoryCeiling::from_option(a.memory_limit);
   s.options.control.memory_headroom = [ceiling = s.ceiling] { return ceiling.headroom(); };
+  s.options.control.resident_bytes = [] { return resident_memory_bytes(); };
+  s.options.compact_below = a.compact_below;
   s.problem = !a.problem.empty() ? a.problem : (a.mesh.empty() ? "sphere-peak" : "gaussian");
   s.mesh_name = !a.mesh.empty()                 ? a.mesh
                 : s.problem == "cube-cosine" ? "unit cube with sharp edges (embedded)"
@@ -868,7 +872,10 @@ int run_adapt(const AdaptArgs& args) {
             << "\n"
             << (s.moving ? " step   time" : "cycle")
             << "  triangles      dofs    estimate    error_L2    error_H1  seconds\n";
-  const auto on_cycle = [&files](const adapt::CycleState& c) { files.write_cycle(c); };
+  const auto on_cycle = [&files](const adapt::CycleState& c) {
+    files.write_cycle(c);
+    release_free_memory();  // (a cycle's structures are gone; the next may be smaller)
+  };
   adapt::AdaptRun run;
   std::string message;
   try {
@@ -964,6 +971,12 @@ void AdaptCommand::add(CLI::App& tool, CompressionOption& compression) {
          "Remove vertices whose largest indicator over their star is below this times the refinement "
          "threshold, in [0, 1) [default: 0.25 for moving-peak with equidistribution marking, else 0]")
       ->check(number_in("a number in [0, 1)", [](double x) { return x >= 0 && x < 1; }));
+  app->add_option("--compact-below", args.compact_below,
+                  "Give memory back after coarsening: a cycle renumbers the mesh's elements without the slots "
+                  "of removed ones when fewer than this share of its vertex slots are live (results are the "
+                  "same; 0: never)")
+      ->capture_default_str()
+      ->check(number_in("a number in [0, 1]", [](double x) { return x >= 0 && x <= 1; }));
   app->add_option("--min-level", args.min_level,
                   "A floor: the mesh is refined to this level first and never coarsened below it")
       ->capture_default_str()

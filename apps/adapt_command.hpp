@@ -39,6 +39,7 @@ struct AdaptArgs {
   double target_error = 0;
   std::int64_t max_dofs = 100000;
   int min_level = 0;  // a floor: no triangle coarser than this level
+  double compact_below = 0.5;  // compact the mesh when fewer of its vertex slots are live
   std::vector<double> center;  // gaussian: the source's centre; empty: the first vertex's limit
   double width = 0;            // gaussian: sigma; 0: 1/20 of the bounding-box diagonal
   std::string out = "out";

@@ -24,6 +24,11 @@ std::size_t machine_memory_bytes();
 // The process's resident memory now (0 if unknown).
 std::size_t resident_memory_bytes();
 
+// Gives the allocator's free pages back to the system (glibc: malloc_trim). Small blocks freed
+// in the middle of the heap stay resident otherwise: after a moving feature's largest cycle
+// (940,000 unknowns) the run went on holding 330 MB for a mesh a fifth that size.
+void release_free_memory();
+
 // "13.1 GB", "512 MB", "740 kB".
 std::string human_bytes(double bytes);
 

@@ -141,8 +141,13 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   if (!options.distribution.prepare_mesh && !options.distribution.partition &&
       mesh.live_fraction() < options.compact_below)
     mesh.compact();
-  if (options.element == AdaptOptions::Element::loop) return solve_loop_cycle(mesh, problem, options);
+  if (options.element == AdaptOptions::Element::loop) {
+    SolvedCycle loop = solve_loop_cycle(mesh, problem, options);
+    loop.report.mesh_bytes = mesh.memory_bytes();
+    return loop;
+  }
   SolvedCycle c;
+  c.report.mesh_bytes = mesh.memory_bytes();
   if (options.distribution.prepare_mesh) {
     const auto t_prepare = std::chrono::steady_clock::now();
     options.distribution.prepare_mesh(mesh);
@@ -488,6 +493,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
     }
     c.report.seconds = seconds_since(t0);
     count_bytes_sent(c.report, options);
+    if (options.control.resident_bytes) c.report.resident_bytes = options.control.resident_bytes();
     if (!replay) {
       run.cycles.push_back(c.report);
       if (on_cycle)
@@ -620,6 +626,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     c.report.adapt_seconds = adapted.adapt_seconds;
     c.report.seconds = seconds_since(t0);
     count_bytes_sent(c.report, o);
+    if (o.control.resident_bytes) c.report.resident_bytes = o.control.resident_bytes();
     run.cycles.push_back(c.report);
     std::vector<char> marked(c.fe.triangles.size(), 0);
     if (o.strategy == Strategy::adaptive) {

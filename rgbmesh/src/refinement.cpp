@@ -5,7 +5,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <limits>
+#include <new>
+#include <type_traits>
 #include <vector>
 
 #include "rgbmesh/canonical.hpp"
@@ -38,6 +42,42 @@ struct VertexEntry {
   std::int32_t vertex;
 };
 
+// A growing array of trivially copyable items that grows with realloc: glibc moves a large
+// block (a mapping of its own, above the tool's 1 MB threshold) with mremap, without copying,
+// where std::vector holds the old and the new block at once while it copies (the queue's peak:
+// a budget's queue reached 150 MB, and doubling it briefly needed 300).
+template <class T>
+class ReallocArray {
+  static_assert(std::is_trivially_copyable_v<T>, "moved by realloc");
+
+ public:
+  ReallocArray() = default;
+  ReallocArray(const ReallocArray&) = delete;
+  ReallocArray& operator=(const ReallocArray&) = delete;
+  ~ReallocArray() { std::free(data_); }
+  std::size_t size() const { return size_; }
+  std::size_t capacity() const { return capacity_; }
+  T* begin() { return data_; }
+  T* end() { return data_ + size_; }
+  T& operator[](std::size_t i) { return data_[i]; }
+  T& front() { return data_[0]; }
+  void push_back(const T& x) {
+    if (size_ == capacity_) {
+      const std::size_t grown = std::max<std::size_t>(64, capacity_ + capacity_ / 2);
+      void* moved = std::realloc(data_, grown * sizeof(T));
+      if (moved == nullptr) throw std::bad_alloc();
+      data_ = static_cast<T*>(moved);
+      capacity_ = grown;
+    }
+    data_[size_++] = x;
+  }
+  void pop_back() { --size_; }
+
+ private:
+  T* data_ = nullptr;
+  std::size_t size_ = 0, capacity_ = 0;
+};
+
 // A priority queue whose equal priorities pop newest first, as a heap of stacks: each stack
 // holds items of one priority (newest on top, linked through one pool of nodes), and the heap
 // orders the stacks by priority, then the newest stack first. A push joins the newest stack of
@@ -46,48 +86,48 @@ struct VertexEntry {
 // priorities (a ball's level deficits) tie nearly always, and that sifting cost a fifth of a
 // ball refinement. A priority missing from the cache starts a new stack, which is newer than
 // every item of that priority: the order is the same.
+//
+// Memory (issue 44: a budget queues every green edge, with as many priorities as lengths): a
+// stack is named by its top node, which always holds the newest item (a push moves the old top
+// item to a new node below it), so the heap's 16-byte entries are all a stack needs: 36 bytes
+// for an item alone at its priority, 20 for one that joins a stack.
 template <class Item>
 class NewestFirstQueue {
  public:
   bool empty() const { return size_ == 0; }
   std::size_t size() const { return size_; }
-  std::size_t bytes() const {
-    return nodes_.capacity() * sizeof(Node) + heap_.capacity() * sizeof(Stack) +
-           stack_top_.capacity() * sizeof(std::int32_t) + stack_serial_.capacity() * sizeof(std::uint64_t);
-  }
+  std::size_t bytes() const { return nodes_.capacity() * sizeof(Node) + heap_.capacity() * sizeof(Stack); }
 
   void push(double priority, const Item& item) {
     const std::int32_t node = new_node();
     Recent& recent = recent_[slot(priority)];
-    const auto stack = static_cast<std::size_t>(recent.stack);
-    if (recent.serial != 0 && recent.priority == priority && stack_serial_[stack] == recent.serial) {
-      nodes_[static_cast<std::size_t>(node)] = {item, stack_top_[stack]};
-      stack_top_[stack] = node;
+    if (recent.valid && recent.priority == priority) {
+      Node& top = nodes_[static_cast<std::size_t>(recent.top)];
+      nodes_[static_cast<std::size_t>(node)] = top;  // the old top item, one below
+      top = {item, node};
     } else {
       nodes_[static_cast<std::size_t>(node)] = {item, -1};
-      const std::int32_t fresh = new_stack();
-      stack_top_[static_cast<std::size_t>(fresh)] = node;
-      stack_serial_[static_cast<std::size_t>(fresh)] = ++serial_;
-      heap_.push_back({priority, serial_, fresh});
+      if (serial_ == std::numeric_limits<std::uint32_t>::max()) renumber_serials();
+      heap_.push_back({priority, ++serial_, node});
       std::push_heap(heap_.begin(), heap_.end());
-      recent = {priority, serial_, fresh};
+      recent = {priority, node, true};
     }
     ++size_;
   }
 
   // The newest item of the highest priority, removed.
   Item pop() {
-    const auto stack = static_cast<std::size_t>(heap_.front().stack);
-    const std::int32_t node = stack_top_[stack];
-    Node& n = nodes_[static_cast<std::size_t>(node)];
-    const Item item = n.item;
-    stack_top_[stack] = n.next;
-    n.next = free_nodes_;
-    free_nodes_ = node;
-    if (stack_top_[stack] < 0) {
-      stack_serial_[stack] = 0;
-      stack_top_[stack] = free_stacks_;  // the free list of stacks reuses the top field
-      free_stacks_ = static_cast<std::int32_t>(stack);
+    const Stack stack = heap_.front();
+    Node& top = nodes_[static_cast<std::size_t>(stack.top)];
+    const Item item = top.item;
+    const std::int32_t below = top.next;
+    if (below >= 0) {
+      top = nodes_[static_cast<std::size_t>(below)];
+      free_node(below);
+    } else {
+      free_node(stack.top);
+      Recent& recent = recent_[slot(stack.priority)];
+      if (recent.valid && recent.top == stack.top) recent.valid = false;
       std::pop_heap(heap_.begin(), heap_.end());
       heap_.pop_back();
     }
@@ -98,18 +138,18 @@ class NewestFirstQueue {
  private:
   struct Node {
     Item item;
-    std::int32_t next;
+    std::int32_t next;  // the node below (or the next free node), -1: none
   };
   struct Stack {
     double priority;
-    std::uint64_t serial;
-    std::int32_t stack;
+    std::uint32_t serial;  // newer stacks have larger serials (renumbered before they wrap)
+    std::int32_t top;
     bool operator<(const Stack& o) const { return priority != o.priority ? priority < o.priority : serial < o.serial; }
   };
   struct Recent {
     double priority = 0;
-    std::uint64_t serial = 0;
-    std::int32_t stack = 0;
+    std::int32_t top = -1;
+    bool valid = false;
   };
   static std::size_t slot(double priority) {
     std::uint64_t bits;
@@ -118,31 +158,30 @@ class NewestFirstQueue {
   }
   std::int32_t new_node() {
     if (free_nodes_ < 0) {
-      nodes_.push_back({});
+      nodes_.push_back(Node{});
       return static_cast<std::int32_t>(nodes_.size() - 1);
     }
     const std::int32_t node = free_nodes_;
     free_nodes_ = nodes_[static_cast<std::size_t>(node)].next;
     return node;
   }
-  std::int32_t new_stack() {
-    if (free_stacks_ < 0) {
-      stack_top_.push_back(-1);
-      stack_serial_.push_back(0);
-      return static_cast<std::int32_t>(stack_top_.size() - 1);
-    }
-    const std::int32_t stack = free_stacks_;
-    free_stacks_ = stack_top_[static_cast<std::size_t>(stack)];
-    return stack;
+  void free_node(std::int32_t node) {
+    nodes_[static_cast<std::size_t>(node)].next = free_nodes_;
+    free_nodes_ = node;
   }
-  std::vector<Node> nodes_;
+  // Serials 1..n in the stacks' order (after 2^32 stacks): the order, and so the heap, stays.
+  void renumber_serials() {
+    std::sort(heap_.begin(), heap_.end());
+    std::uint32_t next = 0;
+    for (Stack& s : heap_) s.serial = ++next;
+    serial_ = next;
+    std::make_heap(heap_.begin(), heap_.end());
+  }
+  ReallocArray<Node> nodes_;
   std::int32_t free_nodes_ = -1;
-  std::vector<Stack> heap_;                  // a max-heap of the non-empty stacks
-  std::vector<std::int32_t> stack_top_;      // per stack: its newest node (or the next free stack)
-  std::vector<std::uint64_t> stack_serial_;  // per stack: its serial, 0 when free
-  std::int32_t free_stacks_ = -1;
-  std::array<Recent, 64> recent_{};          // per priority digest: the newest stack seen
-  std::uint64_t serial_ = 0;
+  ReallocArray<Stack> heap_;         // a max-heap of the non-empty stacks
+  std::array<Recent, 64> recent_{};  // per priority digest: the newest stack seen
+  std::uint32_t serial_ = 0;
   std::size_t size_ = 0;
 };
 
@@ -214,6 +253,7 @@ class Refiner {
     } else {
       coarsen();
     }
+    reserve_for_final_size();
     refine();
     while (crit_.priorities_change_nearby() && !crit_.satisfied(mesh_) && !result_.stopped_at_memory_limit) {
       const std::uint64_t before = result_.splits;
@@ -366,6 +406,31 @@ class Refiner {
       queue_batches();
       report();
     }
+  }
+
+  // Sizes the arrays for a criterion's known final triangle count. From Euler's relation and
+  // 3T + B = 2E: an interior split adds 1 vertex, 3 edges and 2 triangles, a boundary split 1,
+  // 2 and 1; the boundary's share is taken to grow as the square root of the triangles (as in
+  // uniform refinement), with a margin for the splits that pass the count (forced ones).
+  void reserve_for_final_size() {
+    const double target = static_cast<double>(crit_.final_triangles());
+    const double t = static_cast<double>(mesh_.num_triangles());
+    if (!(target > t) || t == 0) return;
+    const double boundary = std::max(0.0, 2.0 * static_cast<double>(mesh_.num_edges()) - 3.0 * t);
+    const double more = target * 1.001 + 64 - t;
+    const double more_boundary = boundary * (std::sqrt(target / t) - 1) * 1.25;
+    const auto grown = [](std::size_t now, double added) { return now + static_cast<std::size_t>(std::ceil(added)); };
+    const std::size_t vertices = grown(mesh_.num_vertices(), 0.5 * more + more_boundary);
+    const std::size_t edges = grown(mesh_.num_edges(), 1.5 * more + more_boundary);
+    const std::size_t triangles = grown(mesh_.num_triangles(), more);
+    // Only when it fits under the ceiling (the refinement then stops at it instead).
+    if (opt_.max_mesh_bytes != 0 &&
+        static_cast<double>(MeshCounts{static_cast<double>(vertices), static_cast<double>(edges),
+                                       static_cast<double>(triangles)}.bytes()) +
+                static_cast<double>(mesh_.memory_bytes()) >
+            static_cast<double>(opt_.max_mesh_bytes))
+      return;
+    mesh_.reserve(vertices, edges, triangles);
   }
 
   // Whether the next growth of the arrays would pass the ceiling. A growing std::vector holds

@@ -38,6 +38,10 @@ class LodCriterion {
   /// that become refinable, stencil points that become exact): the run then also tests the
   /// far edges of new triangles, and re-tests the whole mesh until a pass splits nothing.
   virtual bool priorities_change_nearby() const { return false; }
+  /// The number of triangles the run will end with when the criterion knows it (budgets), 0
+  /// otherwise: the mesh's arrays are then sized for it once instead of doubling as they grow
+  /// (a doubled array holds up to twice what it needs, and both copies while it moves).
+  virtual std::size_t final_triangles() const { return 0; }
 };
 
 struct RefinementOptions {
@@ -157,6 +161,7 @@ class TriangleBudget final : public LodCriterion {
   explicit TriangleBudget(std::size_t triangles) : triangles_(triangles) {}
   double edge_priority(const RgbMesh& m, EdgeHandle e) const override;
   bool satisfied(const RgbMesh& m) const override { return m.num_triangles() >= triangles_; }
+  std::size_t final_triangles() const override { return triangles_; }
 
  private:
   std::size_t triangles_;

@@ -78,6 +78,9 @@ struct RunControl {
   /// throw to abandon the run (how the Python package lets Ctrl-C through): the exception
   /// leaves run_cycles or run_dynamic with the mesh valid, though perhaps partly adapted.
   std::function<void()> interruption_point;
+  /// When set, asked at the end of each cycle for the process's resident memory
+  /// (CycleReport::resident_bytes).
+  std::function<std::size_t()> resident_bytes;
   /// Resumable runs: each cycle's CycleState carries the mesh's RGB state
   /// (SolvedMesh::state), so that snapshot() gives a file that read_rgb_mesh restores. A run
   /// continued from such a file (first_cycle, DynamicOptions::first_step) repeats the
@@ -175,6 +178,8 @@ struct CycleReport {
   int cycle = 0;
   double time = 0;  ///< the time of the step, for dynamic problems
   std::size_t triangles = 0, dofs = 0;
+  std::size_t mesh_bytes = 0;      ///< the RgbMesh's arrays when the cycle's mesh was solved
+  std::size_t resident_bytes = 0;  ///< RunControl::resident_bytes at the cycle's end (0: not asked)
   double estimate = 0;
   std::optional<double> error_l2, error_h1;
   double seconds = 0;        ///< the whole cycle
