@@ -21,6 +21,17 @@
 namespace rgbmesh::testing {
 namespace {
 
+// Reproducible numbers in [0, 1) (a 64-bit linear congruential generator): the same clouds on
+// every machine and library version.
+struct UniformNumbers {
+  explicit UniformNumbers(std::uint64_t seed) : state(seed) {}
+  double operator()() {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) * (1.0 / 9007199254740992.0);
+  }
+  std::uint64_t state;
+};
+
 // The number after "key": in a JSON text (the first occurrence after `from`).
 double json_number(const std::string& json, const std::string& key, std::size_t from = 0) {
   const auto p = json.find("\"" + key + "\": ", from);
@@ -316,11 +327,7 @@ TEST_F(FitCli, OneSidedScansFitAsOpenSurfacesThatStopAtTheirBorder) {
   // equator.
   {
     std::ofstream cloud(path("half.xyz"));
-    std::uint64_t state = 3;
-    const auto uniform = [&state] {
-      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-      return static_cast<double>(state >> 11) * (1.0 / 9007199254740992.0);
-    };
+    UniformNumbers uniform(3);
     for (int n = 0; n < 5000;) {
       const double z = uniform(), phi = 2 * M_PI * uniform(), r = std::sqrt(1 - z * z);
       const double s = 1 + 0.002 * (uniform() + uniform() + uniform() - 1.5);
@@ -340,11 +347,7 @@ TEST_F(FitCli, OneSidedScansFitAsOpenSurfacesThatStopAtTheirBorder) {
 TEST_F(FitCli, PointsInOnePlaneAreAFlatSheetNotACrash) {
   for (const double lift : {0.0, 1e-9}) {
     std::ofstream cloud(path("plane.xyz"));
-    std::uint64_t state = 11;
-    const auto uniform = [&state] {
-      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-      return static_cast<double>(state >> 11) * (1.0 / 9007199254740992.0);
-    };
+    UniformNumbers uniform(11);
     for (int n = 0; n < 3000; ++n) {
       const double x = uniform(), y = uniform();
       cloud << x << " " << y << " " << lift * uniform() << " 0 0 1\n";
@@ -363,11 +366,7 @@ TEST_F(FitCli, PointsInOnePlaneAreAFlatSheetNotACrash) {
   // in about half of the runs: its Delaunay triangulation has dimension 2): two dense discs
   // and a sparse strip between them, without normals. A sheet or a reason, every time.
   std::ofstream cloud(path("plane2.xyz"));
-  std::uint64_t state = 5;
-  const auto uniform = [&state] {
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(state >> 11) * (1.0 / 9007199254740992.0);
-  };
+  UniformNumbers uniform(5);
   for (int n = 0; n < 2000; ++n) {
     const double r = 0.4 * std::sqrt(uniform()), a = 2 * M_PI * uniform();
     cloud << (n % 2 == 0 ? 0.0 : 2.0) + r * std::cos(a) << " " << r * std::sin(a) << " 0\n";
