@@ -122,18 +122,21 @@ std::vector<char> corners_and_layers(const RgbMesh& view, const std::vector<std:
 }
 
 // Removes these vertices of the view, finest first (a vertex's finer neighbours among them go
-// before it), as far as they can go.
-void remove_finest_first(RgbMesh& view, std::vector<VertexHandle> vertices) {
+// before it), as far as they can go. Returns those removed.
+std::vector<VertexHandle> remove_finest_first(RgbMesh& view, std::vector<VertexHandle> vertices) {
   std::sort(vertices.begin(), vertices.end(),
             [&view](VertexHandle a, VertexHandle b) { return view.level(a) > view.level(b); });
+  std::vector<VertexHandle> out;
   for (bool removed = true; removed;) {
     removed = false;
     for (const VertexHandle v : vertices)
       if (view.alive(v) && view.is_removable(v)) {
         view.remove_vertex(v);
+        out.push_back(v);
         removed = true;
       }
   }
+  return out;
 }
 
 void add_unique(std::vector<std::int32_t>& set, std::int32_t x) {
@@ -199,7 +202,8 @@ class DistributedMesh {
   }
 
   // ---- a stage's removals (RefinementOptions::coarsen): each process removes the candidates
-  // among its own triangles' corners, whose stars and neighbours it holds exactly; then the
+  // among its own triangles' corners, whose stars and neighbours it holds exactly, as far as
+  // its view lets them go (a removal's neighbours are tried again at once); then the
   // ghost layers are made exact again (the others' removals), and again, until no process has a
   // candidate. Removals never make another candidate unremovable, so this ends with the mesh
   // one process reaches in any order: no candidate left anywhere. ----
@@ -257,20 +261,37 @@ class DistributedMesh {
       }
       std::uint64_t removed = 0;
       std::vector<std::uint64_t> gone;
-      for (const VertexHandle v : go) {
+      // A removal can make a neighbouring candidate removable (section V-A): those are
+      // removed in the same round, so that rounds are needed only where a removal waits for
+      // another process's.
+      VertexStar star;
+      for (std::size_t i = 0; i < go.size(); ++i) {
+        const VertexHandle v = go[i];
         if (!view.alive(v) || !view.is_removable(v)) continue;
         const VertexName n = name[static_cast<std::size_t>(v.idx)];
         if (lowest.at(n) == me_) ++counted;
         gone.push_back(n);
+        view.star(v, star);
         view.remove_vertex(v);
+        // (Whether a neighbour is removable next depends on the diagonals: by names, as in
+        // one process's coarsening.)
+        canonical_diagonals_near(view, name, star.neighbors);
         ++removed;
+        for (const VertexHandle w : star.neighbors) {
+          const auto it = candidate.find(name[static_cast<std::size_t>(w.idx)]);
+          if (it != candidate.end() && it->second && view.alive(w) && view.is_removable(w)) go.push_back(w);
+        }
       }
       detail::sum(&removed, 1);
       if (removed == 0) break;
       // The ghost layers exact again: every process's removals made here too, then the
       // vertices that the grown triangles' layers need from their owners, as at the start of
       // a cycle with the same parts, and the view trimmed to two layers.
-      remove_named(view, name, gone);
+      // (A removal on an interface is counted by the lowest part around it, also where another
+      // process made it first.)
+      for (const VertexHandle v : remove_named(view, name, gone))
+        if (const auto it = lowest.find(name[static_cast<std::size_t>(v.idx)]); it != lowest.end() && it->second == me_)
+          ++counted;
       const std::vector<std::int32_t> now = parts_of(view);
       migrate(view, own_of(now), now);
       coarsen_away(view, own_triangles(view), floor_, kGhostLayers);
@@ -286,7 +307,9 @@ class DistributedMesh {
   // vertex unremovable. The view is then the whole mesh's less such vertices again.
   // (`name`: the view's names by slot from before this round's removals, which inserted
   // nothing.)
-  void remove_named(RgbMesh& view, const std::vector<VertexName>& name, const std::vector<std::uint64_t>& gone) {
+  // Returns the vertices removed (their slots, now free).
+  std::vector<VertexHandle> remove_named(RgbMesh& view, const std::vector<VertexName>& name,
+                                         const std::vector<std::uint64_t>& gone) {
     std::vector<std::vector<std::uint64_t>> to(static_cast<std::size_t>(parts_));
     for (int q = 0; q < parts_; ++q)
       if (q != me_) to[static_cast<std::size_t>(q)] = gone;
@@ -296,7 +319,7 @@ class DistributedMesh {
     if (!others.empty())
       for (const VertexHandle v : view.vertices())
         if (others.count(name[static_cast<std::size_t>(v.idx)])) here.push_back(v);
-    remove_finest_first(view, std::move(here));
+    return remove_finest_first(view, std::move(here));
   }
 
   // known_, region_ and neighbours_ for the view as it is now.

@@ -147,12 +147,19 @@ UniformMesh uniform_below(const UniformMesh& above, const std::unordered_map<std
   return u;
 }
 
-// The macro triangles at the uniform mesh's level; a triangle coarser than the level gets -1
-// (its corners' cells are macro vertices that no macro edge joins).
-MacroTriangles cells_at(const RgbMesh& mesh, const UniformMesh& uniform) {
-  const int level = uniform.level;
-  MacroTriangles m;
-  m.level = level;
+// The uniform mesh's triangles as macro triangles (corners named by the mesh's slots, and
+// their neighbours), with the lookup of their edges: what placing a mesh's triangles needs
+// besides the mesh itself, kept with the floor's uniform mesh (FloorCache) because a
+// distributed run places its view's triangles several times a cycle.
+struct MacroSkeleton {
+  MacroTriangles m;  // (without of_triangle and triangles)
+  std::unique_ptr<MacroCells> cells;
+};
+
+std::unique_ptr<MacroSkeleton> skeleton_of(const UniformMesh& uniform) {
+  auto out = std::make_unique<MacroSkeleton>();
+  MacroTriangles& m = out->m;
+  m.level = uniform.level;
   m.corners.reserve(uniform.mesh.num_triangles());
   // The cells in an order that depends on the uniform mesh alone (its triangles by their
   // corners' names), not on the slots a copy of the mesh gave them: processes holding other
@@ -172,7 +179,8 @@ MacroTriangles cells_at(const RgbMesh& mesh, const UniformMesh& uniform) {
     for (VertexHandle& v : c) v = VertexHandle(uniform.slot[static_cast<std::size_t>(v.idx)]);
     m.corners.push_back(c);
   }
-  const MacroCells cells(m);
+  out->cells = std::make_unique<MacroCells>(m);
+  const MacroCells& cells = *out->cells;
   m.across.assign(m.corners.size(), {-1, -1, -1});
   for (std::size_t f = 0; f < m.corners.size(); ++f) {
     for (int k = 0; k < 3; ++k) {
@@ -181,6 +189,19 @@ MacroTriangles cells_at(const RgbMesh& mesh, const UniformMesh& uniform) {
       m.across[f][k] = other;
     }
   }
+  return out;
+}
+
+// The macro triangles of a skeleton, with the mesh's triangles placed in them; a triangle
+// coarser than the level gets -1 (its corners' cells are macro vertices that no macro edge
+// joins).
+MacroTriangles place_in(const RgbMesh& mesh, const MacroSkeleton& skeleton) {
+  const int level = skeleton.m.level;
+  const MacroCells& cells = *skeleton.cells;
+  MacroTriangles m;
+  m.level = level;
+  m.corners = skeleton.m.corners;
+  m.across = skeleton.m.across;
   // Each vertex's cell, parents before children (a vertex's parents are of lower levels).
   std::vector<Cell> cell(static_cast<std::size_t>(mesh.vertex_slots()));
   std::vector<std::vector<VertexHandle>> by_level;
@@ -211,6 +232,10 @@ MacroTriangles cells_at(const RgbMesh& mesh, const UniformMesh& uniform) {
     ++m.triangles[static_cast<std::size_t>(joined.face)];
   }
   return m;
+}
+
+MacroTriangles cells_at(const RgbMesh& mesh, const UniformMesh& uniform) {
+  return place_in(mesh, *skeleton_of(uniform));
 }
 
 // The largest part's weight relative to an even share.
@@ -310,6 +335,7 @@ struct FloorCache {
   int floor = -1;
   std::vector<std::array<std::int32_t, 4>> vertices;
   std::optional<UniformMesh> uniform;
+  std::unique_ptr<MacroSkeleton> skeleton;  // of `uniform`
 };
 
 std::shared_ptr<FloorCache> make_floor_cache() { return std::make_shared<FloorCache>(); }
@@ -324,6 +350,7 @@ const UniformMesh& uniform_floor(const RgbMesh& mesh, int floor, FloorCache* cac
   std::vector<std::array<std::int32_t, 4>> vertices = floor_vertices(mesh, floor);
   if (!cache->uniform || cache->floor != floor || cache->vertices != vertices) {
     cache->uniform.emplace(uniform_at_floor(mesh, floor));
+    cache->skeleton = skeleton_of(*cache->uniform);
     cache->floor = floor;
     cache->vertices = std::move(vertices);
   }
@@ -341,7 +368,7 @@ class CellLevels {
   CellLevels(const RgbMesh& mesh, int floor, FloorCache* cache) : mesh_(mesh), floor_(floor) {
     require_floor(mesh, floor);
     uniform_.push_back(&uniform_floor(mesh, floor, cache, own_floor_));
-    at_.push_back(cells_at(mesh, *uniform_[0]));
+    at_.push_back(cache != nullptr ? place_in(mesh, *cache->skeleton) : cells_at(mesh, *uniform_[0]));
   }
   // The cells of `level` (at or below the floor).
   const MacroTriangles& at(int level) {
@@ -444,13 +471,30 @@ std::uint64_t cell_key(int level, std::int32_t cell) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(level)) << 32) | static_cast<std::uint32_t>(cell);
 }
 
-// Each triangle's unit: down from its floor cell through the split cells.
+// Each triangle's unit: down from its floor cell through the split cells. (The floor's cells
+// in an array: in a run that coarsens they are all the units, and this runs several times a
+// cycle.)
 std::vector<std::int32_t> walk_to_units(const RgbMesh& view, int floor, CellLevels& cells,
                                         const std::unordered_map<std::uint64_t, std::int32_t>& unit_of_cell,
                                         const std::unordered_set<std::uint64_t>& split) {
+  const MacroTriangles& at_floor = cells.at(floor);
+  std::vector<std::int32_t> unit_at_floor(at_floor.corners.size(), -1);
+  std::vector<char> split_at_floor(at_floor.corners.size(), 0);
+  for (const auto& [key, unit] : unit_of_cell)
+    if (static_cast<int>(key >> 32) == floor) unit_at_floor[key & 0xffffffffu] = unit;
+  for (const std::uint64_t key : split)
+    if (static_cast<int>(key >> 32) == floor) split_at_floor[key & 0xffffffffu] = 1;
   std::vector<std::int32_t> out(static_cast<std::size_t>(view.triangle_slots()), -1);
   for (const TriangleHandle t : view.triangles()) {
-    for (int level = floor;; ++level) {
+    if (view.level(t) < floor) continue;
+    const std::int32_t f = at_floor.of_triangle[static_cast<std::size_t>(t.idx)];
+    if (f < 0) continue;
+    if (unit_at_floor[static_cast<std::size_t>(f)] >= 0) {
+      out[static_cast<std::size_t>(t.idx)] = unit_at_floor[static_cast<std::size_t>(f)];
+      continue;
+    }
+    if (!split_at_floor[static_cast<std::size_t>(f)]) continue;
+    for (int level = floor + 1;; ++level) {
       if (view.level(t) < level) break;  // coarser than the cells here: no unit
       const std::int32_t c = cells.at(level).of_triangle[static_cast<std::size_t>(t.idx)];
       if (c < 0) break;
