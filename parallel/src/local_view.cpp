@@ -2,28 +2,48 @@
 
 #include "rgbmesh/parallel/local_view.hpp"
 
+#include <queue>
 #include <stdexcept>
+#include <utility>
 
-#include "rgbmesh/refinement.hpp"
+#include "rgbmesh/canonical.hpp"
 
 namespace rgbmesh::parallel {
 
 namespace {
 
-// Removes the unprotected vertices above the floor, finest first.
-class AwayFromKept final : public LodCriterion {
- public:
-  AwayFromKept(const std::vector<char>& kept_vertex, int floor) : kept_(kept_vertex), floor_(floor) {}
-  double vertex_priority(const RgbMesh& m, VertexHandle v) const override {
-    const auto slot = static_cast<std::size_t>(v.idx);
-    if (slot < kept_.size() && kept_[slot]) return 0;
-    return m.level(v) > floor_ ? static_cast<double>(m.level(v)) : 0;
+// Removes the vertices above the floor that are not kept, finest first (the level's highest
+// first, then by slot), as far as they go. A removal can make only its neighbours removable
+// (section V-A), so they are the ones tried again. The diagonals are chosen by names after
+// every removal, as selective refinement's coarsening chooses them, since whether a neighbour
+// is removable next depends on them. Written out instead of a selective_refinement run with a
+// criterion: that run also tests every edge and triangle and computes every limit position,
+// which a view's coarsening, several times a cycle, does not need.
+std::size_t remove_unkept(RgbMesh& mesh, const std::vector<char>& kept_vertex, int floor) {
+  const auto eligible = [&](VertexHandle v) {
+    return !kept_vertex[static_cast<std::size_t>(v.idx)] && mesh.level(v) > floor && mesh.is_removable(v);
+  };
+  std::priority_queue<std::pair<int, std::int32_t>> queue;  // (level, slot)
+  for (const VertexHandle v : mesh.vertices())
+    if (eligible(v)) queue.emplace(mesh.level(v), v.idx);
+  if (queue.empty()) return 0;
+  const std::vector<VertexName> names = vertex_names(mesh);
+  canonical_diagonals(mesh, names);
+  std::size_t removed = 0;
+  VertexStar star;
+  while (!queue.empty()) {
+    const VertexHandle v(queue.top().second);
+    queue.pop();
+    if (!mesh.alive(v) || !eligible(v)) continue;
+    mesh.star(v, star);
+    mesh.remove_vertex(v);
+    canonical_diagonals_near(mesh, names, star.neighbors);
+    ++removed;
+    for (const VertexHandle n : star.neighbors)
+      if (mesh.alive(n) && eligible(n)) queue.emplace(mesh.level(n), n.idx);
   }
-
- private:
-  const std::vector<char>& kept_;
-  int floor_;
-};
+  return removed;
+}
 
 }  // namespace
 
@@ -53,11 +73,7 @@ std::size_t coarsen_away(RgbMesh& mesh, const std::vector<char>& keep, int floor
     }
     kept_vertex = std::move(next);
   }
-  // One pass: a removal can make only its neighbours removable (section V-A), and the
-  // coarsening tests them again after each removal, so a second pass would find nothing (it
-  // never did in the distributed tests and benchmarks, which ran one before 2026-12-06).
-  const AwayFromKept criterion(kept_vertex, floor);
-  return selective_refinement(mesh, criterion).removals;
+  return remove_unkept(mesh, kept_vertex, floor);
 }
 
 }  // namespace rgbmesh::parallel

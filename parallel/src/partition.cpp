@@ -154,6 +154,11 @@ UniformMesh uniform_below(const UniformMesh& above, const std::unordered_map<std
 struct MacroSkeleton {
   MacroTriangles m;  // (without of_triangle and triangles)
   std::unique_ptr<MacroCells> cells;
+  // Per triangle slot of the mesh last placed: its corners' slots and its macro triangle, for
+  // triangles whose corners are all at or above the level. Those corners keep their slots
+  // while the skeleton is kept (FloorCache compares them), so a slot holding the same corners
+  // holds the same triangle, and most of a view's triangles are such (its coarse rest).
+  mutable std::vector<std::array<std::int32_t, 4>> placed;
 };
 
 std::unique_ptr<MacroSkeleton> skeleton_of(const UniformMesh& uniform) {
@@ -222,14 +227,25 @@ MacroTriangles place_in(const RgbMesh& mesh, const MacroSkeleton& skeleton) {
   }
   m.of_triangle.assign(static_cast<std::size_t>(mesh.triangle_slots()), -1);
   m.triangles.assign(m.corners.size(), 0);
+  auto& placed = skeleton.placed;
+  if (placed.size() < static_cast<std::size_t>(mesh.triangle_slots()))
+    placed.resize(static_cast<std::size_t>(mesh.triangle_slots()), {-1, -1, -1, -1});
   for (const TriangleHandle t : mesh.triangles()) {
     if (mesh.level(t) < level) continue;
     const auto c = mesh.triangle_vertices(t);
-    const Cell joined = cells.join(cells.join(cell[c[0].idx], cell[c[1].idx]), cell[c[2].idx]);
-    if (joined.kind != Cell::in_face)
-      throw std::logic_error("macro_triangles: triangle " + std::to_string(t.idx) + " lies on a macro edge");
-    m.of_triangle[t.idx] = joined.face;
-    ++m.triangles[static_cast<std::size_t>(joined.face)];
+    auto& known = placed[static_cast<std::size_t>(t.idx)];
+    std::int32_t face = known[3];
+    if (face < 0 || known[0] != c[0].idx || known[1] != c[1].idx || known[2] != c[2].idx) {
+      const Cell joined = cells.join(cells.join(cell[c[0].idx], cell[c[1].idx]), cell[c[2].idx]);
+      if (joined.kind != Cell::in_face)
+        throw std::logic_error("macro_triangles: triangle " + std::to_string(t.idx) + " lies on a macro edge");
+      face = joined.face;
+      const bool coarse = mesh.level(c[0]) <= level && mesh.level(c[1]) <= level && mesh.level(c[2]) <= level;
+      known = coarse ? std::array<std::int32_t, 4>{c[0].idx, c[1].idx, c[2].idx, face}
+                     : std::array<std::int32_t, 4>{-1, -1, -1, -1};
+    }
+    m.of_triangle[t.idx] = face;
+    ++m.triangles[static_cast<std::size_t>(face)];
   }
   return m;
 }
