@@ -186,6 +186,35 @@ TEST_F(Mpi, AMovingPeakWithCoarseningIsTheSerialRun) {
   expect_same_runs("adapt --problem moving-peak --steps 6 --min-level 3", "step_006", false, true);
 }
 
+TEST_F(Mpi, CompactingTheViewsChangesNoResultAndShrinksThem) {
+  // Each process compacts its view when it shrank (--compact-below): 1 compacts it at every
+  // cycle, 0 never; the reports agree digit for digit, and the compacted views are smaller.
+  std::string json[2];
+  const char* setting[2] = {"0", "1"};
+  for (int k = 0; k < 2; ++k) {
+    const std::string dir = path(std::string("c") + setting[k]);
+    const RunResult r = run_on(2, std::string("adapt --problem moving-peak --steps 5 --min-level 3 --compact-below ") +
+                                      setting[k] + " --out " + dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    json[k] = read_text(dir + "/report.json");
+  }
+  const auto values = [](const std::string& text, const std::string& key) {
+    std::vector<std::string> out;
+    const std::string pattern = "\"" + key + "\": ";
+    for (std::size_t at = 0; (at = text.find(pattern, at)) != std::string::npos; ++at)
+      out.push_back(text.substr(at + pattern.size(), text.find_first_of(",}", at) - at - pattern.size()));
+    return out;
+  };
+  for (const char* key : {"dofs", "triangles", "estimate", "error_h1", "solver_iterations", "removals"}) {
+    EXPECT_EQ(values(json[0], key), values(json[1], key)) << key;
+    EXPECT_GE(values(json[0], key).size(), 6u) << key;
+  }
+  const std::vector<std::string> never = values(json[0], "mesh_mb"), always = values(json[1], "mesh_mb");
+  ASSERT_EQ(never.size(), always.size());
+  ASSERT_GE(never.size(), 2u);
+  EXPECT_LT(std::stod(always.back()), std::stod(never.back())) << json[1];
+}
+
 TEST_F(Mpi, CoarseningOnATorusWithAHoleIsTheSerialRun) {
   // Refinement and coarsening in every cycle (a fraction marked, every vertex whose indicators
   // are below 0.8 times the smallest marked one removed), across a boundary and genus.

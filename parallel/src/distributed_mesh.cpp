@@ -170,8 +170,8 @@ class DistributedMesh {
  public:
   // share: shared_units' limit on a unit's triangles before it is divided; infinite (the
   // floor's cells as units) for runs that coarsen, whose triangles must stay inside one unit.
-  DistributedMesh(int floor, int parts, int me, double share)
-      : floor_(floor), parts_(parts), me_(me), share_(share) {}
+  DistributedMesh(int floor, int parts, int me, double share, double compact_below)
+      : floor_(floor), parts_(parts), me_(me), share_(share), compact_below_(compact_below) {}
 
   // ---- the start of a cycle: parts, migration, the view coarsened away from its part ----
   void prepare(RgbMesh& view) {
@@ -198,6 +198,12 @@ class DistributedMesh {
     whole_ = false;
     canonical_diagonals(view);
     coarsen_away(view, own_triangles(view), floor_, kGhostLayers);
+    // A view that shrank (a moving feature left its part, or its part moved) gives its free
+    // slots back, as a serial run's mesh does at the start of a cycle: every pass over the
+    // view costs its slots, not its vertices (a view of 42,000 vertices kept a million
+    // triangle slots from the settling step). Compaction keeps the live elements' order, so
+    // the units and parts are the same; the floor cache sees the new slots and is made again.
+    if (view.live_fraction() < compact_below_) view.compact();
     survey(view);
   }
 
@@ -740,6 +746,7 @@ class DistributedMesh {
 
   int floor_, parts_, me_;
   double share_;
+  double compact_below_;  // AdaptOptions::compact_below
   std::shared_ptr<FloorCache> cache_ = make_floor_cache();
   bool whole_ = true;  // every process holds the whole mesh (before the first cycle)
   Units units_;
@@ -770,7 +777,8 @@ void distribute_mesh(adapt::AdaptOptions& options) {
   // one of them, where a divided cell's units could each hold part of it.
   const bool coarsens = options.coarsen_below > 0;
   auto state = std::make_shared<DistributedMesh>(options.min_level, parts, rank(),
-                                                 coarsens ? std::numeric_limits<double>::infinity() : 0.1);
+                                                 coarsens ? std::numeric_limits<double>::infinity() : 0.1,
+                                                 options.compact_below);
   options.distribution.distributed_mesh = true;
   options.distribution.prepare_mesh = [state](RgbMesh& view) { state->prepare(view); };
   options.distribution.after_adaptation = [state](RgbMesh& view) { state->reconcile(view); };

@@ -144,8 +144,9 @@ struct AdaptOptions {
   int loop_view_levels = 0;
   /// Memory back after coarsening: a cycle starts by compacting the mesh (RgbMesh::compact)
   /// when fewer than this share of its vertex slots hold a vertex. Results are the same
-  /// (numberings are canonical, the solution transfer is told the new slots); 0: never. On one
-  /// process only (a distributed run's caches keep slots).
+  /// (numberings are canonical, the solution transfer is told the new slots); 0: never. A
+  /// distributed run compacts each process's view instead, after it has been coarsened away
+  /// from its part.
   double compact_below = 0.5;
   Distribution distribution;  ///< several processes (rgbmesh::parallel); empty on one
   RunControl control;
