@@ -48,6 +48,15 @@ inline std::vector<Cycle> cycles_of(const JsonValue& report) {
   return out;
 }
 inline JsonValue report_of(const std::string& dir) { return JsonReader::parse(read_text(dir + "/report.json")); }
+// Every value of `key` in a report's text as printed, in order: for comparing two runs digit
+// for digit.
+inline std::vector<std::string> printed_values(const std::string& text, const std::string& key) {
+  std::vector<std::string> out;
+  const std::string pattern = "\"" + key + "\": ";
+  for (std::size_t at = 0; (at = text.find(pattern, at)) != std::string::npos; ++at)
+    out.push_back(text.substr(at + pattern.size(), text.find_first_of(",}", at) - at - pattern.size()));
+  return out;
+}
 
 inline std::set<std::set<std::array<double, 3>>> triangles_in(const vtkSmartPointer<vtkPolyData>& pd) {
   std::set<std::set<std::array<double, 3>>> out;

@@ -238,13 +238,7 @@ TEST_F(Cli, CompactingTheMeshChangesNoResultAndShrinksItsArrays) {
     ASSERT_EQ(r.code, 0) << r.err;
     json[k] = read_text(path(std::string("c") + setting[k] + ".json"));
   }
-  const auto values = [](const std::string& text, const std::string& key) {
-    std::vector<std::string> out;
-    const std::string pattern = "\"" + key + "\": ";
-    for (std::size_t at = 0; (at = text.find(pattern, at)) != std::string::npos; ++at)
-      out.push_back(text.substr(at + pattern.size(), text.find_first_of(",}", at) - at - pattern.size()));
-    return out;
-  };
+  const auto values = printed_values;
   for (const char* key : {"dofs", "estimate", "error_h1", "solver_iterations", "removals"})
     EXPECT_EQ(values(json[0], key), values(json[1], key)) << key;
   const std::vector<std::string> never = values(json[0], "mesh_mb"), always = values(json[1], "mesh_mb");
