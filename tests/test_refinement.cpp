@@ -248,6 +248,55 @@ TEST(Budget, LongestFirstUntilTheBudget) {
   EXPECT_LE(hi - lo, 2);
 }
 
+// TriangleBudget's rule without its known final size: the refinement then keeps every queued
+// edge in its queue (it sets the low priorities aside only for a criterion that says where it
+// stops), and is the reference for the set-aside entries' order.
+class BudgetWithoutFinalSize final : public LodCriterion {
+ public:
+  explicit BudgetWithoutFinalSize(std::size_t triangles) : budget_(triangles) {}
+  double edge_priority(const RgbMesh& m, EdgeHandle e) const override { return budget_.edge_priority(m, e); }
+  bool satisfied(const RgbMesh& m) const override { return budget_.satisfied(m); }
+
+ private:
+  TriangleBudget budget_;
+};
+
+TEST(Budget, SettingLowPrioritiesAsideSplitsWhatOneQueueSplits) {
+  // Bases with many exactly equal lengths (the icosahedron, the grid, the cube) test the order
+  // among ties, which the entries set aside and brought back must keep; budgets from a few
+  // hundred to 60 times the base bring entries back many times; a second budget on a refined
+  // mesh starts with a large first batch.
+  const std::vector<testing::BaseMesh> bases = {testing::icosahedron(), testing::grid_with_holes(8, 3),
+                                                testing::torus(12, 8), testing::sharp_cube(),
+                                                testing::double_torus()};
+  for (const auto& base : bases) {
+    for (const std::size_t factor : {7u, 60u}) {
+      RgbMesh set_aside = base.build(), one_queue = base.build();
+      const std::size_t budget = factor * set_aside.num_triangles() + 5;
+      const RefinementResult a = selective_refinement(set_aside, TriangleBudget(budget));
+      const RefinementResult b = selective_refinement(one_queue, BudgetWithoutFinalSize(budget));
+      ASSERT_EQ(set_aside.validate(true), "") << base.name;
+      EXPECT_EQ(a.splits, b.splits) << base.name << " x" << factor;
+      EXPECT_EQ(a.skipped, b.skipped) << base.name << " x" << factor;
+      ASSERT_EQ(set_aside.num_vertices(), one_queue.num_vertices()) << base.name << " x" << factor;
+      EXPECT_EQ(testing::canonical_triangles(set_aside), testing::canonical_triangles(one_queue))
+          << base.name << " x" << factor;
+      for (VertexHandle v : set_aside.vertices())
+        ASSERT_EQ(set_aside.insertion_point(v), one_queue.insertion_point(v)) << base.name << " x" << factor;
+      // Again from the refined mesh: its edges are the first batch, and new edges tie with
+      // some of them (halves of a longer edge as long as an edge of the next level): the newer
+      // pops first. Several second budgets stop inside such ties.
+      for (const std::size_t more : {budget, budget + 101, budget + 1003, 3 * budget}) {
+        RgbMesh again_set_aside = set_aside, again_one_queue = one_queue;
+        selective_refinement(again_set_aside, TriangleBudget(budget + more));
+        selective_refinement(again_one_queue, BudgetWithoutFinalSize(budget + more));
+        EXPECT_EQ(testing::canonical_triangles(again_set_aside), testing::canonical_triangles(again_one_queue))
+            << base.name << " x" << factor << " then +" << more;
+      }
+    }
+  }
+}
+
 TEST(GeometricTolerance, EveryEdgeWithinToleranceAndFlatPartsStayCoarse) {
   // A flat square (4 x 4 quads) with a bump in the middle of its right half.
   testing::BaseMesh base{"bump", {}, {}};

@@ -33,8 +33,12 @@ namespace {
 // given, the same triangles, whether the mesh was refined in this process or restored from a
 // file. Equal priorities pop near the last operation, as a stack would (an order by position
 // alone jumps across the mesh: 3.5 times slower for a ball).
-struct EdgeEntry {
+struct EdgeRef {
   std::int32_t edge, a, b;
+};
+
+struct EdgeEntry {
+  EdgeRef ref;
   std::int32_t first;  // index in the first batch, or -1
 };
 
@@ -61,6 +65,7 @@ class ReallocArray {
   T* end() { return data_ + size_; }
   T& operator[](std::size_t i) { return data_[i]; }
   T& front() { return data_[0]; }
+  const T& front() const { return data_[0]; }
   void push_back(const T& x) {
     if (size_ == capacity_) {
       const std::size_t grown = std::max<std::size_t>(64, capacity_ + capacity_ / 2);
@@ -72,6 +77,7 @@ class ReallocArray {
     data_[size_++] = x;
   }
   void pop_back() { --size_; }
+  void truncate(std::size_t n) { size_ = std::min(size_, n); }
 
  private:
   T* data_ = nullptr;
@@ -114,6 +120,9 @@ class NewestFirstQueue {
     }
     ++size_;
   }
+
+  // The highest priority (the queue must not be empty).
+  double top_priority() const { return heap_.front().priority; }
 
   // The newest item of the highest priority, removed.
   Item pop() {
@@ -236,6 +245,10 @@ class Refiner {
     // triangles and vertices) are read before anything moves; the queue finds their edges
     // again by their ends.
     const bool static_marks = !crit_.tests_new_elements();
+    // A criterion that stops at a size leaves most of its queue unpopped (a budget of 3 million
+    // triangles ends with 4.2 million green edges queued): later pushes are set aside until
+    // the queue above them runs out (bring_back_set_aside).
+    if (crit_.final_triangles() > 0) set_aside_below_ = std::numeric_limits<double>::infinity();
     if (static_marks) {
       test_everything();
       canonical_diagonals(mesh_);
@@ -281,8 +294,8 @@ class Refiner {
   // points they were queued with, found by their ends. Later entries name their edge's slot
   // unless the edge is gone (refinement frees no vertex slot).
   EdgeHandle current_edge(const EdgeEntry& entry) const {
-    const VertexHandle a(entry.a), b(entry.b);
-    EdgeHandle e(entry.edge);
+    const VertexHandle a(entry.ref.a), b(entry.ref.b);
+    EdgeHandle e(entry.ref.edge);
     const auto joins = [&](EdgeHandle f) {
       const auto& ends = mesh_.edge_vertices(f);
       return (ends[0] == a && ends[1] == b) || (ends[0] == b && ends[1] == a);
@@ -328,7 +341,7 @@ class Refiner {
   void push_edge(EdgeHandle e, double p) {
     const auto& ev = mesh_.edge_vertices(e);
     const Vec3 &a = mesh_.insertion_point(ev[0]), &b = mesh_.insertion_point(ev[1]);
-    edge_batch_.push_back({p, point_less(b, a) ? ends_hash(b, a) : ends_hash(a, b), {e.idx, ev[0].idx, ev[1].idx, -1}});
+    edge_batch_.push_back({p, point_less(b, a) ? ends_hash(b, a) : ends_hash(a, b), {{e.idx, ev[0].idx, ev[1].idx}, -1}});
   }
 
   // Queues the elements tested since the last call in the order of their keys (priority
@@ -342,8 +355,13 @@ class Refiner {
       if (first) {
         keyed.entry.first = static_cast<std::int32_t>(first_batch_.size());
         first_batch_.push_back(keyed.key);
+        first_queue_.push(keyed.priority, keyed.entry);
+      } else if (keyed.priority >= set_aside_below_) {
+        qr_.push(keyed.priority, keyed.entry.ref);
+      } else {
+        set_aside_priorities_.push_back(keyed.priority);
+        set_aside_.push_back(keyed.entry.ref);
       }
-      qr_.push(keyed.priority, keyed.entry);
     }
     edge_batch_.clear();
     std::sort(vertex_batch_.begin(), vertex_batch_.end());
@@ -369,10 +387,84 @@ class Refiner {
     return false;
   }
 
+  std::size_t queued_edges() const { return first_queue_.size() + qr_.size() + set_aside_.size(); }
+  std::size_t queue_bytes() const {
+    return first_queue_.bytes() + qr_.bytes() + qc_.bytes() +
+           set_aside_.capacity() * (sizeof(EdgeRef) + sizeof(double));
+  }
+
+  // The next edge entry in the queue's order (highest priority, then the newest), if any. The
+  // first batch is older than every later entry, so on equal priorities the later queue pops
+  // first; entries set aside are all below set_aside_below_ and every later entry in qr_ at or
+  // above it, so they are needed only when qr_ is empty and the first batch's best is below.
+  bool pop_edge(EdgeEntry& out) {
+    for (;;) {
+      const bool later = !qr_.empty(), early = !first_queue_.empty();
+      if (later && (!early || qr_.top_priority() >= first_queue_.top_priority())) {
+        out = {qr_.pop(), -1};
+        return true;
+      }
+      if (early && (set_aside_.size() == 0 || first_queue_.top_priority() >= set_aside_below_)) {
+        out = first_queue_.pop();
+        return true;
+      }
+      if (set_aside_.size() == 0) return false;
+      bring_back_set_aside();
+    }
+  }
+
+  // Moves the highest of the entries set aside to qr_, in the order of their pushes (the order
+  // among equal priorities stays): about a sixteenth of the triangles the criterion still needs
+  // (at least 65,536), and at most half of the entries. The half matters: every later push at
+  // or above the new threshold goes to qr_, and when all were brought back at the lowest
+  // priority, a budget's next million splits queued theirs there (qr_ grew to 700,000 entries).
+  // The threshold comes from a histogram of the priorities' bit patterns (monotone for positive
+  // doubles): two passes over the entries set aside, about as many entries moved as wanted.
+  void bring_back_set_aside() {
+    const std::size_t n = set_aside_.size();
+    const double missing = static_cast<double>(crit_.final_triangles()) - static_cast<double>(mesh_.num_triangles());
+    const std::size_t wanted = std::max<std::size_t>(
+        1, std::min(n / 2, std::max<std::size_t>(1u << 16, static_cast<std::size_t>(std::max(0.0, missing) / 16))));
+    const auto bits_of = [](double p) {
+      std::uint64_t b;
+      std::memcpy(&b, &p, sizeof b);
+      return b;
+    };
+    std::uint64_t low = std::numeric_limits<std::uint64_t>::max(), high = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint64_t b = bits_of(set_aside_priorities_[i]);
+      low = std::min(low, b);
+      high = std::max(high, b);
+    }
+    std::uint64_t threshold = low;
+    if (n > wanted) {
+      int shift = 0;
+      while (((high - low) >> shift) >= (1u << 16)) ++shift;
+      std::vector<std::uint32_t> counts(static_cast<std::size_t>((high - low) >> shift) + 1, 0);
+      for (std::size_t i = 0; i < n; ++i) ++counts[(bits_of(set_aside_priorities_[i]) - low) >> shift];
+      std::size_t taken = 0, bucket = counts.size();
+      while (bucket > 0 && taken < wanted) taken += counts[--bucket];
+      threshold = low + (static_cast<std::uint64_t>(bucket) << shift);
+    }
+    std::memcpy(&set_aside_below_, &threshold, sizeof threshold);
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double p = set_aside_priorities_[i];
+      if (p >= set_aside_below_) {
+        qr_.push(p, set_aside_[i]);
+      } else {
+        set_aside_priorities_[kept] = p;
+        set_aside_[kept++] = set_aside_[i];
+      }
+    }
+    set_aside_priorities_.truncate(kept);
+    set_aside_.truncate(kept);
+  }
+
   void report() {
     const std::uint64_t ops = result_.splits + result_.removals;
     if (opt_.progress && ops >= next_report_) {
-      opt_.progress(ops, qr_.size() + qc_.size());
+      opt_.progress(ops, queued_edges() + qc_.size());
       next_report_ = ops + (1u << 16);
     }
   }
@@ -439,7 +531,7 @@ class Refiner {
   bool at_memory_limit() {
     if (opt_.max_mesh_bytes == 0 || (++memory_checks_ & 1023) != 0) return false;
     const double bytes = 1.5 * static_cast<double>(mesh_.memory_bytes()) +
-                         static_cast<double>(qr_.bytes() + qc_.bytes());
+                         static_cast<double>(queue_bytes());
     if (bytes <= static_cast<double>(opt_.max_mesh_bytes)) return false;
     result_.stopped_at_memory_limit = true;
     return true;
@@ -451,8 +543,8 @@ class Refiner {
         [&inserted](VertexHandle v, VertexHandle, VertexHandle) { inserted.push_back(v); });
     ObserverGuard guard(mesh_, id);
     VertexStar s;
-    while (!qr_.empty() && !crit_.satisfied(mesh_) && !at_memory_limit()) {
-      const EdgeEntry top = qr_.pop();
+    EdgeEntry top;
+    while (!crit_.satisfied(mesh_) && !at_memory_limit() && pop_edge(top)) {
       const EdgeHandle e = current_edge(top);
       if (!e.valid() || !still_wanted(e)) {
         ++result_.skipped;
@@ -490,7 +582,13 @@ class Refiner {
   RgbMesh& mesh_;
   const LodCriterion& crit_;
   const RefinementOptions& opt_;
-  NewestFirstQueue<EdgeEntry> qr_;
+  // The queue of edges to split: the first batch's entries, the later ones at or above
+  // set_aside_below_, and the later ones below it set aside in the order of their pushes.
+  NewestFirstQueue<EdgeEntry> first_queue_;
+  NewestFirstQueue<EdgeRef> qr_;
+  ReallocArray<double> set_aside_priorities_;
+  ReallocArray<EdgeRef> set_aside_;
+  double set_aside_below_ = -std::numeric_limits<double>::infinity();
   NewestFirstQueue<VertexEntry> qc_;
   std::vector<Keyed<EdgeEntry>> edge_batch_;  // tested, not yet numbered and queued
   std::vector<Keyed<VertexEntry>> vertex_batch_;
