@@ -74,6 +74,8 @@ std::string cycles_json(const std::vector<adapt::CycleReport>& reports, bool dyn
         .add("output_seconds", r.output_seconds)
         .add("bytes_sent", static_cast<std::uint64_t>(r.bytes_sent))
         .add("bytes_sent_largest", static_cast<std::uint64_t>(r.bytes_sent_largest))
+        .add("coarsening_rounds", static_cast<std::uint64_t>(r.coarsening_rounds))
+        .add("exchanges", static_cast<std::uint64_t>(r.exchanges))
         .add("marked", static_cast<std::uint64_t>(r.marked))
         .add("splits", static_cast<std::uint64_t>(r.splits))
         .add("removals", static_cast<std::uint64_t>(r.removals))
@@ -128,6 +130,7 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
   s.ceiling = MemoryCeiling::from_option(a.memory_limit);
   s.options.control.memory_headroom = [ceiling = s.ceiling] { return ceiling.headroom(); };
   s.options.control.resident_bytes = [] { return resident_memory_bytes(); };
+  s.options.control.release_free_memory = [] { release_free_memory(); };
   s.options.compact_below = a.compact_below;
   s.problem = !a.problem.empty() ? a.problem : (a.mesh.empty() ? "sphere-peak" : "gaussian");
   s.mesh_name = !a.mesh.empty()                 ? a.mesh
@@ -338,6 +341,8 @@ std::vector<adapt::CycleReport> cycles_from(const JsonValue& list, const fs::pat
     if (c.find("note")) r.note = text(c, "note", file);
     if (c.find("bytes_sent")) r.bytes_sent = count(c, "bytes_sent", file);
     if (c.find("bytes_sent_largest")) r.bytes_sent_largest = count(c, "bytes_sent_largest", file);
+    if (c.find("coarsening_rounds")) r.coarsening_rounds = count(c, "coarsening_rounds", file);
+    if (c.find("exchanges")) r.exchanges = count(c, "exchanges", file);
     out.push_back(std::move(r));
   }
   return out;

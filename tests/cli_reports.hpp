@@ -24,6 +24,7 @@ struct Cycle {
   long dofs = 0, triangles = 0, removals = 0;
   double estimate = 0, error_l2 = 0, error_h1 = 0, time = 0;
   double bytes_sent = 0, bytes_sent_largest = 0;  // NaN where the report has none
+  double coarsening_rounds = 0, exchanges = 0;    // NaN where the report has none
 };
 
 // The cycles of a report, and the report itself.
@@ -43,6 +44,8 @@ inline std::vector<Cycle> cycles_of(const JsonValue& report) {
     r.time = c.find("time") ? num("time") : 0.0;
     r.bytes_sent = num("bytes_sent");
     r.bytes_sent_largest = num("bytes_sent_largest");
+    r.coarsening_rounds = num("coarsening_rounds");
+    r.exchanges = num("exchanges");
     out.push_back(r);
   }
   return out;

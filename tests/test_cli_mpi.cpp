@@ -5,7 +5,8 @@
 // Gaussian source on a torus with a hole (boundary and genus), and the moving peak with
 // coarsening. Each process computes the estimates and errors of its own triangles only (the
 // others' arrive by messages), so equal estimates also check that exchange; the report counts
-// the bytes sent. Skipped, with a message, where the build has no MPI.
+// the bytes sent, the coarsening rounds and the exchanges. Skipped, with a message, where the
+// build has no MPI.
 
 #include <vtkCellType.h>
 #include <vtkNew.h>
@@ -73,6 +74,7 @@ class Mpi : public Cli {
       const std::vector<Cycle> ca = cycles_of(a), cb = cycles_of(b);
       ASSERT_EQ(ca.size(), cb.size()) << p << " processes";
       ASSERT_GE(ca.size(), 6u);
+      double rounds = 0;
       for (std::size_t i = 0; i < ca.size(); ++i) {
         EXPECT_EQ(ca[i].dofs, cb[i].dofs) << p << " processes, cycle " << i;
         EXPECT_EQ(ca[i].triangles, cb[i].triangles) << p << " processes, cycle " << i;
@@ -89,6 +91,25 @@ class Mpi : public Cli {
             << p << " processes, cycle " << i;
         EXPECT_GE(cb[i].bytes_sent, cb[i].bytes_sent_largest) << p << " processes, cycle " << i;
         EXPECT_LE(cb[i].bytes_sent, p * cb[i].bytes_sent_largest) << p << " processes, cycle " << i;
+        // The coarsening rounds and the exchanges: none on one process; on several, every
+        // cycle exchanges (its parts are decided together), and a cycle whose adaptation
+        // removed vertices took at least one round, one that removed none took none. (Each
+        // process counts its own; the run stops with an error where they differ, so a run
+        // that ended normally had the same counts on every process.) The first report of a
+        // moving peak also counts the settling's rounds, whose removals it does not report.
+        EXPECT_EQ(ca[i].coarsening_rounds, 0.0) << "cycle " << i;
+        EXPECT_EQ(ca[i].exchanges, 0.0) << "cycle " << i;
+        ASSERT_TRUE(std::isfinite(cb[i].coarsening_rounds)) << p << " processes, cycle " << i << ": no coarsening_rounds";
+        EXPECT_GE(cb[i].exchanges, 1.0) << p << " processes, cycle " << i;
+        if (cb[i].removals > 0) {
+          EXPECT_GE(cb[i].coarsening_rounds, 1.0) << p << " processes, cycle " << i;
+        } else if (i > 0) {
+          EXPECT_EQ(cb[i].coarsening_rounds, 0.0) << p << " processes, cycle " << i;
+        }
+        rounds += cb[i].coarsening_rounds;
+      }
+      if (removals) {
+        EXPECT_GE(rounds, 2.0) << p << " processes: a run that coarsens in every cycle takes rounds";
       }
       // Every cycle's system was solved on all processes (the distributed multigrid).
       const std::string text = read_text(dir + "/report.json");

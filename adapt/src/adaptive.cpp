@@ -144,6 +144,7 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
   if (options.element == AdaptOptions::Element::loop) {
     SolvedCycle loop = solve_loop_cycle(mesh, problem, options);
     loop.report.mesh_bytes = mesh.memory_bytes();
+    if (options.control.release_free_memory) options.control.release_free_memory();
     return loop;
   }
   SolvedCycle c;
@@ -208,10 +209,18 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
     c.report.error_h1 = e.h1;
     c.report.error_seconds = seconds_since(t_errors);
   }
+  // The assembly's, the solver's and the estimator's transients are freed by now.
+  if (options.control.release_free_memory) options.control.release_free_memory();
   return c;
 }
 
-void count_bytes_sent(CycleReport& report, const AdaptOptions& options) {
+void count_traffic(CycleReport& report, const AdaptOptions& options) {
+  // The rounds first: their check's sum then belongs to this cycle's bytes.
+  if (options.distribution.rounds) {
+    const std::array<std::uint64_t, 2> rounds = options.distribution.rounds();
+    report.coarsening_rounds = rounds[0];
+    report.exchanges = rounds[1];
+  }
   if (!options.distribution.bytes_sent) return;
   const std::array<std::uint64_t, 2> sent = options.distribution.bytes_sent();
   report.bytes_sent = sent[0];
@@ -492,7 +501,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
       marked = adapt_mesh(mesh, c, options, c.report);
     }
     c.report.seconds = seconds_since(t0);
-    count_bytes_sent(c.report, options);
+    count_traffic(c.report, options);
     if (options.control.resident_bytes) c.report.resident_bytes = options.control.resident_bytes();
     if (!replay) {
       run.cycles.push_back(c.report);
@@ -625,7 +634,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     c.report.removals = adapted.removals;
     c.report.adapt_seconds = adapted.adapt_seconds;
     c.report.seconds = seconds_since(t0);
-    count_bytes_sent(c.report, o);
+    count_traffic(c.report, o);
     if (o.control.resident_bytes) c.report.resident_bytes = o.control.resident_bytes();
     run.cycles.push_back(c.report);
     std::vector<char> marked(c.fe.triangles.size(), 0);

@@ -18,6 +18,10 @@ std::vector<std::uint64_t> all_gather(const std::vector<std::uint64_t>& mine);
 /// one, by rank.
 std::vector<std::vector<std::uint64_t>> all_to_all(const std::vector<std::vector<std::uint64_t>>& to);
 std::vector<std::vector<double>> all_to_all(const std::vector<std::vector<double>>& to);
+/// How many all_gather and all_to_all calls this process has made: each costs a message to and
+/// from every other process whatever it carries, so their number per cycle is what grows with
+/// the processes beside the bytes (CycleReport::exchanges).
+std::uint64_t exchanges();
 
 /// Entries of a global system for the process owning their rows: (row, column, value), column
 /// -1 for the right-hand side.

@@ -18,6 +18,8 @@ namespace rgbmesh::parallel::detail {
 
 namespace {
 
+std::uint64_t exchanges_made = 0;
+
 std::vector<int> displacements(const std::vector<int>& counts) {
   std::vector<int> d(counts.size(), 0);
   for (std::size_t q = 1; q < counts.size(); ++q) d[q] = d[q - 1] + counts[q - 1];
@@ -34,6 +36,7 @@ template <class T>
 std::vector<std::vector<T>> exchange(const std::vector<std::vector<T>>& to, MPI_Datatype type) {
   const int p = processes();
   if (static_cast<int>(to.size()) != p) throw std::logic_error("all_to_all: one vector per process is needed");
+  ++exchanges_made;
   std::vector<int> send(static_cast<std::size_t>(p)), receive(static_cast<std::size_t>(p));
   std::vector<T> out;
   for (int q = 0; q < p; ++q) {
@@ -57,8 +60,11 @@ void sum(std::uint64_t* values, std::size_t count) {
   MPI_Allreduce(MPI_IN_PLACE, values, as_count(count), MPI_UINT64_T, MPI_SUM, PETSC_COMM_WORLD);
 }
 
+std::uint64_t exchanges() { return exchanges_made; }
+
 std::vector<std::uint64_t> all_gather(const std::vector<std::uint64_t>& mine) {
   const int p = processes();
+  ++exchanges_made;
   std::vector<int> counts(static_cast<std::size_t>(p));
   const int count = as_count(mine.size());
   MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, PETSC_COMM_WORLD);

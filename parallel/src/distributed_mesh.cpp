@@ -4,6 +4,7 @@
 #include "rgbmesh/parallel/distributed_mesh.hpp"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -290,6 +291,7 @@ class DistributedMesh {
       }
       detail::sum(&removed, 1);
       if (removed == 0) break;
+      ++rounds_;  // (the last pass, which removed nothing, costs no exchange of the layers)
       // The ghost layers exact again: every process's removals made here too, then the
       // vertices that the grown triangles' layers need from their owners, as at the start of
       // a cycle with the same parts, and the view trimmed to two layers.
@@ -305,6 +307,24 @@ class DistributedMesh {
     canonical_diagonals(view);
     survey(view);
     return counted;
+  }
+
+  // The coarsening rounds and the exchanges since the previous call, for the cycle's report,
+  // which must be the same on every process (rank 0 writes it for all). Every process takes
+  // part in each round and exchange, so a difference is a bug: it stops the run rather than
+  // report one process's count. (Equal on all processes exactly when P times the sum of
+  // squares is the square of the sum.)
+  std::array<std::uint64_t, 2> rounds_since_last() {
+    const std::uint64_t exchanged = detail::exchanges();
+    const std::array<std::uint64_t, 2> mine = {rounds_ - rounds_reported_, exchanged - exchanges_reported_};
+    rounds_reported_ = rounds_;
+    std::uint64_t check[4] = {mine[0], mine[0] * mine[0], mine[1], mine[1] * mine[1]};
+    detail::sum(check, 4);
+    const auto p = static_cast<std::uint64_t>(parts_);
+    if (p * check[1] != check[0] * check[0] || p * check[3] != check[2] * check[2])
+      throw std::logic_error("distributed mesh: the processes counted different coarsening rounds or exchanges");
+    exchanges_reported_ = exchanged;
+    return mine;
   }
 
   // Every process's removals of a round, `gone` this one's, made in this view too where it
@@ -747,6 +767,9 @@ class DistributedMesh {
   int floor_, parts_, me_;
   double share_;
   double compact_below_;  // AdaptOptions::compact_below
+  // Coarsening rounds that removed something (each one exchanges the removals and makes the
+  // ghost layers exact again), and the counts last reported (rounds_since_last).
+  std::uint64_t rounds_ = 0, rounds_reported_ = 0, exchanges_reported_ = 0;
   std::shared_ptr<FloorCache> cache_ = make_floor_cache();
   bool whole_ = true;  // every process holds the whole mesh (before the first cycle)
   Units units_;
@@ -793,6 +816,7 @@ void distribute_mesh(adapt::AdaptOptions& options) {
   // Each process keeps its own triangles' indicators: nothing to gather.
   options.distribution.share.gather = [](double*, std::size_t, const std::vector<std::int32_t>&) {};
   options.distribution.bytes_sent = bytes_sent_since_last;
+  options.distribution.rounds = [state] { return state->rounds_since_last(); };
   options.solve.shared_solver =
       [state](fem::SparseMatrix& a, const Eigen::VectorXd& b, const std::vector<std::int32_t>&,
               const std::vector<Eigen::Index>& row_of_dof, const Eigen::VectorXd* guess,

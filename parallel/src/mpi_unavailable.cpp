@@ -45,6 +45,7 @@ void sum(std::uint64_t*, std::size_t) {}
 std::vector<std::uint64_t> all_gather(const std::vector<std::uint64_t>& mine) { return mine; }
 std::vector<std::vector<std::uint64_t>> all_to_all(const std::vector<std::vector<std::uint64_t>>& to) { return to; }
 std::vector<std::vector<double>> all_to_all(const std::vector<std::vector<double>>& to) { return to; }
+std::uint64_t exchanges() { return 0; }
 OwnedRows solve_rows(std::vector<RowEntries>&, std::int64_t, std::int64_t, std::int64_t, const Eigen::VectorXd*, double) {
   throw std::runtime_error("distributed mesh: rgbmesh was built without MPI and PETSc");
 }

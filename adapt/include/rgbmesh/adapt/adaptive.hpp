@@ -48,6 +48,11 @@ struct Distribution {
   /// bytes all processes sent since the previous call, in all and the most by one process
   /// (CycleReport::bytes_sent, bytes_sent_largest).
   std::function<std::array<std::uint64_t, 2>()> bytes_sent;
+  /// A distributed mesh: called by every process at the end of each cycle, returns what the
+  /// distributed mesh did since the previous call that grows with the processes apart from
+  /// the bytes: its coarsening rounds and its all-to-all exchanges (CycleReport::
+  /// coarsening_rounds, exchanges), the same on every process.
+  std::function<std::array<std::uint64_t, 2>()> rounds;
   /// A distributed mesh (rgbmesh::parallel::distribute_mesh): the mesh passed to run_cycles
   /// is this process's view of the whole (its part exact, the rest coarser), partition gives
   /// the parts of the view's triangles (-1 where it is coarser than the whole mesh), and the
@@ -81,6 +86,12 @@ struct RunControl {
   /// When set, asked at the end of each cycle for the process's resident memory
   /// (CycleReport::resident_bytes).
   std::function<std::size_t()> resident_bytes;
+  /// When set, called after each solve (with its estimate and errors), once the assembly's,
+  /// the solver's and the estimator's transients are freed: the tool hands the allocator's
+  /// free pages back to the system there (malloc_trim). Without it a run whose mesh shrank
+  /// keeps the pages of its largest solve resident (the moving peak settled at 1.45 times a
+  /// new run's resident memory on the same mesh, all of it free heap).
+  std::function<void()> release_free_memory;
   /// Resumable runs: each cycle's CycleState carries the mesh's RGB state
   /// (SolvedMesh::state), so that snapshot() gives a file that read_rgb_mesh restores. A run
   /// continued from such a file (first_cycle, DynamicOptions::first_step) repeats the
@@ -200,6 +211,12 @@ struct CycleReport {
   /// With Distribution::bytes_sent: the bytes the processes sent during the cycle, in all and
   /// the most by one of them.
   std::uint64_t bytes_sent = 0, bytes_sent_largest = 0;
+  /// With Distribution::rounds (a distributed mesh): the rounds of the cycle's coarsening,
+  /// each one an exchange of the processes' removals and the ghost layers made exact again,
+  /// over all of the cycle's adaptations (a moving feature's step has several); and the
+  /// distributed mesh's all-to-all exchanges (each a message to and from every process). 0 on
+  /// one process.
+  std::uint64_t coarsening_rounds = 0, exchanges = 0;
   std::size_t marked = 0, splits = 0, removals = 0;
   bool memory_limit_reached = false;  ///< the adaptation stopped at the memory ceiling
   std::string solver;
