@@ -562,6 +562,41 @@ TEST(Adapt, ARunStopsWhenAskedAndCanBeAbandonedWithAValidMesh) {
   }
 }
 
+TEST(Adapt, FreeMemoryIsHandedBackAfterEverySolve) {
+  // The hook runs once per solve, after it and before the cycle is reported, with P1, P2 and
+  // Loop elements (the Loop cycle is solved apart), and in every step of a moving feature.
+  for (const int kind : {1, 2, 3}) {
+    RgbMesh mesh = icosphere();
+    AdaptOptions o = sphere_options(Strategy::adaptive);
+    o.max_cycles = 4;
+    if (kind == 2) o.order = 2;
+    if (kind == 3) o.element = AdaptOptions::Element::loop;
+    std::string events;
+    o.control.release_free_memory = [&] { events += 'r'; };
+    const AdaptRun run = run_cycles(mesh, fem::sphere_peak(), o, [&](const CycleState&) { events += 'c'; });
+    ASSERT_EQ(run.cycles.size(), 4u) << kind;
+    EXPECT_EQ(events, "rcrcrcrc") << kind;
+  }
+  RgbMesh mesh = icosphere();
+  AdaptOptions o = sphere_options(Strategy::adaptive);
+  o.coarsen_below = 0.25;
+  DynamicOptions d;
+  d.steps = 3;
+  d.start_cycles = 3;
+  d.cycles_per_step = 2;
+  std::size_t released = 0, before_step = 0;
+  std::vector<std::size_t> per_step;
+  o.control.release_free_memory = [&] { ++released; };
+  const AdaptRun run = run_dynamic(mesh, [](double t) { return moving_peak(t); }, o, d, [&](const CycleState&) {
+    per_step.push_back(released - before_step);
+    before_step = released;
+  });
+  EXPECT_EQ(run.stopped, StopReason::steps);
+  ASSERT_EQ(per_step.size(), 4u);
+  // Each step after the first solves once per adaptation cycle and once more for its report.
+  for (std::size_t k = 1; k < per_step.size(); ++k) EXPECT_EQ(per_step[k], 3u) << "step " << k;
+}
+
 TEST(Adapt, SphereHarmonicAdaptsWithItsZeroMeanSource) {
   // c = 0 on the closed sphere: the source has zero mean on the sphere, but its discrete load
   // on an adaptive mesh of flat triangles does not; the run must not refuse it.
