@@ -136,15 +136,14 @@ SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const A
   return c;
 }
 
-SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
-                               SolutionTransfer& transfer, bool check_max_dofs = false) {
+SolvedCycle solve_and_estimate_now(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
+                                   SolutionTransfer& transfer, bool check_max_dofs) {
   if (!options.distribution.prepare_mesh && !options.distribution.partition &&
       mesh.live_fraction() < options.compact_below)
     mesh.compact();
   if (options.element == AdaptOptions::Element::loop) {
     SolvedCycle loop = solve_loop_cycle(mesh, problem, options);
     loop.report.mesh_bytes = mesh.memory_bytes();
-    if (options.control.release_free_memory) options.control.release_free_memory();
     return loop;
   }
   SolvedCycle c;
@@ -209,6 +208,12 @@ SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const
     c.report.error_h1 = e.h1;
     c.report.error_seconds = seconds_since(t_errors);
   }
+  return c;
+}
+
+SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
+                               SolutionTransfer& transfer, bool check_max_dofs = false) {
+  SolvedCycle c = solve_and_estimate_now(mesh, problem, options, transfer, check_max_dofs);
   // The assembly's, the solver's and the estimator's transients are freed by now.
   if (options.control.release_free_memory) options.control.release_free_memory();
   return c;

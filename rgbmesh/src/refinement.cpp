@@ -46,6 +46,13 @@ struct VertexEntry {
   std::int32_t vertex;
 };
 
+// A double's bit pattern (for positive doubles, in the order of their values).
+std::uint64_t bits_of(double x) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  return bits;
+}
+
 // A growing array of trivially copyable items that grows with realloc: glibc moves a large
 // block (a mapping of its own, above the tool's 1 MB threshold) with mremap, without copying,
 // where std::vector holds the old and the new block at once while it copies (the queue's peak:
@@ -161,9 +168,7 @@ class NewestFirstQueue {
     bool valid = false;
   };
   static std::size_t slot(double priority) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &priority, sizeof bits);
-    return static_cast<std::size_t>((bits * 0x9E3779B97F4A7C15ull) >> 58);  // 64 slots
+    return static_cast<std::size_t>((bits_of(priority) * 0x9E3779B97F4A7C15ull) >> 58);  // 64 slots
   }
   std::int32_t new_node() {
     if (free_nodes_ < 0) {
@@ -202,9 +207,7 @@ bool point_less(const Vec3& p, const Vec3& q) { return p.x != q.x ? p.x < q.x : 
 std::uint64_t ends_hash(const Vec3& low, const Vec3& high) {
   std::uint64_t h = 0x9E3779B97F4A7C15ull;
   for (const double x : {low.x, low.y, low.z, high.x, high.y, high.z}) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &x, sizeof bits);
-    h ^= bits + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    h ^= bits_of(x) + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
     h *= 0xBF58476D1CE4E5B9ull;
     h ^= h >> 31;
   }
@@ -425,11 +428,6 @@ class Refiner {
     const double missing = static_cast<double>(crit_.final_triangles()) - static_cast<double>(mesh_.num_triangles());
     const std::size_t wanted = std::max<std::size_t>(
         1, std::min(n / 2, std::max<std::size_t>(1u << 16, static_cast<std::size_t>(std::max(0.0, missing) / 16))));
-    const auto bits_of = [](double p) {
-      std::uint64_t b;
-      std::memcpy(&b, &p, sizeof b);
-      return b;
-    };
     std::uint64_t low = std::numeric_limits<std::uint64_t>::max(), high = 0;
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint64_t b = bits_of(set_aside_priorities_[i]);
