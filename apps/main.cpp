@@ -33,6 +33,7 @@
 #include "processes.hpp"
 #include "resources.hpp"
 #include "rgbmesh/errors.hpp"
+#include "rgbmesh/fem/petsc_module.hpp"
 
 using namespace rgbmesh;
 using namespace rgbmesh::cli;
@@ -46,10 +47,11 @@ void tune_allocator() {
   // threshold after the first such free, after which freed blocks stay in the heap and count
   // in the resident size.
   mallopt(M_MMAP_THRESHOLD, 1 << 20);
-  // A library loaded with the tool (SuperLU_DIST, through PETSc) switches mappings off
-  // (M_MMAP_MAX 0) and heap trimming too before main runs: every block then came from the
-  // heap and stayed resident once freed, and a refinement that passed --memory-limit 600M by
-  // a quarter held a grown queue's old 200 MB block. glibc's defaults again.
+  // A library that PETSc's module brings (SuperLU_DIST) switches mappings off (M_MMAP_MAX 0)
+  // and heap trimming too as it loads: every block then came from the heap and stayed resident
+  // once freed, and a refinement that passed --memory-limit 600M by a quarter held a grown
+  // queue's old 200 MB block. glibc's defaults again, here and after the module is loaded
+  // (fem::petsc::set_after_load).
   mallopt(M_MMAP_MAX, 65536);
   mallopt(M_TRIM_THRESHOLD, 128 * 1024);
 #endif
@@ -197,6 +199,7 @@ struct Tool {
 int main(int argc, char** argv) {
   restart_with_huge_pages(argc, argv);
   tune_allocator();
+  rgbmesh::fem::petsc::set_after_load(tune_allocator);
   remove_temporaries_on_signals();
   const Processes processes = start_processes(&argc, &argv);
   Tool tool;

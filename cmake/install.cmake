@@ -116,6 +116,10 @@ sys.stdout.write(os.path.relpath(path, root))
   set(RGBMESH_PYTHON_INSTALL_DIR "${_rgbmesh_site}" CACHE STRING
       "Where the Python package rgbmesh is installed (the directory holding rgbmesh/), relative to the prefix or absolute")
   install(TARGETS rgbmesh_python LIBRARY DESTINATION "${RGBMESH_PYTHON_INSTALL_DIR}/rgbmesh" COMPONENT python)
+  # fem's AMG solver module beside the extension, where the extension looks for it first.
+  if(TARGET rgbmesh_petsc_module)
+    install(TARGETS rgbmesh_petsc_module LIBRARY DESTINATION "${RGBMESH_PYTHON_INSTALL_DIR}/rgbmesh" COMPONENT python)
+  endif()
   # The same files python/CMakeLists.txt copies next to the extension in the build tree.
   file(GLOB _rgbmesh_python_files CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/python/rgbmesh/*.py")
   install(FILES ${_rgbmesh_python_files} DESTINATION "${RGBMESH_PYTHON_INSTALL_DIR}/rgbmesh" COMPONENT python)

@@ -234,3 +234,39 @@ TEST_F(Cli, TheToolAsksForHugePagesWhereTheKernelGivesThemOnRequest) {
   EXPECT_LT(own, 0.6 * small);
   EXPECT_GT(chosen, 0.8 * small);
 }
+
+// PETSc and the hundred libraries it brings (31 MB resident as soon as they are mapped) are
+// loaded only by the runs that solve with BoomerAMG (fem's solver module, librgbmesh_petsc.so):
+// the dynamic loader's own log (LD_DEBUG=files) names every library a run loaded.
+TEST_F(Cli, PetscIsLoadedOnlyByTheRunsThatSolveWithIt) {
+  const std::string logged = std::string("env LD_DEBUG=files RGBMESH_NO_HUGEPAGES=1 ") + RGBMESH_CLI;
+  const RunResult refine = run_with(logged, "refine " + bunny + " " + path("b.vtp") + " --uniform 2");
+  ASSERT_EQ(refine.code, 0) << refine.err;
+  ASSERT_NE(refine.err.find("libvtkCommonCore"), std::string::npos) << "no loader log";
+  EXPECT_EQ(refine.err.find("libpetsc"), std::string::npos);
+  const RunResult direct = run_with(logged, "adapt --cycles 2 --solver ldlt --out " + path("d"));
+  ASSERT_EQ(direct.code, 0) << direct.err;
+  EXPECT_EQ(direct.err.find("libpetsc"), std::string::npos);
+  const RunResult amg = run_with(logged, "adapt --cycles 2 --solver amg --out " + path("a"));
+  if (amg.code == 2 && amg.err.find("built without PETSc") != std::string::npos) GTEST_SKIP() << "built without PETSc";
+  ASSERT_EQ(amg.code, 0) << amg.err.substr(0, 2000);
+  EXPECT_NE(amg.err.find("librgbmesh_petsc.so"), std::string::npos);
+  EXPECT_NE(amg.err.find("libpetsc_real"), std::string::npos);
+}
+
+// A solver module that cannot be loaded is the installation's defect, said in one line that
+// names where it was looked for and what to do instead (exit 2, as for a solver not built in).
+TEST_F(Cli, AMissingSolverModuleIsRefusedInOneLineNamingIt) {
+  const std::string nowhere = path("nowhere/librgbmesh_petsc.so");
+  const RunResult r =
+      run_with("env RGBMESH_PETSC_MODULE=" + nowhere + " " + RGBMESH_CLI, "adapt --cycles 1 --solver amg --out " + path("a"));
+  if (r.err.find("built without PETSc") != std::string::npos) GTEST_SKIP() << "built without PETSc";
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(nowhere), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--solver cg"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  // The same run with a direct solver does not need the module at all.
+  const RunResult direct =
+      run_with("env RGBMESH_PETSC_MODULE=" + nowhere + " " + RGBMESH_CLI, "adapt --cycles 1 --solver ldlt --out " + path("d"));
+  EXPECT_EQ(direct.code, 0) << direct.err;
+}

@@ -1,62 +1,138 @@
-// SolverKind::amg with PETSc (amg.hpp): CG (KSPCG) preconditioned by hypre's BoomerAMG
-// (PCHYPRE), on one process.
+// SolverKind::amg through the PETSc solver module (amg.hpp, rgbmesh/fem/petsc_module.hpp): the
+// module is loaded with dlopen on the first solve that needs it, so that runs without one (a
+// refinement, a direct solve) never map PETSc and the hundred libraries it brings.
 //
-// PETSc is initialized on first use (which initializes MPI as a singleton process where the
-// host program has not), without PETSc's signal handlers, which would replace the tool's
-// (SIGINT and SIGTERM remove temporary files); it is finalized at exit. Errors come back as
-// codes (PetscReturnErrorHandler), not as PETSc's printed tracebacks.
+// Where the module is looked for, in order: $RGBMESH_PETSC_MODULE alone when set; beside the
+// object this code is linked into (the Python extension's directory), then ../lib/rgbmesh and
+// ../<libdir>/rgbmesh from it (a program in bin/ of the build or of the installation); then the
+// build tree's and the installation's paths compiled in. A module of another build (its ABI
+// number differs) is passed over.
 
-#include <petscksp.h>
+#include <dlfcn.h>
 
 #include <cstdlib>
 #include <mutex>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
+#include <vector>
 
 #include "amg.hpp"
-#include "rgbmesh/fem/petsc_cg_amg.hpp"
+#include "rgbmesh/fem/petsc_module.hpp"
+#include "rgbmesh/soup.hpp"
 
-namespace rgbmesh::fem::detail {
+namespace rgbmesh::fem {
+namespace petsc {
 namespace {
 
-void check(PetscErrorCode code, const char* what) { petsc::check(code, "amg", what); }
+constexpr const char* kFileName = "librgbmesh_petsc.so";
 
-void initialize_petsc() {
-  static std::once_flag once;
-  std::call_once(once, [] {
-    static int argc = 2;
-    static char program[] = "rgbmesh", no_signals[] = "-no_signal_handler";
-    static char* arguments[] = {program, no_signals, nullptr};
-    static char** argv = arguments;
-    check(PetscInitialize(&argc, &argv, nullptr, nullptr), "initializing PETSc");
-    PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
-    for (const auto& option : amg_options()) check(PetscOptionsSetValue(nullptr, option[0], option[1]), "setting options");
-    std::atexit([] { PetscFinalize(); });
-  });
+std::string directory_of(const std::string& path) {
+  const auto slash = path.rfind('/');
+  return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
+}
+
+std::vector<std::string> candidates() {
+  if (const char* chosen = std::getenv("RGBMESH_PETSC_MODULE"); chosen != nullptr && *chosen != '\0') return {chosen};
+  std::vector<std::string> paths;
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&candidates), &info) != 0 && info.dli_fname != nullptr) {
+    const std::string here = directory_of(info.dli_fname);
+    paths.push_back(here + "/" + kFileName);
+    paths.push_back(here + "/../lib/rgbmesh/" + kFileName);
+    paths.push_back(here + "/../" RGBMESH_INSTALL_LIBDIR "/rgbmesh/" + kFileName);
+  }
+  paths.emplace_back(RGBMESH_PETSC_MODULE_BUILD_PATH);
+  paths.emplace_back(RGBMESH_PETSC_MODULE_INSTALL_PATH);
+  return paths;
+}
+
+void (*after_load)() = nullptr;
+
+struct Loaded {
+  const ModuleApi* api = nullptr;
+  std::string failure;  // why not, when api is null
+};
+
+Loaded load() {
+  Loaded out;
+  std::string tried;
+  for (const std::string& path : candidates()) {
+    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (handle == nullptr) {
+      const char* why = dlerror();
+      // A missing file is the normal case for all but one candidate; report the others' reasons.
+      if (why != nullptr && std::string(why).find("No such file") == std::string::npos) tried += std::string("; ") + why;
+      continue;
+    }
+    using Entry = const ModuleApi* (*)();
+    auto entry = reinterpret_cast<Entry>(dlsym(handle, kModuleEntry));
+    const ModuleApi* api = entry != nullptr ? entry() : nullptr;
+    if (api == nullptr || api->abi != kModuleAbi) {
+      tried += "; " + path + " is of another rgbmesh build";
+      dlclose(handle);
+      continue;
+    }
+    out.api = api;  // never unloaded: PETSc is finalized at exit
+    if (after_load != nullptr) after_load();
+    return out;
+  }
+  std::string where;
+  for (const std::string& path : candidates()) where += (where.empty() ? "" : ", ") + path;
+  out.failure = "the AMG solver's module " + std::string(kFileName) + " could not be loaded (looked for " + where +
+                ")" + tried + "; use another solver (--solver cg or cholmod) or set RGBMESH_PETSC_MODULE to its path";
+  return out;
+}
+
+const Loaded& loaded() {
+  static const Loaded once = load();
+  return once;
 }
 
 }  // namespace
 
-bool amg_available() { return true; }
+void set_after_load(void (*hook)()) { after_load = hook; }
+
+bool module_available() { return loaded().api != nullptr; }
+
+const ModuleApi& module() {
+  const Loaded& l = loaded();
+  if (l.api == nullptr) throw InputError(l.failure);
+  static std::once_flag initialized;
+  std::call_once(initialized, [&] {
+    const auto& options = amg_options();
+    l.api->initialize(options.data(), options.size());
+    std::atexit([] { loaded().api->finalize(); });
+  });
+  return *l.api;
+}
+
+}  // namespace petsc
+
+namespace detail {
+
+bool amg_available() { return petsc::module_available(); }
 
 AmgSolution solve_amg(const SparseMatrix& a, const Eigen::VectorXd& b, const Eigen::VectorXd* guess,
                       double tolerance) {
-  initialize_petsc();
-  const auto n = static_cast<PetscInt>(a.rows());
+  const petsc::ModuleApi& module = petsc::module();
   if (!a.isCompressed()) throw std::logic_error("amg: the matrix must be compressed");
   AmgSolution out;
   out.x = (guess != nullptr && guess->size() == b.size()) ? *guess : Eigen::VectorXd::Zero(b.size());
-  petsc::Objects o;
-  // The matrix is symmetric, so Eigen's column-major arrays are also its rows. PETSc only reads
-  // them (the arrays are borrowed, not copied; the Mat is destroyed before they are).
-  check(MatCreateSeqAIJWithArrays(PETSC_COMM_SELF, n, n, const_cast<int*>(a.outerIndexPtr()),
-                                  const_cast<int*>(a.innerIndexPtr()), const_cast<double*>(a.valuePtr()), &o.a),
-        "creating the matrix");
-  check(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, b.data(), &o.b), "creating the right-hand side");
-  check(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, n, out.x.data(), &o.x), "creating the solution");
-  out.iterations = petsc::solve_cg_amg(PETSC_COMM_SELF, o, tolerance, out.x.any(), "amg", "; the system may be singular");
+  // The matrix is symmetric, so Eigen's column-major arrays are also its rows.
+  petsc::System s;
+  s.local_rows = s.global_rows = static_cast<int>(a.rows());
+  s.row_starts = a.outerIndexPtr();
+  s.columns = a.innerIndexPtr();
+  s.values = a.valuePtr();
+  s.rhs = b.data();
+  s.x = out.x.data();
+  s.tolerance = tolerance;
+  s.nonzero_guess = out.x.any();
+  s.solver = "amg";
+  s.hint = "; the system may be singular";
+  out.iterations = module.solve(s).iterations;
   return out;
 }
 
-}  // namespace rgbmesh::fem::detail
+}  // namespace detail
+}  // namespace rgbmesh::fem

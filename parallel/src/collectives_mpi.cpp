@@ -1,8 +1,7 @@
 // The collective operations of the distributed mesh over MPI, and its system's solve with
-// PETSc (collectives.hpp).
+// fem's PETSc module (collectives.hpp).
 
 #include <mpi.h>
-#include <petscksp.h>
 
 #include <Eigen/SparseCore>
 
@@ -11,7 +10,7 @@
 #include <stdexcept>
 
 #include "collectives.hpp"
-#include "rgbmesh/fem/petsc_cg_amg.hpp"
+#include "rgbmesh/fem/petsc_module.hpp"
 #include "rgbmesh/parallel/mpi.hpp"
 
 namespace rgbmesh::parallel::detail {
@@ -43,10 +42,10 @@ std::vector<std::vector<T>> exchange(const std::vector<std::vector<T>>& to, MPI_
     send[static_cast<std::size_t>(q)] = as_count(to[static_cast<std::size_t>(q)].size());
     out.insert(out.end(), to[static_cast<std::size_t>(q)].begin(), to[static_cast<std::size_t>(q)].end());
   }
-  MPI_Alltoall(send.data(), 1, MPI_INT, receive.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+  MPI_Alltoall(send.data(), 1, MPI_INT, receive.data(), 1, MPI_INT, MPI_COMM_WORLD);
   const std::vector<int> sd = displacements(send), rd = displacements(receive);
   std::vector<T> in(static_cast<std::size_t>(rd.back() + receive.back()));
-  MPI_Alltoallv(out.data(), send.data(), sd.data(), type, in.data(), receive.data(), rd.data(), type, PETSC_COMM_WORLD);
+  MPI_Alltoallv(out.data(), send.data(), sd.data(), type, in.data(), receive.data(), rd.data(), type, MPI_COMM_WORLD);
   std::vector<std::vector<T>> from(static_cast<std::size_t>(p));
   for (int q = 0; q < p; ++q)
     from[static_cast<std::size_t>(q)].assign(in.begin() + rd[static_cast<std::size_t>(q)],
@@ -57,7 +56,7 @@ std::vector<std::vector<T>> exchange(const std::vector<std::vector<T>>& to, MPI_
 }  // namespace
 
 void sum(std::uint64_t* values, std::size_t count) {
-  MPI_Allreduce(MPI_IN_PLACE, values, as_count(count), MPI_UINT64_T, MPI_SUM, PETSC_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, values, as_count(count), MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
 }
 
 std::uint64_t exchanges() { return exchanges_made; }
@@ -67,11 +66,11 @@ std::vector<std::uint64_t> all_gather(const std::vector<std::uint64_t>& mine) {
   ++exchanges_made;
   std::vector<int> counts(static_cast<std::size_t>(p));
   const int count = as_count(mine.size());
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
   const std::vector<int> offsets = displacements(counts);
   std::vector<std::uint64_t> all(static_cast<std::size_t>(offsets.back() + counts.back()));
   MPI_Allgatherv(mine.data(), count, MPI_UINT64_T, all.data(), counts.data(), offsets.data(), MPI_UINT64_T,
-                 PETSC_COMM_WORLD);
+                 MPI_COMM_WORLD);
   return all;
 }
 
@@ -104,7 +103,7 @@ OwnedRows solve_rows(std::vector<RowEntries>& to, std::int64_t first, std::int64
     value_out.insert(value_out.end(), e.value.begin(), e.value.end());
     e = {};
   }
-  MPI_Alltoall(send.data(), 1, MPI_INT, receive.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+  MPI_Alltoall(send.data(), 1, MPI_INT, receive.data(), 1, MPI_INT, MPI_COMM_WORLD);
   std::vector<int> send2(send), receive2(receive);
   for (int& c : send2) c = as_count(2 * static_cast<std::size_t>(c));
   for (int& c : receive2) c = as_count(2 * static_cast<std::size_t>(c));
@@ -112,15 +111,15 @@ OwnedRows solve_rows(std::vector<RowEntries>& to, std::int64_t first, std::int64
                          rd2 = displacements(receive2);
   std::vector<std::int64_t> index_in(static_cast<std::size_t>(rd2.back() + receive2.back()));
   MPI_Alltoallv(index_out.data(), send2.data(), sd2.data(), MPI_INT64_T, index_in.data(), receive2.data(), rd2.data(),
-                MPI_INT64_T, PETSC_COMM_WORLD);
+                MPI_INT64_T, MPI_COMM_WORLD);
   std::vector<std::int64_t>().swap(index_out);
   std::vector<double> value_in(static_cast<std::size_t>(rd.back() + receive.back()));
   MPI_Alltoallv(value_out.data(), send.data(), sd.data(), MPI_DOUBLE, value_in.data(), receive.data(), rd.data(),
-                MPI_DOUBLE, PETSC_COMM_WORLD);
+                MPI_DOUBLE, MPI_COMM_WORLD);
   std::vector<double>().swap(value_out);
   // This process's rows: its own contributions, then the others' in rank order.
   RowEntries& own = to[static_cast<std::size_t>(me)];
-  std::vector<Eigen::Triplet<double, PetscInt>> entries;
+  std::vector<Eigen::Triplet<double, int>> entries;
   entries.reserve(own.value.size() + value_in.size());
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(count);
   const auto add = [&](std::int64_t row, std::int64_t column, double value) {
@@ -129,7 +128,7 @@ OwnedRows solve_rows(std::vector<RowEntries>& to, std::int64_t first, std::int64
     if (column < 0) {
       rhs[row] += value;
     } else {
-      entries.emplace_back(static_cast<PetscInt>(row), static_cast<PetscInt>(column), value);
+      entries.emplace_back(static_cast<int>(row), static_cast<int>(column), value);
     }
   };
   for (std::size_t e = 0; e < own.value.size(); ++e) add(own.index[2 * e], own.index[2 * e + 1], own.value[e]);
@@ -137,35 +136,35 @@ OwnedRows solve_rows(std::vector<RowEntries>& to, std::int64_t first, std::int64
   for (std::size_t e = 0; e < value_in.size(); ++e) add(index_in[2 * e], index_in[2 * e + 1], value_in[e]);
   std::vector<std::int64_t>().swap(index_in);
   std::vector<double>().swap(value_in);
-  Eigen::SparseMatrix<double, Eigen::RowMajor, PetscInt> rows(static_cast<PetscInt>(count), static_cast<PetscInt>(total));
+  Eigen::SparseMatrix<double, Eigen::RowMajor, int> rows(static_cast<int>(count), static_cast<int>(total));
   rows.setFromTriplets(entries.begin(), entries.end());
   rows.makeCompressed();
-  std::vector<Eigen::Triplet<double, PetscInt>>().swap(entries);
+  std::vector<Eigen::Triplet<double, int>>().swap(entries);
   OwnedRows out;
   out.x = Eigen::VectorXd::Zero(count);
   int any_guess = guess != nullptr && guess->size() == count && guess->any() ? 1 : 0;
-  MPI_Allreduce(MPI_IN_PLACE, &any_guess, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD);
+  MPI_Allreduce(MPI_IN_PLACE, &any_guess, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   if (guess != nullptr && guess->size() == count) out.x = *guess;
-  fem::petsc::Objects o;
-  const auto m = static_cast<PetscInt>(count), n = static_cast<PetscInt>(total);
-  const auto check = [](PetscErrorCode code, const char* what) { fem::petsc::check(code, "distributed mesh amg", what); };
-  check(MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, m, m, n, n, rows.outerIndexPtr(), rows.innerIndexPtr(), rows.valuePtr(), &o.a),
-        "creating the matrix");
+  using Rows = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+  fem::petsc::System system;
+  system.distributed = true;
+  system.local_rows = static_cast<int>(count);
+  system.global_rows = static_cast<int>(total);
+  system.row_starts = rows.outerIndexPtr();
+  system.columns = rows.innerIndexPtr();
+  system.values = rows.valuePtr();
+  system.rhs = rhs.data();
+  system.x = out.x.data();
+  system.tolerance = tolerance;
+  system.nonzero_guess = any_guess != 0;
+  system.measure_residual = true;
+  system.solver = "distributed mesh amg";
   // PETSc copied the arrays: free them before the AMG setup, the solve's peak of memory.
-  Eigen::SparseMatrix<double, Eigen::RowMajor, PetscInt>().swap(rows);
-  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, n, rhs.data(), &o.b), "creating the right-hand side");
-  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, n, out.x.data(), &o.x), "creating the solution");
-  out.iterations = fem::petsc::solve_cg_amg(PETSC_COMM_WORLD, o, tolerance, any_guess != 0, "distributed mesh amg", "");
-  Vec residual = nullptr;
-  check(VecDuplicate(o.b, &residual), "creating the residual");
-  PetscReal rn = 0, bn = 0;
-  PetscErrorCode code = MatMult(o.a, o.x, residual);
-  if (code == 0) code = VecAYPX(residual, -1.0, o.b);
-  if (code == 0) code = VecNorm(residual, NORM_2, &rn);
-  if (code == 0) code = VecNorm(o.b, NORM_2, &bn);
-  VecDestroy(&residual);
-  check(code, "measuring the residual");
-  out.relative_residual = bn > 0 ? rn / bn : rn;
+  system.matrix_copied = [](void* context) { Rows().swap(*static_cast<Rows*>(context)); };
+  system.context = &rows;
+  const fem::petsc::Result result = fem::petsc::module().solve(system);
+  out.iterations = result.iterations;
+  out.relative_residual = result.relative_residual;
   return out;
 }
 

@@ -1,7 +1,6 @@
 // rgbmesh::parallel::reconcile_splits with MPI (local_view.hpp).
 
 #include <mpi.h>
-#include <petscsys.h>
 
 #include <map>
 #include <vector>
@@ -30,18 +29,18 @@ Reconciled reconcile_splits(RgbMesh& view, const std::unordered_set<std::int32_t
     }
     std::vector<int> counts(static_cast<std::size_t>(p)), offsets(static_cast<std::size_t>(p), 0);
     const int count = static_cast<int>(mine.size());
-    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+    MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
     for (int q = 1; q < p; ++q)
       offsets[static_cast<std::size_t>(q)] = offsets[static_cast<std::size_t>(q - 1)] + counts[static_cast<std::size_t>(q - 1)];
     std::vector<unsigned long long> all(static_cast<std::size_t>(offsets.back() + counts.back()));
     MPI_Allgatherv(mine.data(), count, MPI_UNSIGNED_LONG_LONG, all.data(), counts.data(), offsets.data(),
-                   MPI_UNSIGNED_LONG_LONG, PETSC_COMM_WORLD);
+                   MPI_UNSIGNED_LONG_LONG, MPI_COMM_WORLD);
     std::map<VertexKey, std::array<VertexKey, 2>> splits;
     for (std::size_t i = 0; i + 2 < all.size(); i += 3) splits[all[i]] = {all[i + 1], all[i + 2]};
     const std::size_t made = make_splits(view, start, fine, splits);
     out.made += made;
     unsigned long long here = made, everywhere = 0;
-    MPI_Allreduce(&here, &everywhere, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, PETSC_COMM_WORLD);
+    MPI_Allreduce(&here, &everywhere, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
     if (everywhere == 0) break;
   }
   canonical_diagonals(view);  // the diagonals by names, as the whole mesh's (canonical.hpp)

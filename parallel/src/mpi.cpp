@@ -1,7 +1,7 @@
-// rgbmesh::parallel with MPI and PETSc (mpi.hpp).
+// rgbmesh::parallel with MPI (mpi.hpp). The distributed solves go through fem's PETSc module
+// (rgbmesh/fem/petsc_module.hpp), loaded by initialize: no source here sees PETSc.
 
 #include <mpi.h>
-#include <petscksp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -13,15 +13,13 @@
 #include <vector>
 
 #include "rgbmesh/detail/parallel_for.hpp"
-#include "rgbmesh/fem/petsc_cg_amg.hpp"
+#include "rgbmesh/fem/petsc_module.hpp"
 #include "rgbmesh/parallel/mpi.hpp"
 #include "rgbmesh/parallel/partition.hpp"
 
 namespace rgbmesh::parallel {
 
 namespace {
-
-void check(PetscErrorCode code, const char* what) { fem::petsc::check(code, "distributed amg", what); }
 
 bool started = false;
 // A communicator of its own for the processes' meeting at a failure (every_process_stops), so
@@ -31,7 +29,7 @@ MPI_Comm failure_comm = MPI_COMM_NULL;
 // Rows numbered part after part (each process a contiguous block), in increasing order within
 // each part: to_new[old row], to_old[new row], and every part's first row and count.
 struct Numbering {
-  std::vector<PetscInt> to_new, to_old;
+  std::vector<int> to_new, to_old;
   std::vector<int> counts, offsets;
 };
 Numbering number_by_part(const std::vector<std::int32_t>& part_of, int p) {
@@ -48,7 +46,7 @@ Numbering number_by_part(const std::vector<std::int32_t>& part_of, int p) {
   for (std::size_t i = 0; i < n; ++i) {
     const int k = next[static_cast<std::size_t>(part_of[i])]++;
     nb.to_new[i] = k;
-    nb.to_old[static_cast<std::size_t>(k)] = static_cast<PetscInt>(i);
+    nb.to_old[static_cast<std::size_t>(k)] = static_cast<int>(i);
   }
   return nb;
 }
@@ -62,20 +60,20 @@ fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, 
   // numbered part after part so that each process holds a contiguous block.
   const Numbering nb = number_by_part(partition_rows(a, p).part_of, p);
   const std::vector<int>&counts = nb.counts, &offsets = nb.offsets;
-  const std::vector<PetscInt>&to_new = nb.to_new, &to_old = nb.to_old;
-  const PetscInt first = offsets[static_cast<std::size_t>(r)], m = counts[static_cast<std::size_t>(r)];
+  const std::vector<int>&to_new = nb.to_new, &to_old = nb.to_old;
+  const int first = offsets[static_cast<std::size_t>(r)], m = counts[static_cast<std::size_t>(r)];
   // The matrix is symmetric: Eigen's columns are its rows. This process's rows, in the new
   // numbering (local rows, global columns).
-  std::vector<PetscInt> rows(static_cast<std::size_t>(m) + 1, 0), columns;
-  std::vector<PetscScalar> values;
+  std::vector<int> rows(static_cast<std::size_t>(m) + 1, 0), columns;
+  std::vector<double> values;
   const int* outer = a.outerIndexPtr();
-  for (PetscInt k = 0; k < m; ++k) {
-    const PetscInt i = to_old[static_cast<std::size_t>(first + k)];
+  for (int k = 0; k < m; ++k) {
+    const int i = to_old[static_cast<std::size_t>(first + k)];
     for (int e = outer[i]; e < outer[i + 1]; ++e) {
       columns.push_back(to_new[static_cast<std::size_t>(a.innerIndexPtr()[e])]);
       values.push_back(a.valuePtr()[e]);
     }
-    rows[static_cast<std::size_t>(k) + 1] = static_cast<PetscInt>(columns.size());
+    rows[static_cast<std::size_t>(k) + 1] = static_cast<int>(columns.size());
   }
   Eigen::VectorXd rhs(static_cast<Eigen::Index>(n)), x(static_cast<Eigen::Index>(n));
   const bool with_guess = guess != nullptr && guess->size() == b.size() && guess->any();
@@ -83,18 +81,24 @@ fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, 
     rhs[to_new[i]] = b[static_cast<Eigen::Index>(i)];
     x[to_new[i]] = with_guess ? (*guess)[static_cast<Eigen::Index>(i)] : 0.0;
   }
-  fem::petsc::Objects o;
-  const auto N = static_cast<PetscInt>(n);
-  check(MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, m, m, N, N, rows.data(), columns.data(), values.data(), &o.a),
-        "creating the matrix");
-  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, N, rhs.data() + first, &o.b), "creating the right-hand side");
-  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, N, x.data() + first, &o.x), "creating the solution");
+  fem::petsc::System s;
+  s.distributed = true;
+  s.local_rows = m;
+  s.global_rows = static_cast<int>(n);
+  s.row_starts = rows.data();
+  s.columns = columns.data();
+  s.values = values.data();
+  s.rhs = rhs.data() + first;
+  s.x = x.data() + first;
+  s.tolerance = tolerance;
+  s.nonzero_guess = with_guess;
+  s.solver = "distributed amg";
   fem::LinearSolution out;
-  out.iterations = fem::petsc::solve_cg_amg(PETSC_COMM_WORLD, o, tolerance, with_guess, "distributed amg", "");
+  out.iterations = fem::petsc::module().solve(s).iterations;
   // Every process gets the whole solution: the blocks, gathered in rank order, then numbered
   // as the caller's unknowns.
   MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, x.data(), counts.data(), offsets.data(), MPI_DOUBLE,
-                 PETSC_COMM_WORLD);
+                 MPI_COMM_WORLD);
   out.x.resize(static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < n; ++i) out.x[static_cast<Eigen::Index>(i)] = x[to_new[i]];
   return out;
@@ -103,9 +107,9 @@ fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, 
 // The system's pieces sent to the processes owning their rows: (row, column, value) with the
 // new numbers, column -1 for the right-hand side.
 struct Entries {
-  std::vector<PetscInt> index;  // row, column pairs
+  std::vector<int> index;  // row, column pairs
   std::vector<double> value;
-  void add(PetscInt row, PetscInt column, double v) {
+  void add(int row, int column, double v) {
     index.push_back(row);
     index.push_back(column);
     value.push_back(v);
@@ -118,7 +122,7 @@ Entries exchange(std::vector<Entries>& outgoing, int me) {
   const int p = static_cast<int>(outgoing.size());
   std::vector<int> send(static_cast<std::size_t>(p)), receive(static_cast<std::size_t>(p));
   for (int q = 0; q < p; ++q) send[static_cast<std::size_t>(q)] = q == me ? 0 : static_cast<int>(outgoing[static_cast<std::size_t>(q)].value.size());
-  MPI_Alltoall(send.data(), 1, MPI_INT, receive.data(), 1, MPI_INT, PETSC_COMM_WORLD);
+  MPI_Alltoall(send.data(), 1, MPI_INT, receive.data(), 1, MPI_INT, MPI_COMM_WORLD);
   const auto displacements = [p](const std::vector<int>& counts, int width) {
     std::vector<int> d(static_cast<std::size_t>(p), 0);
     for (int q = 1; q < p; ++q) d[static_cast<std::size_t>(q)] = d[static_cast<std::size_t>(q - 1)] + width * counts[static_cast<std::size_t>(q - 1)];
@@ -129,7 +133,7 @@ Entries exchange(std::vector<Entries>& outgoing, int me) {
   for (int& c : receive2) c *= 2;
   const std::vector<int> sd = displacements(send, 1), rd = displacements(receive, 1);
   const std::vector<int> sd2 = displacements(send, 2), rd2 = displacements(receive, 2);
-  std::vector<PetscInt> index_out, index_in(static_cast<std::size_t>(rd2.back() + receive2.back()));
+  std::vector<int> index_out, index_in(static_cast<std::size_t>(rd2.back() + receive2.back()));
   std::vector<double> value_out, value_in(static_cast<std::size_t>(rd.back() + receive.back()));
   for (int q = 0; q < p; ++q) {
     if (q == me) continue;
@@ -138,9 +142,9 @@ Entries exchange(std::vector<Entries>& outgoing, int me) {
     value_out.insert(value_out.end(), e.value.begin(), e.value.end());
   }
   MPI_Alltoallv(index_out.data(), send2.data(), sd2.data(), MPI_INT, index_in.data(), receive2.data(), rd2.data(),
-                MPI_INT, PETSC_COMM_WORLD);
+                MPI_INT, MPI_COMM_WORLD);
   MPI_Alltoallv(value_out.data(), send.data(), sd.data(), MPI_DOUBLE, value_in.data(), receive.data(), rd.data(),
-                MPI_DOUBLE, PETSC_COMM_WORLD);
+                MPI_DOUBLE, MPI_COMM_WORLD);
   Entries mine = std::move(outgoing[static_cast<std::size_t>(me)]);
   mine.index.insert(mine.index.end(), index_in.begin(), index_in.end());
   mine.value.insert(mine.value.end(), value_in.begin(), value_in.end());
@@ -155,13 +159,13 @@ fem::LinearSolution solve_shared(const fem::SparseMatrix& a, const Eigen::Vector
   const int p = processes(), r = rank();
   const auto n = static_cast<std::size_t>(a.rows());
   const Numbering nb = number_by_part(row_part, p);
-  const PetscInt first = nb.offsets[static_cast<std::size_t>(r)], m = nb.counts[static_cast<std::size_t>(r)];
+  const int first = nb.offsets[static_cast<std::size_t>(r)], m = nb.counts[static_cast<std::size_t>(r)];
   // This process's contributions, to the owners of their rows (the matrix is symmetric:
   // Eigen's column k is row k).
   std::vector<Entries> outgoing(static_cast<std::size_t>(p));
   for (Eigen::Index k = 0; k < a.outerSize(); ++k) {
     Entries& to = outgoing[static_cast<std::size_t>(row_part[static_cast<std::size_t>(k)])];
-    const PetscInt row = nb.to_new[static_cast<std::size_t>(k)];
+    const int row = nb.to_new[static_cast<std::size_t>(k)];
     for (fem::SparseMatrix::InnerIterator it(a, k); it; ++it)
       if (it.value() != 0.0) to.add(row, nb.to_new[static_cast<std::size_t>(it.index())], it.value());
     if (b[k] != 0.0) to.add(row, -1, b[k]);
@@ -170,54 +174,46 @@ fem::LinearSolution solve_shared(const fem::SparseMatrix& a, const Eigen::Vector
   std::vector<Entries>().swap(outgoing);
   // This process's rows: the sums of every process's contributions (added in the order
   // received), in compressed rows with sorted columns.
-  std::vector<Eigen::Triplet<double, PetscInt>> entries;
+  std::vector<Eigen::Triplet<double, int>> entries;
   entries.reserve(mine.value.size());
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m);
   for (std::size_t e = 0; e < mine.value.size(); ++e) {
-    const PetscInt row = mine.index[2 * e] - first, column = mine.index[2 * e + 1];
+    const int row = mine.index[2 * e] - first, column = mine.index[2 * e + 1];
     if (column < 0) {
       rhs[row] += mine.value[e];
     } else {
       entries.emplace_back(row, column, mine.value[e]);
     }
   }
-  Eigen::SparseMatrix<double, Eigen::RowMajor, PetscInt> rows(m, static_cast<PetscInt>(n));
+  Eigen::SparseMatrix<double, Eigen::RowMajor, int> rows(m, static_cast<int>(n));
   rows.setFromTriplets(entries.begin(), entries.end());
   rows.makeCompressed();
-  std::vector<Eigen::Triplet<double, PetscInt>>().swap(entries);
+  std::vector<Eigen::Triplet<double, int>>().swap(entries);
   Eigen::VectorXd x(m);
   const bool with_guess = guess != nullptr && guess->size() == b.size() && guess->any();
-  for (PetscInt k = 0; k < m; ++k) x[k] = with_guess ? (*guess)[nb.to_old[static_cast<std::size_t>(first + k)]] : 0.0;
-  fem::petsc::Objects o;
-  const auto N = static_cast<PetscInt>(n);
-  check(MatCreateMPIAIJWithArrays(PETSC_COMM_WORLD, m, m, N, N, rows.outerIndexPtr(), rows.innerIndexPtr(), rows.valuePtr(),
-                                  &o.a),
-        "creating the matrix");
-  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, N, rhs.data(), &o.b), "creating the right-hand side");
-  check(VecCreateMPIWithArray(PETSC_COMM_WORLD, 1, m, N, x.data(), &o.x), "creating the solution");
+  for (int k = 0; k < m; ++k) x[k] = with_guess ? (*guess)[nb.to_old[static_cast<std::size_t>(first + k)]] : 0.0;
+  fem::petsc::System s;
+  s.distributed = true;
+  s.local_rows = m;
+  s.global_rows = static_cast<int>(n);
+  s.row_starts = rows.outerIndexPtr();
+  s.columns = rows.innerIndexPtr();
+  s.values = rows.valuePtr();
+  s.rhs = rhs.data();
+  s.x = x.data();
+  s.tolerance = tolerance;
+  s.nonzero_guess = with_guess;
+  s.measure_residual = true;  // the residual of the summed system, computed anew
+  s.solver = "shared amg";
+  const fem::petsc::Result result = fem::petsc::module().solve(s);
   fem::LinearSolution out;
-  out.iterations = fem::petsc::solve_cg_amg(PETSC_COMM_WORLD, o, tolerance, with_guess, "shared amg", "");
-  // The residual of the summed system, computed anew.
-  {
-    Vec residual = nullptr;
-    check(VecDuplicate(o.b, &residual), "creating the residual");
-    PetscReal rn = 0, bn = 0;
-    const PetscErrorCode code = [&] {
-      PetscErrorCode c = MatMult(o.a, o.x, residual);
-      if (c == 0) c = VecAYPX(residual, -1.0, o.b);
-      if (c == 0) c = VecNorm(residual, NORM_2, &rn);
-      if (c == 0) c = VecNorm(o.b, NORM_2, &bn);
-      return c;
-    }();
-    VecDestroy(&residual);
-    check(code, "measuring the residual");
-    out.relative_residual = bn > 0 ? rn / bn : rn;
-  }
+  out.iterations = result.iterations;
+  out.relative_residual = result.relative_residual;
   // Every process gets the whole solution: the blocks, gathered in rank order, then numbered
   // as the caller's unknowns.
   Eigen::VectorXd all(static_cast<Eigen::Index>(n));
   MPI_Allgatherv(x.data(), static_cast<int>(m), MPI_DOUBLE, all.data(), nb.counts.data(), nb.offsets.data(), MPI_DOUBLE,
-                 PETSC_COMM_WORLD);
+                 MPI_COMM_WORLD);
   out.x.resize(static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < n; ++i) out.x[static_cast<Eigen::Index>(i)] = all[nb.to_new[i]];
   return out;
@@ -241,11 +237,9 @@ void initialize(int* argc, char*** argv) {
     int provided = 0;
     MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
   }
-  // PETSc's signal handlers would replace the tool's (which remove temporary files).
-  check(PetscOptionsSetValue(nullptr, "-no_signal_handler", nullptr), "setting options");
-  check(PetscInitializeNoArguments(), "initializing PETSc");
-  PetscPushErrorHandler(PetscReturnErrorHandler, nullptr);
-  for (const auto& option : fem::amg_options()) check(PetscOptionsSetValue(nullptr, option[0], option[1]), "setting options");
+  // PETSc (the solver module) on MPI_COMM_WORLD: loaded and initialized now, on every process,
+  // since its initialization is collective. Finalized at exit before MPI (below).
+  fem::petsc::module();
   started = true;
   MPI_Comm_dup(MPI_COMM_WORLD, &failure_comm);
   // The processes on this machine share its cores: each takes its share for its loops.
@@ -257,9 +251,7 @@ void initialize(int* argc, char*** argv) {
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   rgbmesh::detail::thread_cap = std::max(1u, cores / static_cast<unsigned>(std::max(1, here)));
   std::atexit([] {
-    PetscBool finalized = PETSC_FALSE;
-    PetscFinalized(&finalized);
-    if (!finalized) PetscFinalize();
+    fem::petsc::module().finalize();
     int mpi_finalized = 0;
     MPI_Finalized(&mpi_finalized);
     if (!mpi_finalized) MPI_Finalize();
@@ -288,14 +280,14 @@ void abort_all(int code) {
 int rank() {
   if (!started) return 0;
   int r = 0;
-  MPI_Comm_rank(PETSC_COMM_WORLD, &r);
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
   return r;
 }
 
 int processes() {
   if (!started) return 1;
   int p = 1;
-  MPI_Comm_size(PETSC_COMM_WORLD, &p);
+  MPI_Comm_size(MPI_COMM_WORLD, &p);
   return p;
 }
 
@@ -308,7 +300,7 @@ void sum(double* values, std::size_t count) {
   constexpr std::size_t kSlice = std::size_t{1} << 30;
   for (std::size_t first = 0; first < count; first += kSlice) {
     const auto n = static_cast<int>(std::min(kSlice, count - first));
-    MPI_Allreduce(MPI_IN_PLACE, values + first, n, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, values + first, n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
   }
 }
 
@@ -326,7 +318,7 @@ void gather(double* values, std::size_t width, const std::vector<std::int32_t>& 
     next[static_cast<std::size_t>(r)] += static_cast<int>(width);
   }
   MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, all.data(), counts.data(), offsets.data(), MPI_DOUBLE,
-                 PETSC_COMM_WORLD);
+                 MPI_COMM_WORLD);
   next = offsets;
   for (std::size_t e = 0; e < part.size(); ++e) {
     const auto q = static_cast<std::size_t>(part[e]);
@@ -340,8 +332,8 @@ std::array<std::uint64_t, 2> bytes_sent_since_last() {
   const std::uint64_t now = bytes_sent();
   const unsigned long long mine = now - before;
   unsigned long long total = 0, largest = 0;
-  MPI_Allreduce(&mine, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, PETSC_COMM_WORLD);
-  MPI_Allreduce(&mine, &largest, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, PETSC_COMM_WORLD);
+  MPI_Allreduce(&mine, &total, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  MPI_Allreduce(&mine, &largest, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, MPI_COMM_WORLD);
   before = bytes_sent();  // these two reductions belong to the next interval
   return {total, largest};
 }
