@@ -94,8 +94,6 @@ RgbMesh::Renumbering RgbMesh::compact() {
       limits.push_back(limits_[static_cast<std::size_t>(i)]);
       i = static_cast<std::int32_t>(limits.size() - 1);
     }
-  std::vector<std::int32_t> limits_free;
-  limits_free.reserve(limits.size());  // release_limit must not allocate
   std::vector<std::uint8_t> v_flags = moved(v_flags_, map.vertex, nv);
   std::vector<std::int32_t> v_rail = moved(v_rail_, map.vertex, nv);
   std::vector<std::uint32_t> v_rail_position = moved(v_rail_position_, map.vertex, nv);
@@ -121,7 +119,8 @@ RgbMesh::Renumbering RgbMesh::compact() {
   v_control_.swap(v_control);
   v_limit_index_.swap(v_limit_index);
   limits_.swap(limits);
-  limits_free_.swap(limits_free);
+  limits_free_head_ = -1;  // packed: no free entries
+  limits_free_count_ = 0;
   v_flags_.swap(v_flags);
   v_rail_.swap(v_rail);
   v_rail_position_.swap(v_rail_position);

@@ -26,17 +26,13 @@ namespace rgbmesh {
 void RgbMesh::store_limit(VertexHandle v, const Vec3& p) const {
   std::int32_t& index = v_limit_index_[v.idx];
   if (index < 0) {
-    if (!limits_free_.empty()) {
-      index = limits_free_.back();
-      limits_free_.pop_back();
+    if (limits_free_head_ >= 0) {
+      index = limits_free_head_;
+      limits_free_head_ = static_cast<std::int32_t>(limits_[static_cast<std::size_t>(index)].x);
+      --limits_free_count_;
     } else {
-      // Both tables grow before anything changes, the free list first: release_limit (called
-      // by removals, which must not fail halfway) then always has room in limits_free_.
-      if (limits_.size() == limits_.capacity() || limits_.size() == limits_free_.capacity()) {
-        const std::size_t capacity = std::max<std::size_t>(64, 2 * limits_.size());
-        limits_free_.reserve(capacity);
-        limits_.reserve(capacity);
-      }
+      // The table grows before anything changes.
+      if (limits_.size() == limits_.capacity()) limits_.reserve(std::max<std::size_t>(64, 2 * limits_.size()));
       limits_.emplace_back();
       index = static_cast<std::int32_t>(limits_.size() - 1);
     }
@@ -44,9 +40,19 @@ void RgbMesh::store_limit(VertexHandle v, const Vec3& p) const {
   limits_[index] = p;
 }
 
+void RgbMesh::reserve_limits(std::size_t more) const {
+  const std::size_t reused = std::min(more, limits_free_count_);
+  const std::size_t needed = limits_.size() + (more - reused);
+  if (needed > limits_.capacity()) limits_.reserve(needed);
+}
+
 void RgbMesh::release_limit(VertexHandle v) {
   std::int32_t& index = v_limit_index_[v.idx];
-  if (index >= 0) limits_free_.push_back(index);  // within capacity (store_limit)
+  if (index >= 0) {
+    limits_[static_cast<std::size_t>(index)] = Vec3{static_cast<double>(limits_free_head_), 0.0, 0.0};
+    limits_free_head_ = index;
+    ++limits_free_count_;
+  }
   index = -1;
 }
 
@@ -54,9 +60,9 @@ void RgbMesh::init_base_geometry() {
   const std::size_t n = v_edge_.size();
   v_limit_index_.assign(n, -1);
   limits_.clear();
-  limits_free_.clear();
+  limits_free_head_ = -1;
+  limits_free_count_ = 0;
   limits_.reserve(n);  // every base vertex has its limit
-  limits_free_.reserve(n);
   v_flags_.assign(n, 0);
   base_eigenvalue_.assign(n, 0.25);
   VertexStar s;
@@ -206,6 +212,9 @@ void RgbMesh::store_ring_limits(int below_level) {
     if (by_level.size() <= l) by_level.resize(l + 1);
     by_level[l].push_back(v);
   }
+  std::size_t unknown = 0;
+  for (const std::vector<VertexHandle>& level_vertices : by_level) unknown += level_vertices.size();
+  reserve_limits(unknown);
   constexpr std::size_t kBlock = std::size_t{1} << 16;
   const std::size_t cores = detail::hardware_threads();
   std::vector<Vec3> value;

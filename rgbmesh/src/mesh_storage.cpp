@@ -28,7 +28,8 @@ RgbMesh::RgbMesh(const RgbMesh& o)
       v_control_(o.v_control_),
       v_limit_index_(o.v_limit_index_),
       limits_(o.limits_),
-      limits_free_(o.limits_free_),
+      limits_free_head_(o.limits_free_head_),
+      limits_free_count_(o.limits_free_count_),
       v_flags_(o.v_flags_),
       base_eigenvalue_(o.base_eigenvalue_),
       creases_(o.creases_),
@@ -53,7 +54,6 @@ RgbMesh::RgbMesh(const RgbMesh& o)
       base_triangles_(o.base_triangles_),
       base_euler_(o.base_euler_),
       counters_(o.counters_) {
-  limits_free_.reserve(limits_.size());  // release_limit must not allocate
   for (const auto& p : o.vertex_properties_) vertex_properties_.push_back(p->clone());
 }
 
@@ -111,19 +111,19 @@ void RgbMesh::reserve(std::size_t vertices, std::size_t edges, std::size_t trian
 std::size_t RgbMesh::memory_bytes() const {
   const auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   return bytes(v_edge_) + bytes(v_level_) + bytes(v_parents_) + bytes(v_control_) + bytes(v_limit_index_) +
-         bytes(limits_) + bytes(limits_free_) + bytes(v_flags_) + bytes(e_vert_) + bytes(e_tri_) +
+         bytes(limits_) + bytes(v_flags_) + bytes(e_vert_) + bytes(e_tri_) +
          bytes(e_info_) + bytes(t_edge_) + bytes(t_info_) + bytes(base_eigenvalue_) + bytes(v_generation_) +
          bytes(e_generation_) + bytes(t_generation_) + bytes(base_triangles_) + bytes(v_rail_) +
          bytes(v_rail_position_) + history_bytes();
 }
 
 std::size_t RgbMesh::storage_bytes(std::size_t vertices, std::size_t edges, std::size_t triangles) {
-  // Per vertex: its arrays, plus a limit position (and its free-list entry) for about a
+  // Per vertex: its arrays, plus a limit position for about a
   // quarter of them (the side table).
   constexpr std::size_t generation = RGBMESH_CHECKED_HANDLES ? sizeof(std::uint32_t) : 0;
   const std::size_t vertex = sizeof(EdgeHandle) + sizeof(std::uint8_t) + sizeof(std::array<VertexHandle, 2>) +
                              sizeof(Vec3) + sizeof(std::int32_t) + sizeof(std::uint8_t) +
-                             (sizeof(Vec3) + sizeof(std::int32_t)) / 4 + generation;
+                             sizeof(Vec3) / 4 + generation;
   const std::size_t edge =
       sizeof(std::array<VertexHandle, 2>) + sizeof(std::array<TriangleHandle, 2>) + 1 + generation;
   const std::size_t triangle = sizeof(std::array<EdgeHandle, 3>) + 1 + generation;

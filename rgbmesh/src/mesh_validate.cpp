@@ -1,5 +1,6 @@
 // RgbMesh::validate(): every structural and RGB invariant, checked from scratch.
 
+#include <cmath>
 #include <algorithm>
 #include <sstream>
 
@@ -113,8 +114,16 @@ std::string RgbMesh::validate_storage(LiveSlots& live) const {
       t_generation_.size() != t_edge_.size())
     return "generation arrays do not match the slots";
 #endif
-  if (limits_free_.capacity() < limits_.size())
-    return "the free list of limit positions has no room reserved";
+  {
+    // The free entries of the limit table: a list without cycles, of the length counted.
+    std::size_t free = 0;
+    for (double next = limits_free_head_; next != -1.0; next = limits_[static_cast<std::size_t>(next)].x) {
+      if (!(next >= 0.0 && next < static_cast<double>(limits_.size())) || next != std::floor(next) ||
+          ++free > limits_.size())
+        return "the free list of limit positions leaves the table or loops";
+    }
+    if (free != limits_free_count_) return "the free list of limit positions has a wrong length";
+  }
 
   std::vector<bool>& v_alive = live.v_alive;
   std::vector<bool>& e_alive = live.e_alive;

@@ -1,5 +1,6 @@
 // The arrays of the VTK XML files (xml_datasets.hpp).
 
+#include <algorithm>
 #include "xml_datasets.hpp"
 
 #include <stdexcept>
@@ -131,7 +132,14 @@ MeshDataSet::MeshDataSet(const RgbMesh& mesh, bool unstructured, bool limit_poin
   if (mesh.base_triangles().empty())
     throw std::invalid_argument("save_state: the mesh was not made by RgbMesh::from_triangles");
   const std::size_t n = mesh.num_vertices(), m = mesh.num_triangles();
-  if (n != static_cast<std::size_t>(mesh.vertex_slots())) {
+  // Points and cells are numbered as their slots where the live ones are the first slots (free
+  // slots only at the end, as compute_limits' helpers leave them): no maps, which would take
+  // 20 bytes per vertex at the peak of a large write.
+  const bool vertices_first = std::all_of(mesh.vertices().begin(), mesh.vertices().end(),
+                                          [n](VertexHandle v) { return static_cast<std::size_t>(v.idx) < n; });
+  const bool triangles_first = std::all_of(mesh.triangles().begin(), mesh.triangles().end(),
+                                           [m](TriangleHandle t) { return static_cast<std::size_t>(t.idx) < m; });
+  if (!vertices_first) {
     point_of_slot_.assign(static_cast<std::size_t>(mesh.vertex_slots()), -1);
     vertex_slot_.reserve(n);
     for (const VertexHandle v : mesh.vertices()) {
@@ -139,9 +147,11 @@ MeshDataSet::MeshDataSet(const RgbMesh& mesh, bool unstructured, bool limit_poin
       vertex_slot_.push_back(v.idx);
     }
   }
-  if (m != static_cast<std::size_t>(mesh.triangle_slots())) {
-    triangle_slot_.reserve(m);
-    for (const TriangleHandle t : mesh.triangles()) triangle_slot_.push_back(t.idx);
+  if (!triangles_first) {
+    cell_checkpoint_.reserve(m / kCellStride + 1);
+    std::size_t cell = 0;
+    for (const TriangleHandle t : mesh.triangles())
+      if (cell++ % kCellStride == 0) cell_checkpoint_.push_back(t.idx);
   }
 
   XmlDataSet& d = data_;
@@ -160,13 +170,15 @@ MeshDataSet::MeshDataSet(const RgbMesh& mesh, bool unstructured, bool limit_poin
   const auto limit = [this](std::size_t i) { return mesh_.limit_position(vertex(i)); };
   d.coordinates = limit_points ? point_array("Points", limit) : point_array("Points", shown);
   d.connectivity = XmlArray{"connectivity", XmlType::int32, 1, 3 * m, [this](std::size_t first, std::size_t count, void* out) {
-                              // Whole triangles only: the writer's blocks hold whole tuples of
-                              // one value, so a block may start or end inside a triangle.
+                              // A block may start or end inside a triangle: the writer's blocks
+                              // hold whole tuples of one value.
                               auto* o = static_cast<std::int32_t*>(out);
-                              for (std::size_t i = first, end = first + count; i < end;) {
-                                const auto corners = mesh_.triangle_vertices(triangle(i / 3));
+                              const std::size_t end = first + count, cells = (end + 2) / 3 - first / 3;
+                              std::size_t i = first;
+                              for_cells(first / 3, cells, [&](TriangleHandle t) {
+                                const auto corners = mesh_.triangle_vertices(t);
                                 for (std::size_t k = i % 3; k < 3 && i < end; ++k, ++i) *o++ = point(corners[k]);
-                              }
+                              });
                             }};
 
   d.point_data.push_back(computed_array<std::uint8_t>(
@@ -203,12 +215,14 @@ MeshDataSet::MeshDataSet(const RgbMesh& mesh, bool unstructured, bool limit_poin
       }));
   d.field_data.push_back(base_triangles_array(mesh.base_triangles()));
   add_sharp_arrays(d.field_data, mesh.sharp_features());
-  d.cell_data.push_back(computed_array<std::uint8_t>(
-      "level", XmlType::uint8, 1, m,
-      [this](std::size_t i, std::uint8_t* out) { *out = static_cast<std::uint8_t>(mesh_.level(triangle(i))); }));
-  d.cell_data.push_back(computed_array<std::uint8_t>("color", XmlType::uint8, 1, m, [this](std::size_t i, std::uint8_t* out) {
-    *out = static_cast<std::uint8_t>(mesh_.color(triangle(i)));
-  }));
+  d.cell_data.push_back(XmlArray{"level", XmlType::uint8, 1, m, [this](std::size_t first, std::size_t count, void* out) {
+    auto* o = static_cast<std::uint8_t*>(out);
+    for_cells(first, count, [&](TriangleHandle t) { *o++ = static_cast<std::uint8_t>(mesh_.level(t)); });
+  }});
+  d.cell_data.push_back(XmlArray{"color", XmlType::uint8, 1, m, [this](std::size_t first, std::size_t count, void* out) {
+    auto* o = static_cast<std::uint8_t*>(out);
+    for_cells(first, count, [&](TriangleHandle t) { *o++ = static_cast<std::uint8_t>(mesh_.color(t)); });
+  }});
 }
 
 Vec3 MeshDataSet::shown_point(std::size_t point) const {

@@ -307,8 +307,13 @@ class Writer {
       table[2] = bytes % block_bytes;
       file_.append(table.data(), table.size() * sizeof(std::uint64_t));
     }
+    // Every block's buffer at its largest, made here: the worker threads then allocate nothing,
+    // and so get no malloc arenas of their own (with huge pages, 2 MB or more resident each).
     std::vector<std::vector<unsigned char>> out(kBatchBlocks);
     std::vector<std::size_t> out_size(kBatchBlocks);
+    const std::size_t largest =
+        compression_ == Compression::none ? block_bytes : static_cast<std::size_t>(compressors_[0]->GetMaximumCompressionSpace(block_bytes));
+    for (std::vector<unsigned char>& buffer : out) buffer.reserve(largest);
     for (std::size_t first = 0; first < blocks; first += kBatchBlocks) {
       const std::size_t batch = std::min(kBatchBlocks, blocks - first);
       rgbmesh::detail::parallel_for(batch, 1, threads_, [&](std::size_t thread, std::size_t i) {

@@ -910,13 +910,19 @@ class RgbMesh {
   /// coarser than K need theirs (a quarter), which saves 20 bytes per vertex.
   mutable std::vector<std::int32_t> v_limit_index_;  ///< into limits_, or -1 if not known
   mutable std::vector<Vec3> limits_;
-  /// Capacity kept at least limits_.size(), so that release_limit cannot fail.
-  mutable std::vector<std::int32_t> limits_free_;
+  /// Free entries of limits_, linked through the entries themselves (a free entry's x holds
+  /// the next free index, -1 at the end): release_limit then needs no memory of its own and
+  /// cannot fail, without a second table as large as limits_.
+  mutable std::int32_t limits_free_head_ = -1;
+  mutable std::size_t limits_free_count_ = 0;
   /// kBoundaryFlag, kCreaseFlag, kTransientFlag, kHistoryFlag; mutable for kHistoryFlag, which
   /// belongs to the cache of limit positions (set where a limit is first computed).
   mutable std::vector<std::uint8_t> v_flags_;
   bool limit_known(VertexHandle v) const { return v_limit_index_[v.idx] >= 0; }
   void store_limit(VertexHandle v, const Vec3& p) const;
+  // Room for `more` limits about to be stored, reserved once at its exact size (not by
+  // store_limit's doubling, which would hold up to twice the table when every limit is known).
+  void reserve_limits(std::size_t more) const;
   void release_limit(VertexHandle v);
   std::vector<double> base_eigenvalue_;        ///< g of Eq. 7 for each base vertex
   /// Sharp features (null without any): shared by copies, never changed once built.
