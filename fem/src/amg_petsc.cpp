@@ -4,9 +4,11 @@
 //
 // Where the module is looked for, in order: $RGBMESH_PETSC_MODULE alone when set; beside the
 // object this code is linked into (the Python extension's directory), then ../lib/rgbmesh and
-// ../<libdir>/rgbmesh from it (a program in bin/ of the build or of the installation); then the
-// build tree's and the installation's paths compiled in. A module of another build (its ABI
-// number differs) is passed over.
+// ../<libdir>/rgbmesh from it (a program in bin/ of the build or of the installation); then by
+// its file name alone (the program's run path, which the installed package config gives the
+// programs linking rgbmesh::fem, and LD_LIBRARY_PATH); then the build tree's and the
+// installation's paths compiled in. A module of another build (its ABI number differs) is
+// passed over.
 
 #include <dlfcn.h>
 
@@ -41,6 +43,7 @@ std::vector<std::string> candidates() {
     paths.push_back(here + "/../lib/rgbmesh/" + kFileName);
     paths.push_back(here + "/../" RGBMESH_INSTALL_LIBDIR "/rgbmesh/" + kFileName);
   }
+  paths.emplace_back(kFileName);
   paths.emplace_back(RGBMESH_PETSC_MODULE_BUILD_PATH);
   paths.emplace_back(RGBMESH_PETSC_MODULE_INSTALL_PATH);
   return paths;
