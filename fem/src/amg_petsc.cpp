@@ -122,14 +122,9 @@ AmgSolution solve_amg(const SparseMatrix& a, const Eigen::VectorXd& b, const Eig
   AmgSolution out;
   out.x = (guess != nullptr && guess->size() == b.size()) ? *guess : Eigen::VectorXd::Zero(b.size());
   // The matrix is symmetric, so Eigen's column-major arrays are also its rows.
-  petsc::System s;
-  s.local_rows = s.global_rows = static_cast<int>(a.rows());
-  s.row_starts = a.outerIndexPtr();
-  s.columns = a.innerIndexPtr();
-  s.values = a.valuePtr();
-  s.rhs = b.data();
-  s.x = out.x.data();
-  s.tolerance = tolerance;
+  const auto n = static_cast<int>(a.rows());
+  petsc::System s = petsc::compressed_rows(n, n, a.outerIndexPtr(), a.innerIndexPtr(), a.valuePtr(), b.data(),
+                                           out.x.data(), tolerance);
   s.nonzero_guess = out.x.any();
   s.solver = "amg";
   s.hint = "; the system may be singular";

@@ -146,16 +146,10 @@ OwnedRows solve_rows(std::vector<RowEntries>& to, std::int64_t first, std::int64
   MPI_Allreduce(MPI_IN_PLACE, &any_guess, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   if (guess != nullptr && guess->size() == count) out.x = *guess;
   using Rows = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
-  fem::petsc::System system;
+  fem::petsc::System system =
+      fem::petsc::compressed_rows(static_cast<int>(count), static_cast<int>(total), rows.outerIndexPtr(),
+                                  rows.innerIndexPtr(), rows.valuePtr(), rhs.data(), out.x.data(), tolerance);
   system.distributed = true;
-  system.local_rows = static_cast<int>(count);
-  system.global_rows = static_cast<int>(total);
-  system.row_starts = rows.outerIndexPtr();
-  system.columns = rows.innerIndexPtr();
-  system.values = rows.valuePtr();
-  system.rhs = rhs.data();
-  system.x = out.x.data();
-  system.tolerance = tolerance;
   system.nonzero_guess = any_guess != 0;
   system.measure_residual = true;
   system.solver = "distributed mesh amg";

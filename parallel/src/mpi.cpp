@@ -81,16 +81,9 @@ fem::LinearSolution solve(const fem::SparseMatrix& a, const Eigen::VectorXd& b, 
     rhs[to_new[i]] = b[static_cast<Eigen::Index>(i)];
     x[to_new[i]] = with_guess ? (*guess)[static_cast<Eigen::Index>(i)] : 0.0;
   }
-  fem::petsc::System s;
+  fem::petsc::System s = fem::petsc::compressed_rows(m, static_cast<int>(n), rows.data(), columns.data(), values.data(),
+                                                     rhs.data() + first, x.data() + first, tolerance);
   s.distributed = true;
-  s.local_rows = m;
-  s.global_rows = static_cast<int>(n);
-  s.row_starts = rows.data();
-  s.columns = columns.data();
-  s.values = values.data();
-  s.rhs = rhs.data() + first;
-  s.x = x.data() + first;
-  s.tolerance = tolerance;
   s.nonzero_guess = with_guess;
   s.solver = "distributed amg";
   fem::LinearSolution out;
@@ -192,16 +185,9 @@ fem::LinearSolution solve_shared(const fem::SparseMatrix& a, const Eigen::Vector
   Eigen::VectorXd x(m);
   const bool with_guess = guess != nullptr && guess->size() == b.size() && guess->any();
   for (int k = 0; k < m; ++k) x[k] = with_guess ? (*guess)[nb.to_old[static_cast<std::size_t>(first + k)]] : 0.0;
-  fem::petsc::System s;
+  fem::petsc::System s = fem::petsc::compressed_rows(m, static_cast<int>(n), rows.outerIndexPtr(), rows.innerIndexPtr(),
+                                                     rows.valuePtr(), rhs.data(), x.data(), tolerance);
   s.distributed = true;
-  s.local_rows = m;
-  s.global_rows = static_cast<int>(n);
-  s.row_starts = rows.outerIndexPtr();
-  s.columns = rows.innerIndexPtr();
-  s.values = rows.valuePtr();
-  s.rhs = rhs.data();
-  s.x = x.data();
-  s.tolerance = tolerance;
   s.nonzero_guess = with_guess;
   s.measure_residual = true;  // the residual of the summed system, computed anew
   s.solver = "shared amg";

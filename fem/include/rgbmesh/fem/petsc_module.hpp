@@ -38,6 +38,21 @@ struct System {
   void* context = nullptr;
 };
 
+/// A System of these compressed rows, right-hand side and solution (the rest as defaults).
+inline System compressed_rows(int local_rows, int global_rows, const int* row_starts, const int* columns,
+                              const double* values, const double* rhs, double* x, double tolerance) {
+  System s;
+  s.local_rows = local_rows;
+  s.global_rows = global_rows;
+  s.row_starts = row_starts;
+  s.columns = columns;
+  s.values = values;
+  s.rhs = rhs;
+  s.x = x;
+  s.tolerance = tolerance;
+  return s;
+}
+
 struct Result {
   int iterations = 0;
   double relative_residual = -1.0;  // when measure_residual
