@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -177,20 +178,35 @@ class DistributedMesh {
   // ---- the start of a cycle: parts, migration, the view coarsened away from its part ----
   void prepare(RgbMesh& view) {
     std::vector<char> counted(static_cast<std::size_t>(view.triangle_slots()), 0);
+    std::vector<std::int32_t> part;
+    if (!whole_) part = parts_of(view);
+    if (!whole_ && parts_still_balanced(view, part)) {
+      // The parts stay: the views' ghost layers are already exact (the coarsening rounds
+      // made them so, the splits were reconciled), so nothing migrates; only what the
+      // refinement forced beyond the layers goes.
+      if (coarsen_away(view, own_of(part), floor_, kGhostLayers) > 0) part = parts_of(view);
+      if (view.live_fraction() < compact_below_) {
+        view.compact();
+        part = parts_of(view);
+      }
+      survey(view, part);
+      return;
+    }
     if (whole_) {
       // Every process holds the whole mesh: rank 0 counts it.
       if (me_ == 0)
         for (const TriangleHandle t : view.triangles()) counted[static_cast<std::size_t>(t.idx)] = 1;
     } else {
-      const std::vector<std::int32_t> part = parts_of(view);
       for (const TriangleHandle t : view.triangles()) counted[static_cast<std::size_t>(t.idx)] = part[static_cast<std::size_t>(t.idx)] == me_;
     }
     units_ =
         shared_units(view, floor_, parts_, counted, {detail::sum, detail::all_gather}, cache_.get(), share_);
-    unit_part_ = partition(units_, std::min<int>(parts_, static_cast<int>(units_.level.size()))).part_of;
+    const Partition parted = partition(units_, std::min<int>(parts_, static_cast<int>(units_.level.size())));
+    unit_part_ = parted.part_of;
+    partitioned_imbalance_ = parted.imbalance;
     if (!whole_) {
       // The new parts, where shared_units just placed the view's triangles.
-      std::vector<std::int32_t> part(units_.of_triangle.size());
+      part.assign(units_.of_triangle.size(), -1);
       for (std::size_t t = 0; t < part.size(); ++t)
         part[t] =
             units_.of_triangle[t] >= 0 ? unit_part_[static_cast<std::size_t>(units_.of_triangle[t])] : -1;
@@ -205,7 +221,7 @@ class DistributedMesh {
     // triangle slots from the settling step). Compaction keeps the live elements' order, so
     // the units and parts are the same; the floor cache sees the new slots and is made again.
     if (view.live_fraction() < compact_below_) view.compact();
-    survey(view);
+    survey(view, parts_of(view));
   }
 
   // ---- a stage's removals (RefinementOptions::coarsen): each process removes the candidates
@@ -218,10 +234,11 @@ class DistributedMesh {
     // Candidates by this process's triangles' indicators (the criterion's vertex values are
     // the largest over the own triangles around each vertex); a vertex on an interface is one
     // only if every process around it says so.
-    std::unordered_map<VertexName, char> candidate;
-    // The lowest part around each own corner, which counts its removal (once, as one process
-    // counts). Constant while the rounds go on: a vertex's triangles stay inside the floor's
-    // cells that hold it, and those are the units of a run that coarsens.
+    std::unordered_set<VertexName> candidate;
+    // The lowest part around each own corner on an interface, which counts its removal (once,
+    // as one process counts; elsewhere this process counts it). Constant while the rounds go
+    // on: a vertex's triangles stay inside the floor's cells that hold it, and those are the
+    // units of a run that coarsens.
     std::unordered_map<VertexName, std::int32_t> lowest;
     {
       const std::vector<std::int32_t> part = parts_of(view);
@@ -243,18 +260,19 @@ class DistributedMesh {
         if (!own_corner[static_cast<std::size_t>(v.idx)]) continue;
         const VertexName n = name[static_cast<std::size_t>(v.idx)];
         const bool here = view.level(v) > floor_ && criterion.vertex_priority(view, v) > 0;
-        candidate[n] = here ? 1 : 0;
+        // (Only the candidates are kept, and the lowest part only on interfaces: most own
+        // corners are at the floor, and the rounds look every vertex of the view up.)
+        if (here) candidate.insert(n);
+        const auto it = around.find(v.idx);
+        if (it == around.end()) continue;
         std::int32_t low = me_;
-        if (const auto it = around.find(v.idx); it != around.end())
-          for (const std::int32_t q : it->second) low = std::min(low, q);
+        for (const std::int32_t q : it->second) low = std::min(low, q);
         lowest[n] = low;
         if (!here)
-          if (const auto it = around.find(v.idx); it != around.end())
-            for (const std::int32_t q : it->second) blocked[static_cast<std::size_t>(q)].push_back(n);
+          for (const std::int32_t q : it->second) blocked[static_cast<std::size_t>(q)].push_back(n);
       }
       for (const auto& from : detail::all_to_all(blocked))
-        for (const std::uint64_t n : from)
-          if (const auto it = candidate.find(n); it != candidate.end()) it->second = 0;
+        for (const std::uint64_t n : from) candidate.erase(n);
     }
     std::uint64_t counted = 0;
     for (;;) {
@@ -263,8 +281,7 @@ class DistributedMesh {
       const std::vector<VertexName> name = vertex_names(view);
       std::vector<VertexHandle> go;
       for (const VertexHandle v : view.vertices()) {
-        const auto it = candidate.find(name[static_cast<std::size_t>(v.idx)]);
-        if (it != candidate.end() && it->second && view.is_removable(v)) go.push_back(v);
+        if (candidate.count(name[static_cast<std::size_t>(v.idx)]) != 0 && view.is_removable(v)) go.push_back(v);
       }
       std::uint64_t removed = 0;
       std::vector<std::uint64_t> gone;
@@ -276,7 +293,7 @@ class DistributedMesh {
         const VertexHandle v = go[i];
         if (!view.alive(v) || !view.is_removable(v)) continue;
         const VertexName n = name[static_cast<std::size_t>(v.idx)];
-        if (lowest.at(n) == me_) ++counted;
+        if (const auto it = lowest.find(n); it == lowest.end() || it->second == me_) ++counted;
         gone.push_back(n);
         view.star(v, star);
         view.remove_vertex(v);
@@ -285,8 +302,8 @@ class DistributedMesh {
         canonical_diagonals_near(view, name, star.neighbors);
         ++removed;
         for (const VertexHandle w : star.neighbors) {
-          const auto it = candidate.find(name[static_cast<std::size_t>(w.idx)]);
-          if (it != candidate.end() && it->second && view.alive(w) && view.is_removable(w)) go.push_back(w);
+          if (candidate.count(name[static_cast<std::size_t>(w.idx)]) != 0 && view.alive(w) && view.is_removable(w))
+            go.push_back(w);
         }
       }
       detail::sum(&removed, 1);
@@ -305,7 +322,7 @@ class DistributedMesh {
       coarsen_away(view, own_triangles(view), floor_, kGhostLayers);
     }
     canonical_diagonals(view);
-    survey(view);
+    survey(view, parts_of(view));
     return counted;
   }
 
@@ -349,11 +366,11 @@ class DistributedMesh {
   }
 
   // known_, region_ and neighbours_ for the view as it is now.
-  void survey(const RgbMesh& view) {
+  // (part: parts_of(view).)
+  void survey(const RgbMesh& view, const std::vector<std::int32_t>& part) {
     // (By names: the slots may change before the cycle's mesh is numbered, when limit
     // positions are computed with helper vertices that are taken out again.)
     const std::vector<VertexName> name = vertex_names(view);
-    const std::vector<std::int32_t> part = parts_of(view);
     const std::vector<char> exact = corners_and_layers(view, part, me_, kGhostLayers);
     std::vector<VertexName> known, region;
     known.reserve(view.num_vertices());
@@ -424,9 +441,19 @@ class DistributedMesh {
     for (std::size_t t = 0; t < nt; ++t) tp[t] = part_of_slot[static_cast<std::size_t>(fe.triangle[t].idx)];
     dof_name_.assign(nd, 0);
     for (std::size_t d = 0; d < nv; ++d) dof_name_[d] = names[static_cast<std::size_t>(fe.vertex[d].idx)];
+    // (A triangle's nodes without a heap allocation: this runs three times per triangle.)
+    struct Nodes {
+      std::array<std::int32_t, 6> node;
+      std::size_t count;
+      const std::int32_t* begin() const { return node.data(); }
+      const std::int32_t* end() const { return node.data() + count; }
+    };
     const auto nodes_of = [&fe](std::size_t t) {
-      std::vector<std::int32_t> n(fe.triangles[t].begin(), fe.triangles[t].end());
-      if (fe.order == 2) n.insert(n.end(), fe.edge_nodes[t].begin(), fe.edge_nodes[t].end());
+      Nodes n{{fe.triangles[t][0], fe.triangles[t][1], fe.triangles[t][2], 0, 0, 0}, 3};
+      if (fe.order == 2) {
+        for (std::size_t k = 0; k < 3; ++k) n.node[3 + k] = fe.edge_nodes[t][k];
+        n.count = 6;
+      }
       return n;
     };
     if (fe.order == 2)
@@ -638,6 +665,31 @@ class DistributedMesh {
     return it == dof_of_name_.end() || it->first != name ? -1 : it->second;
   }
 
+  // Whether the parts decided last are still balanced enough to keep for this cycle: the
+  // largest part's triangles at most 10% above the mean, or at most 2% above the imbalance
+  // that METIS left when it made them (a step's first solve follows a solve of the same
+  // mesh). Only where the units are the floor's cells (runs that coarsen): elsewhere they are
+  // divided by each cycle's refinement. Deciding the parts anew costs passes over the whole
+  // view (the units placed and agreed, METIS, the migration): with three solves per step,
+  // about a third of a distributed moving peak's own work, where 10% more triangles on the
+  // largest part costs its part-sized stages (assembly, solve, estimate) a tenth more.
+  // (part: parts_of(view).)
+  bool parts_still_balanced(const RgbMesh& view, const std::vector<std::int32_t>& part) const {
+    if (!std::isinf(share_)) return false;
+    std::uint64_t own = 0;
+    for (const TriangleHandle t : view.triangles()) own += part[static_cast<std::size_t>(t.idx)] == me_ ? 1 : 0;
+    const std::vector<std::uint64_t> counts = detail::all_gather({own});
+    std::uint64_t total = 0, largest = 0;
+    for (const std::uint64_t c : counts) {
+      total += c;
+      largest = std::max(largest, c);
+    }
+    if (total == 0) return false;
+    const double imbalance =
+        static_cast<double>(largest) * static_cast<double>(counts.size()) / static_cast<double>(total);
+    return imbalance <= std::max(1.1, 1.02 * partitioned_imbalance_);
+  }
+
   // Each triangle's part (per slot; -1 where the view is coarser than the whole mesh).
   std::vector<std::int32_t> parts_of(const RgbMesh& view) const {
     std::vector<std::int32_t> unit = locate_units(view, floor_, units_, cache_.get());
@@ -772,6 +824,7 @@ class DistributedMesh {
   std::uint64_t rounds_ = 0, rounds_reported_ = 0, exchanges_reported_ = 0;
   std::shared_ptr<FloorCache> cache_ = make_floor_cache();
   bool whole_ = true;  // every process holds the whole mesh (before the first cycle)
+  double partitioned_imbalance_ = 1;  // the parts' imbalance when METIS made them
   Units units_;
   std::vector<std::int32_t> unit_part_;
   NameSet known_;   // its vertices

@@ -194,7 +194,9 @@ struct CycleReport {
   std::size_t resident_bytes = 0;  ///< RunControl::resident_bytes at the cycle's end (0: not asked)
   double estimate = 0;
   std::optional<double> error_l2, error_h1;
-  double seconds = 0;        ///< the whole cycle
+  /// The whole cycle. A dynamic problem's step (run_dynamic): the whole step, and each
+  /// stage's seconds below are the sums over all of its solves and adaptations.
+  double seconds = 0;
   double mesh_seconds = 0;   ///< the finite-element mesh (limit positions, P2 edge nodes)
   double solve_seconds = 0;  ///< assembly + solve
   double assembly_seconds = 0;  ///< of solve_seconds, the assembly

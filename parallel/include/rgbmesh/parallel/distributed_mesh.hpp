@@ -7,7 +7,9 @@
 ///
 /// A cycle, on every process (AdaptOptions::distributed_mesh and its hooks):
 ///  1. Parts: the units (shared_units: the uniform floor's cells, divided where heavy) are
-///     agreed from every process's own triangles, and partitioned by METIS.
+///     agreed from every process's own triangles, and partitioned by METIS. A run that
+///     coarsens (its units the floor's cells) keeps the last parts while the largest holds at
+///     most 10% more triangles than the mean: then nothing migrates.
 ///  2. Migration: each process sends the processes whose new part or ghost layers hold some of
 ///     its own triangles those triangles' vertices (with their ancestors, by names:
 ///     canonical.hpp), which insert them with split_edge between their parents; then each
