@@ -10,6 +10,11 @@
 # message PETSc, hypre and rgbmesh hand to MPI, counted through its profiling interface), per
 # process on average and the most by one. Each process of a run shares the machine's cores.
 # Usage: bench/mpi_cycles.sh [BUILD_DIR] [adapt options...]   (default: --strategy uniform --max-dofs 700000)
+# Environment: PROCESSES (default "1 2 4"), REPEATS (default 1: each repeat runs every count
+# again, so that alternating runs give the spread of a noisy machine). The cores' relative
+# speeds (bench/core_speeds.sh) are printed before and after: a run on several processes is as
+# fast as its slowest core, and on the development machine the second core was at times
+# 1.2-1.7 times slower than the first for an hour, then equal again.
 set -euo pipefail
 build=${1:-build}
 shift || true
@@ -21,8 +26,12 @@ trap 'rm -rf "$work"' EXIT
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 printf "%3s %9s %7s %5s %5s %5s %5s %5s %5s %5s %5s %6s %4s %10s %11s %11s\n" P unknowns cycle_s mesh parts exch assem \
   solve estim errs adapt output its "peak_MB/pr" "sent_MB/pr" "sent_MB_max"
-for p in 1 2 4; do
+speeds() { "$(dirname "$0")/core_speeds.sh" "$build" 1 20 | sed 's/^round 1 /# /'; }
+speeds
+for ((repeat = 0; repeat < ${REPEATS:-1}; ++repeat)); do
+for p in ${PROCESSES:-1 2 4}; do
   out="$work/p$p"
+  rm -rf "$out"
   mpirun --oversubscribe -np "$p" \
     sh -c '/usr/bin/time -f "%M" -o "$0.$OMPI_COMM_WORLD_RANK" "$@"' "$work/rss$p" \
     "$tool" adapt "${args[@]}" --solver amg --out "$out" > /dev/null 2>&1
@@ -42,3 +51,5 @@ print("%3s %9d %7.2f" % (p, c["dofs"], s) + "".join(" %4.0f%%" % x for x in shar
                                      c.get("bytes_sent_largest", 0) / 1e6))
 PY
 done
+done
+speeds

@@ -23,6 +23,11 @@ namespace rgbmesh::adapt {
 
 namespace {
 
+// Whether a solve's errors against the exact solution are read: a moving feature's inner
+// solves (and its settling ones) feed only the next adaptation, and their report is not kept,
+// so the norms (a tenth of a serial step) are not computed there.
+enum class ErrorsWanted { reported, not_read };
+
 struct SolvedCycle {
   fem::SurfaceMesh fe;
   fem::Solution solution;
@@ -83,7 +88,8 @@ void count_over_parts(SolvedCycle& c, const RgbMesh& mesh, const AdaptOptions& o
 
 // A cycle with Loop elements: the solve on the Loop space; what the cycle keeps (the P1 mesh
 // of the limit positions, the values there, the indicators per triangle) as for P1.
-SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options) {
+SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
+                             ErrorsWanted errors) {
   SolvedCycle c;
   const auto t_mesh = std::chrono::steady_clock::now();
   c.fe = fem::build_surface_mesh(mesh, options.projection, 1);
@@ -126,7 +132,7 @@ SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const A
   c.report.assembly_seconds = loop.assembly_seconds;
   c.report.solver = fem::to_string(loop.solver);
   c.report.solver_iterations = loop.iterations;
-  if (problem.exact) {
+  if (problem.exact && errors == ErrorsWanted::reported) {
     const auto t_errors = std::chrono::steady_clock::now();
     const fem::ErrorNorms e = fem::loop_error_norms(space.cells, control, *problem.exact, loop.zero_mean);
     c.report.error_l2 = e.l2;
@@ -137,12 +143,12 @@ SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const A
 }
 
 SolvedCycle solve_and_estimate_now(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
-                                   SolutionTransfer& transfer, bool check_max_dofs) {
+                                   SolutionTransfer& transfer, bool check_max_dofs, ErrorsWanted errors) {
   if (!options.distribution.prepare_mesh && !options.distribution.partition &&
       mesh.live_fraction() < options.compact_below)
     mesh.compact();
   if (options.element == AdaptOptions::Element::loop) {
-    SolvedCycle loop = solve_loop_cycle(mesh, problem, options);
+    SolvedCycle loop = solve_loop_cycle(mesh, problem, options, errors);
     loop.report.mesh_bytes = mesh.memory_bytes();
     return loop;
   }
@@ -201,7 +207,7 @@ SolvedCycle solve_and_estimate_now(RgbMesh& mesh, const fem::Problem& problem, c
   c.report.assembly_seconds = c.solution.assembly_seconds;
   c.report.solver = fem::to_string(c.solution.solver);
   c.report.solver_iterations = c.solution.iterations;
-  if (problem.exact) {
+  if (problem.exact && errors == ErrorsWanted::reported) {
     const auto t_errors = std::chrono::steady_clock::now();
     const fem::ErrorNorms e = fem::error_norms(c.fe, c.solution.u, *problem.exact, c.solution.zero_mean, share);
     c.report.error_l2 = e.l2;
@@ -212,8 +218,9 @@ SolvedCycle solve_and_estimate_now(RgbMesh& mesh, const fem::Problem& problem, c
 }
 
 SolvedCycle solve_and_estimate(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
-                               SolutionTransfer& transfer, bool check_max_dofs = false) {
-  SolvedCycle c = solve_and_estimate_now(mesh, problem, options, transfer, check_max_dofs);
+                               SolutionTransfer& transfer, bool check_max_dofs = false,
+                               ErrorsWanted errors = ErrorsWanted::reported) {
+  SolvedCycle c = solve_and_estimate_now(mesh, problem, options, transfer, check_max_dofs, errors);
   // The assembly's, the solver's and the estimator's transients are freed by now.
   if (options.control.release_free_memory) options.control.release_free_memory();
   return c;
@@ -585,8 +592,9 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
 
   SolutionTransfer transfer(mesh);
   // A solve; false (the run stopped) where a distributed mesh turns out to pass max_dofs.
-  const auto solve = [&](const fem::Problem& problem, const AdaptOptions& with, SolvedCycle& c) {
-    c = solve_and_estimate(mesh, problem, with, transfer, distributed);
+  const auto solve = [&](const fem::Problem& problem, const AdaptOptions& with, SolvedCycle& c,
+                         ErrorsWanted errors) {
+    c = solve_and_estimate(mesh, problem, with, transfer, distributed, errors);
     if (!c.over_max_dofs) return true;
     run.stopped = StopReason::max_dofs;
     return false;
@@ -595,7 +603,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     // The earlier run's last step solved again: its values seed the next solve, as they did.
     const int last = dynamic.first_step - 1;
     const double t = dynamic.steps > 0 ? static_cast<double>(last) / dynamic.steps : 0.0;
-    SolvedCycle c = solve_and_estimate(mesh, problem_at(t), o, transfer);
+    SolvedCycle c = solve_and_estimate(mesh, problem_at(t), o, transfer, false, ErrorsWanted::not_read);
     transfer.store(c.fe, c.solution.u);
     solved_dofs = c.fe.num_dofs();
   } else if (o.strategy == Strategy::adaptive && o.marking->marks_by_target()) {
@@ -608,7 +616,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     std::size_t solved_vertices = 0;
     for (int k = 0; k < 10; ++k) {
       SolvedCycle c;
-      if (!solve(problem, o, c)) return run;
+      if (!solve(problem, o, c, ErrorsWanted::not_read)) return run;
       if (distributed && k > 0 &&
           std::abs(static_cast<double>(c.vertices) - static_cast<double>(solved_vertices)) <
               0.02 * static_cast<double>(solved_vertices))
@@ -634,7 +642,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
     // mesh stays as the start made it).
     for (int k = 0; o.strategy == Strategy::adaptive && k < dynamic.cycles_per_step; ++k) {
       SolvedCycle c;
-      if (!solve(problem, o, c)) return run;
+      if (!solve(problem, o, c, ErrorsWanted::not_read)) return run;
       solved_dofs = c.fe.num_dofs();
       transfer.store(c.fe, c.solution.u);
       add_stage_seconds(adapted, c.report);
@@ -642,7 +650,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
       if (out_of_bounds(adapted)) return run;
     }
     SolvedCycle c;
-    if (!solve(problem, o, c)) return run;
+    if (!solve(problem, o, c, ErrorsWanted::reported)) return run;
     solved_dofs = c.fe.num_dofs();
     transfer.store(c.fe, c.solution.u);
     c.report.cycle = step;

@@ -201,7 +201,9 @@ struct CycleReport {
   double solve_seconds = 0;  ///< assembly + solve
   double assembly_seconds = 0;  ///< of solve_seconds, the assembly
   double estimate_seconds = 0;
-  double error_seconds = 0;  ///< the errors against the exact solution, where it is known
+  /// The errors against the exact solution, where it is known (a dynamic step computes them
+  /// at its last solve only: the others' are not reported).
+  double error_seconds = 0;
   double adapt_seconds = 0;  ///< marking + mesh update + solution transfer
   double partition_seconds = 0;  ///< with Distribution::partition: the triangles' parts
   /// A distributed mesh: the parts decided and the views migrated (prepare_mesh), and the
