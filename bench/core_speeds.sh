@@ -3,14 +3,14 @@
 # short adaptive run (the default sphere-peak, CYCLES cycles) started on every core at
 # once, each pinned to its core. Distributed runs are as fast as their slowest process, and
 # mpirun binds rank r to core r (a one-process run to core 0), so a ratio between runs on 1 and
-# 2 processes means little where the cores differ: on the 2-core development machine of
-# 2026-12-07, core 1 took 1.2-1.4 times core 0's time for the same job, every time (the
-# virtual machine's doing: it reports no steal time).
+# 2 processes means little where the cores differ: on the 2-core development machine, on
+# 2026-12-07, core 1 took 1.2-1.7 times core 0's time for the same work for stretches of about
+# an hour, and the same time in between (the virtual machine's doing: it reports no steal time).
 # Usage: bench/core_speeds.sh [BUILD_DIR] [ROUNDS] [CYCLES]   (one line per core and round)
 set -euo pipefail
 build=${1:-build}
 rounds=${2:-1}
-cycles=${3:-12}
+cycles=${3:-20}  # (about 2.5 s: 12 cycles took 0.3 s, too short to time)
 tool="$build/bin/rgbmesh"
 [ -x "$tool" ] || { echo "core_speeds.sh: $tool not found (build first)" >&2; exit 2; }
 command -v taskset > /dev/null || { echo "core_speeds.sh: taskset (util-linux) not found" >&2; exit 2; }
