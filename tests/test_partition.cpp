@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 
 #include <algorithm>
@@ -226,6 +227,64 @@ std::vector<char> kept_vertex_of(const RgbMesh& m, const std::vector<char>& keep
     if (keep[static_cast<std::size_t>(t.idx)])
       for (const VertexHandle v : m.triangle_vertices(t)) out[static_cast<std::size_t>(v.idx)] = 1;
   return out;
+}
+
+// A distributed run's views hold the floor only near their part (coarser than it elsewhere,
+// down to the base mesh): the floor cache, made from the whole mesh, places such a view's
+// triangles in the whole mesh's units (each kept triangle in its unit, every triangle coarser
+// than the floor in none). Without the cache a view below the floor is refused.
+TEST(Partition, TheFloorCacheLocatesAViewThatIsCoarserThanTheFloor) {
+  RgbMesh whole = icosahedron_mesh();
+  adapt::run_cycles(whole, fem::sphere_peak(), above_level_2());
+  const std::shared_ptr<FloorCache> cache = make_floor_cache();
+  const int parts = 4;
+  // (The units as a distributed run has them, which lists the divided cells: one process here.)
+  const Collectives one{[](std::uint64_t*, std::size_t) {}, [](const std::vector<std::uint64_t>& v) { return v; }};
+  const Units u = shared_units(whole, 2, parts, std::vector<char>(static_cast<std::size_t>(whole.triangle_slots()), 1), one,
+                               cache.get());
+  const Partition p = partition(u, parts);
+  std::map<std::array<std::int32_t, 3>, std::int32_t> unit_of_corners;
+  const auto corners = [](const RgbMesh& m, TriangleHandle t) {
+    std::array<std::int32_t, 3> c{};
+    const auto v = m.triangle_vertices(t);
+    for (int k = 0; k < 3; ++k) c[k] = v[k].idx;
+    std::sort(c.begin(), c.end());
+    return c;
+  };
+  for (const TriangleHandle t : whole.triangles()) unit_of_corners[corners(whole, t)] = u.of_triangle[t.idx];
+  int views_below = 0;
+  for (int q = 0; q < parts; ++q) {
+    std::vector<char> keep(static_cast<std::size_t>(whole.triangle_slots()), 0);
+    std::size_t own = 0;
+    for (const TriangleHandle t : whole.triangles()) {
+      keep[static_cast<std::size_t>(t.idx)] = p.part_of[static_cast<std::size_t>(u.of_triangle[t.idx])] == q;
+      own += keep[static_cast<std::size_t>(t.idx)];
+    }
+    const RgbMesh view = local_view(whole, keep, 0, 2);
+    ASSERT_EQ(view.validate(), "") << "part " << q;
+    const std::vector<std::int32_t> located = locate_units(view, 2, u, cache.get());
+    std::size_t below = 0, same = 0;
+    for (const TriangleHandle t : view.triangles()) {
+      const std::int32_t unit = located[static_cast<std::size_t>(t.idx)];
+      if (view.level(t) < 2) {
+        ++below;
+        EXPECT_EQ(unit, -1) << "part " << q << ", triangle " << t.idx;
+        continue;
+      }
+      const auto it = unit_of_corners.find(corners(view, t));
+      if (it == unit_of_corners.end()) continue;  // coarser than the whole mesh here
+      EXPECT_EQ(unit, it->second) << "part " << q << ", triangle " << t.idx;
+      same += unit == it->second;
+    }
+    EXPECT_GE(same, own) << "part " << q;
+    if (below > 0) {
+      ++views_below;
+      EXPECT_THROW(locate_units(view, 2, u), std::invalid_argument);
+    }
+    std::printf("part %d: %zu of %zu triangles in the view (%zu below the floor)\n", q, view.num_triangles(),
+                whole.num_triangles(), below);
+  }
+  EXPECT_GE(views_below, 2) << "the views hardly went below the floor";
 }
 
 TEST(LocalView, KeepsAPartsTrianglesExactlyAndLittleElse) {

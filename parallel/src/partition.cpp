@@ -154,9 +154,9 @@ UniformMesh uniform_below(const UniformMesh& above, const std::unordered_map<std
 struct MacroSkeleton {
   MacroTriangles m;  // (without of_triangle and triangles)
   std::unique_ptr<MacroCells> cells;
-  // Per triangle slot of the mesh last placed: its corners' slots and its macro triangle, for
-  // triangles whose corners are all at or above the level. Those corners keep their slots
-  // while the skeleton is kept (FloorCache compares them), so a slot holding the same corners
+  // Per triangle slot of the mesh last placed: its corners' numbers in the skeleton and its
+  // macro triangle, for triangles whose corners are all at or above the level. A number names
+  // one vertex of the level whatever its slot in the mesh, so a slot holding the same corners
   // holds the same triangle, and most of a view's triangles are such (its coarse rest).
   mutable std::vector<std::array<std::int32_t, 4>> placed;
 };
@@ -199,8 +199,13 @@ std::unique_ptr<MacroSkeleton> skeleton_of(const UniformMesh& uniform) {
 
 // The macro triangles of a skeleton, with the mesh's triangles placed in them; a triangle
 // coarser than the level gets -1 (its corners' cells are macro vertices that no macro edge
-// joins).
-MacroTriangles place_in(const RgbMesh& mesh, const MacroSkeleton& skeleton) {
+// joins). `number`: per vertex slot of the mesh, the skeleton's number of each vertex at or
+// below its level (empty: the slot itself, for a skeleton made from this mesh's slots).
+MacroTriangles place_in(const RgbMesh& mesh, const MacroSkeleton& skeleton,
+                        const std::vector<std::int32_t>& number = {}) {
+  const auto number_of = [&number](VertexHandle v) {
+    return number.empty() ? v.idx : number[static_cast<std::size_t>(v.idx)];
+  };
   const int level = skeleton.m.level;
   const MacroCells& cells = *skeleton.cells;
   MacroTriangles m;
@@ -218,7 +223,7 @@ MacroTriangles place_in(const RgbMesh& mesh, const MacroSkeleton& skeleton) {
   for (std::size_t l = 0; l < by_level.size(); ++l) {
     for (const VertexHandle v : by_level[l]) {
       if (static_cast<int>(l) <= level) {
-        cell[v.idx] = {Cell::on_vertex, v.idx, -1, -1};
+        cell[v.idx] = {Cell::on_vertex, number_of(v), -1, -1};
       } else {
         const auto [a, b] = mesh.parents(v);
         cell[v.idx] = cells.join(cell[a.idx], cell[b.idx]);
@@ -235,13 +240,14 @@ MacroTriangles place_in(const RgbMesh& mesh, const MacroSkeleton& skeleton) {
     const auto c = mesh.triangle_vertices(t);
     auto& known = placed[static_cast<std::size_t>(t.idx)];
     std::int32_t face = known[3];
-    if (face < 0 || known[0] != c[0].idx || known[1] != c[1].idx || known[2] != c[2].idx) {
+    const std::array<std::int32_t, 3> corner{number_of(c[0]), number_of(c[1]), number_of(c[2])};
+    if (face < 0 || known[0] != corner[0] || known[1] != corner[1] || known[2] != corner[2]) {
       const Cell joined = cells.join(cells.join(cell[c[0].idx], cell[c[1].idx]), cell[c[2].idx]);
       if (joined.kind != Cell::in_face)
         throw std::logic_error("macro_triangles: triangle " + std::to_string(t.idx) + " lies on a macro edge");
       face = joined.face;
       const bool coarse = mesh.level(c[0]) <= level && mesh.level(c[1]) <= level && mesh.level(c[2]) <= level;
-      known = coarse ? std::array<std::int32_t, 4>{c[0].idx, c[1].idx, c[2].idx, face}
+      known = coarse ? std::array<std::int32_t, 4>{corner[0], corner[1], corner[2], face}
                      : std::array<std::int32_t, 4>{-1, -1, -1, -1};
     }
     m.of_triangle[t.idx] = face;
@@ -335,56 +341,77 @@ Partition partition(const MacroTriangles& macro, int parts) {
   return partition_graph(macro.triangles, xadj, adjncy, parts, "macro triangles");
 }
 
-namespace {
-
-// The floor's vertices as the cache compares them: slot, level and parents' slots, in slot order.
-std::vector<std::array<std::int32_t, 4>> floor_vertices(const RgbMesh& mesh, int floor) {
-  std::vector<std::array<std::int32_t, 4>> out;
-  for (const VertexHandle v : mesh.vertices())
-    if (mesh.level(v) <= floor) out.push_back({v.idx, mesh.level(v), mesh.parents(v)[0].idx, mesh.parents(v)[1].idx});
-  return out;
-}
-
-}  // namespace
-
+// The floor's uniform mesh of a run, made once from a mesh holding the whole floor and used
+// for every later mesh of the run whatever part of the floor it holds: the views of a
+// distributed mesh hold the floor only near their part (local_view.hpp). Its vertices are
+// numbered by their own slots in the kept mesh and found from a mesh's vertices by their names
+// (canonical.hpp), which do not depend on slots.
 struct FloorCache {
   int floor = -1;
-  std::vector<std::array<std::int32_t, 4>> vertices;
-  std::optional<UniformMesh> uniform;
-  std::unique_ptr<MacroSkeleton> skeleton;  // of `uniform`
+  std::optional<UniformMesh> uniform;  // slot: its own slots
+  std::unique_ptr<MacroSkeleton> skeleton;
+  std::unordered_map<VertexName, std::int32_t> vertex_of_name;
 };
 
 std::shared_ptr<FloorCache> make_floor_cache() { return std::make_shared<FloorCache>(); }
 
 namespace {
 
-const UniformMesh& uniform_floor(const RgbMesh& mesh, int floor, FloorCache* cache, std::optional<UniformMesh>& own) {
-  if (cache == nullptr) {
-    own.emplace(uniform_at_floor(mesh, floor));
-    return *own;
+// Per vertex slot of the mesh, the cached floor mesh's number of each vertex at or below the
+// floor (-1 elsewhere); empty if the mesh has such a vertex that the cache does not, or holds the
+// whole floor with fewer vertices than the cache (the cache is another mesh's).
+std::vector<std::int32_t> floor_numbers(const RgbMesh& mesh, int floor, const FloorCache& cache) {
+  if (!cache.uniform || cache.floor != floor) return {};
+  const std::vector<VertexName> name = vertex_names(mesh);
+  std::vector<std::int32_t> number(static_cast<std::size_t>(mesh.vertex_slots()), -1);
+  std::size_t found = 0;
+  for (const VertexHandle v : mesh.vertices()) {
+    if (mesh.level(v) > floor) continue;
+    const auto it = cache.vertex_of_name.find(name[static_cast<std::size_t>(v.idx)]);
+    if (it == cache.vertex_of_name.end()) return {};
+    number[static_cast<std::size_t>(v.idx)] = it->second;
+    ++found;
   }
-  std::vector<std::array<std::int32_t, 4>> vertices = floor_vertices(mesh, floor);
-  if (!cache->uniform || cache->floor != floor || cache->vertices != vertices) {
-    cache->uniform.emplace(uniform_at_floor(mesh, floor));
-    cache->skeleton = skeleton_of(*cache->uniform);
-    cache->floor = floor;
-    cache->vertices = std::move(vertices);
-  }
-  return *cache->uniform;
+  bool whole_floor = true;
+  for (const TriangleHandle t : mesh.triangles()) whole_floor = whole_floor && mesh.level(t) >= floor;
+  if (whole_floor && found != cache.vertex_of_name.size()) return {};
+  return number;
 }
 
-}  // namespace
-
-namespace {
+void fill_floor_cache(const RgbMesh& mesh, int floor, FloorCache& cache) {
+  require_floor(mesh, floor);
+  cache.uniform.emplace(uniform_at_floor(mesh, floor));
+  UniformMesh& u = *cache.uniform;
+  const std::vector<VertexName> name = vertex_names(u.mesh);
+  cache.vertex_of_name.clear();
+  for (const VertexHandle v : u.mesh.vertices()) {
+    u.slot[static_cast<std::size_t>(v.idx)] = v.idx;
+    cache.vertex_of_name[name[static_cast<std::size_t>(v.idx)]] = v.idx;
+  }
+  cache.skeleton = skeleton_of(u);
+  cache.floor = floor;
+}
 
 // A mesh's (or a view's) triangles placed in the cells of the uniform meshes from the floor down, the levels
-// made as they are asked for (the floor's from the cache).
+// made as they are asked for (the floor's from the cache). Without a cache the mesh must hold
+// the whole floor; with one, any part of it.
 class CellLevels {
  public:
-  CellLevels(const RgbMesh& mesh, int floor, FloorCache* cache) : mesh_(mesh), floor_(floor) {
-    require_floor(mesh, floor);
-    uniform_.push_back(&uniform_floor(mesh, floor, cache, own_floor_));
-    at_.push_back(cache != nullptr ? place_in(mesh, *cache->skeleton) : cells_at(mesh, *uniform_[0]));
+  CellLevels(const RgbMesh& mesh, int floor, FloorCache* cache) : mesh_(mesh), floor_(floor), cache_(cache) {
+    if (cache == nullptr) {
+      require_floor(mesh, floor);
+      own_floor_.emplace(uniform_at_floor(mesh, floor));
+      uniform_.push_back(&*own_floor_);
+      at_.push_back(cells_at(mesh, *own_floor_));
+      return;
+    }
+    floor_number_ = floor_numbers(mesh, floor, *cache);
+    if (floor_number_.empty()) {
+      fill_floor_cache(mesh, floor, *cache);
+      floor_number_ = floor_numbers(mesh, floor, *cache);
+    }
+    uniform_.push_back(nullptr);  // (made when a level below the floor is asked for)
+    at_.push_back(place_in(mesh, *cache->skeleton, floor_number_));
   }
   // The cells of `level` (at or below the floor).
   const MacroTriangles& at(int level) {
@@ -393,6 +420,17 @@ class CellLevels {
         child_.reserve(static_cast<std::size_t>(mesh_.num_vertices()));
         for (const VertexHandle v : mesh_.vertices())
           if (mesh_.level(v) > 0) child_[edge_key(mesh_.parents(v)[0].idx, mesh_.parents(v)[1].idx)] = v.idx;
+      }
+      if (uniform_[0] == nullptr) {
+        // The cached floor mesh with its vertices named by this mesh's slots (those it lacks
+        // by numbers of their own), as the levels below name theirs.
+        std::vector<std::int32_t> slot(cache_->uniform->slot.size());
+        for (std::int32_t& s : slot) s = next_missing_--;
+        for (const VertexHandle v : mesh_.vertices())
+          if (mesh_.level(v) <= floor_)
+            slot[static_cast<std::size_t>(floor_number_[static_cast<std::size_t>(v.idx)])] = v.idx;
+        own_floor_.emplace(UniformMesh{floor_, cache_->uniform->mesh, std::move(slot)});
+        uniform_[0] = &*own_floor_;
       }
       below_.push_back(std::make_unique<UniformMesh>(uniform_below(*uniform_.back(), child_, next_missing_)));
       uniform_.push_back(below_.back().get());
@@ -404,6 +442,8 @@ class CellLevels {
  private:
   const RgbMesh& mesh_;
   int floor_;
+  FloorCache* cache_;
+  std::vector<std::int32_t> floor_number_;  // with a cache: floor_numbers
   std::optional<UniformMesh> own_floor_;
   std::vector<const UniformMesh*> uniform_;
   std::vector<std::unique_ptr<UniformMesh>> below_;

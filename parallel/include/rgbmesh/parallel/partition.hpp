@@ -68,9 +68,11 @@ struct Units {
   std::vector<std::pair<int, std::int32_t>> split;
 };
 /// What units() keeps between calls on the meshes of one run: the uniform mesh of the floor
-/// (whose making, a copy of the mesh coarsened to the floor, is most of units' time), used
-/// again while the mesh's vertices at or below the floor are the same (their slots, levels and
-/// parents: adaptive cycles never remove them). make_floor_cache() makes an empty one.
+/// (whose making, a copy of the mesh coarsened to the floor, is most of units' time), made from
+/// the first mesh holding the whole floor and used again for every mesh whose vertices at or
+/// below the floor are among its own (found by their names, whatever their slots): the run's
+/// later meshes, and the views of a distributed run, which hold the floor only near their part.
+/// Without a cache a mesh must hold the whole floor. make_floor_cache() makes an empty one.
 struct FloorCache;
 std::shared_ptr<FloorCache> make_floor_cache();
 Units units(const RgbMesh& mesh, int floor, int parts, double share = 0.1, FloorCache* cache = nullptr);
