@@ -154,11 +154,15 @@ UniformMesh uniform_below(const UniformMesh& above, const std::unordered_map<std
 struct MacroSkeleton {
   MacroTriangles m;  // (without of_triangle and triangles)
   std::unique_ptr<MacroCells> cells;
-  // Per triangle slot of the mesh last placed: its corners' numbers in the skeleton and its
-  // macro triangle, for triangles whose corners are all at or above the level. A number names
-  // one vertex of the level whatever its slot in the mesh, so a slot holding the same corners
-  // holds the same triangle, and most of a view's triangles are such (its coarse rest).
-  mutable std::vector<std::array<std::int32_t, 4>> placed;
+  // Per triangle slot of the meshes placed with names: the corners' names and the macro
+  // triangle of the triangle placed there last. Names do not depend on slots, so a slot
+  // holding corners of the same names holds the same triangle, and most of a view's triangles
+  // are unchanged from one placement to the next.
+  struct Placed {
+    std::array<VertexName, 3> corner{};
+    std::int32_t face = -1;
+  };
+  mutable std::vector<Placed> placed;
 };
 
 std::unique_ptr<MacroSkeleton> skeleton_of(const UniformMesh& uniform) {
@@ -201,8 +205,12 @@ std::unique_ptr<MacroSkeleton> skeleton_of(const UniformMesh& uniform) {
 // coarser than the level gets -1 (its corners' cells are macro vertices that no macro edge
 // joins). `number`: per vertex slot of the mesh, the skeleton's number of each vertex at or
 // below its level (empty: the slot itself, for a skeleton made from this mesh's slots).
-MacroTriangles place_in(const RgbMesh& mesh, const MacroSkeleton& skeleton,
-                        const std::vector<std::int32_t>& number = {}) {
+// `name`: the mesh's vertex names, for a skeleton kept between calls (FloorCache): a triangle
+// whose corners have the names they had at the last call is where it was then, and only the
+// others, and their corners, are placed anew.
+MacroTriangles place_in(const RgbMesh& mesh, const MacroSkeleton& skeleton, const std::vector<std::int32_t>& number = {},
+                        const std::vector<VertexName>* name = nullptr) {
+  using Placed = MacroSkeleton::Placed;
   const auto number_of = [&number](VertexHandle v) {
     return number.empty() ? v.idx : number[static_cast<std::size_t>(v.idx)];
   };
@@ -212,46 +220,56 @@ MacroTriangles place_in(const RgbMesh& mesh, const MacroSkeleton& skeleton,
   m.level = level;
   m.corners = skeleton.m.corners;
   m.across = skeleton.m.across;
-  // Each vertex's cell, parents before children (a vertex's parents are of lower levels).
+  // Each vertex's cell, as it is asked for: its parents' first (they are of lower levels).
   std::vector<Cell> cell(static_cast<std::size_t>(mesh.vertex_slots()));
-  std::vector<std::vector<VertexHandle>> by_level;
-  for (const VertexHandle v : mesh.vertices()) {
-    const auto l = static_cast<std::size_t>(mesh.level(v));
-    if (by_level.size() <= l) by_level.resize(l + 1);
-    by_level[l].push_back(v);
-  }
-  for (std::size_t l = 0; l < by_level.size(); ++l) {
-    for (const VertexHandle v : by_level[l]) {
-      if (static_cast<int>(l) <= level) {
-        cell[v.idx] = {Cell::on_vertex, number_of(v), -1, -1};
+  std::vector<VertexHandle> pending;
+  const auto cell_of = [&](VertexHandle v) -> const Cell& {
+    pending.push_back(v);
+    while (!pending.empty()) {
+      const VertexHandle u = pending.back();
+      Cell& here = cell[static_cast<std::size_t>(u.idx)];
+      if (here.kind == Cell::none && mesh.level(u) <= level) here = {Cell::on_vertex, number_of(u), -1, -1};
+      if (here.kind != Cell::none) {
+        pending.pop_back();
+        continue;
+      }
+      const auto& p = mesh.parents(u);
+      const Cell &a = cell[static_cast<std::size_t>(p[0].idx)], &b = cell[static_cast<std::size_t>(p[1].idx)];
+      if (a.kind == Cell::none) {
+        pending.push_back(p[0]);
+      } else if (b.kind == Cell::none) {
+        pending.push_back(p[1]);
       } else {
-        const auto [a, b] = mesh.parents(v);
-        cell[v.idx] = cells.join(cell[a.idx], cell[b.idx]);
+        here = cells.join(a, b);
+        pending.pop_back();
       }
     }
-  }
+    return cell[static_cast<std::size_t>(v.idx)];
+  };
   m.of_triangle.assign(static_cast<std::size_t>(mesh.triangle_slots()), -1);
   m.triangles.assign(m.corners.size(), 0);
   auto& placed = skeleton.placed;
-  if (placed.size() < static_cast<std::size_t>(mesh.triangle_slots()))
-    placed.resize(static_cast<std::size_t>(mesh.triangle_slots()), {-1, -1, -1, -1});
+  if (name != nullptr && placed.size() < static_cast<std::size_t>(mesh.triangle_slots()))
+    placed.resize(static_cast<std::size_t>(mesh.triangle_slots()));
   for (const TriangleHandle t : mesh.triangles()) {
     if (mesh.level(t) < level) continue;
     const auto c = mesh.triangle_vertices(t);
-    auto& known = placed[static_cast<std::size_t>(t.idx)];
-    std::int32_t face = known[3];
-    const std::array<std::int32_t, 3> corner{number_of(c[0]), number_of(c[1]), number_of(c[2])};
-    if (face < 0 || known[0] != corner[0] || known[1] != corner[1] || known[2] != corner[2]) {
-      const Cell joined = cells.join(cells.join(cell[c[0].idx], cell[c[1].idx]), cell[c[2].idx]);
-      if (joined.kind != Cell::in_face)
-        throw std::logic_error("macro_triangles: triangle " + std::to_string(t.idx) + " lies on a macro edge");
-      face = joined.face;
-      const bool coarse = mesh.level(c[0]) <= level && mesh.level(c[1]) <= level && mesh.level(c[2]) <= level;
-      known = coarse ? std::array<std::int32_t, 4>{corner[0], corner[1], corner[2], face}
-                     : std::array<std::int32_t, 4>{-1, -1, -1, -1};
+    std::array<VertexName, 3> corner{};
+    if (name != nullptr) {
+      for (int k = 0; k < 3; ++k) corner[k] = (*name)[static_cast<std::size_t>(c[k].idx)];
+      const Placed& known = placed[static_cast<std::size_t>(t.idx)];
+      if (known.face >= 0 && known.corner == corner) {
+        m.of_triangle[t.idx] = known.face;
+        ++m.triangles[static_cast<std::size_t>(known.face)];
+        continue;
+      }
     }
-    m.of_triangle[t.idx] = face;
-    ++m.triangles[static_cast<std::size_t>(face)];
+    const Cell joined = cells.join(cells.join(cell_of(c[0]), cell_of(c[1])), cell_of(c[2]));
+    if (joined.kind != Cell::in_face)
+      throw std::logic_error("macro_triangles: triangle " + std::to_string(t.idx) + " lies on a macro edge");
+    if (name != nullptr) placed[static_cast<std::size_t>(t.idx)] = {corner, joined.face};
+    m.of_triangle[t.idx] = joined.face;
+    ++m.triangles[static_cast<std::size_t>(joined.face)];
   }
   return m;
 }
@@ -351,6 +369,13 @@ struct FloorCache {
   std::optional<UniformMesh> uniform;  // slot: its own slots
   std::unique_ptr<MacroSkeleton> skeleton;
   std::unordered_map<VertexName, std::int32_t> vertex_of_name;
+  // locate_units' lookups of the units last asked for (a distributed run asks with the same
+  // units several times a cycle, and a run that coarsens has one unit per cell of the floor).
+  std::vector<int> units_level;
+  std::vector<std::int32_t> units_cell;
+  std::vector<std::pair<int, std::int32_t>> units_split;
+  std::unordered_map<std::uint64_t, std::int32_t> unit_of_cell;
+  std::unordered_set<std::uint64_t> split;
 };
 
 std::shared_ptr<FloorCache> make_floor_cache() { return std::make_shared<FloorCache>(); }
@@ -360,9 +385,9 @@ namespace {
 // Per vertex slot of the mesh, the cached floor mesh's number of each vertex at or below the
 // floor (-1 elsewhere); empty if the mesh has such a vertex that the cache does not, or holds the
 // whole floor with fewer vertices than the cache (the cache is another mesh's).
-std::vector<std::int32_t> floor_numbers(const RgbMesh& mesh, int floor, const FloorCache& cache) {
+std::vector<std::int32_t> floor_numbers(const RgbMesh& mesh, const std::vector<VertexName>& name, int floor,
+                                        const FloorCache& cache) {
   if (!cache.uniform || cache.floor != floor) return {};
-  const std::vector<VertexName> name = vertex_names(mesh);
   std::vector<std::int32_t> number(static_cast<std::size_t>(mesh.vertex_slots()), -1);
   std::size_t found = 0;
   for (const VertexHandle v : mesh.vertices()) {
@@ -405,13 +430,14 @@ class CellLevels {
       at_.push_back(cells_at(mesh, *own_floor_));
       return;
     }
-    floor_number_ = floor_numbers(mesh, floor, *cache);
+    name_ = vertex_names(mesh);
+    floor_number_ = floor_numbers(mesh, name_, floor, *cache);
     if (floor_number_.empty()) {
       fill_floor_cache(mesh, floor, *cache);
-      floor_number_ = floor_numbers(mesh, floor, *cache);
+      floor_number_ = floor_numbers(mesh, name_, floor, *cache);
     }
     uniform_.push_back(nullptr);  // (made when a level below the floor is asked for)
-    at_.push_back(place_in(mesh, *cache->skeleton, floor_number_));
+    at_.push_back(place_in(mesh, *cache->skeleton, floor_number_, &name_));
   }
   // The cells of `level` (at or below the floor).
   const MacroTriangles& at(int level) {
@@ -443,6 +469,7 @@ class CellLevels {
   const RgbMesh& mesh_;
   int floor_;
   FloorCache* cache_;
+  std::vector<VertexName> name_;            // with a cache: the mesh's vertex names
   std::vector<std::int32_t> floor_number_;  // with a cache: floor_numbers
   std::optional<UniformMesh> own_floor_;
   std::vector<const UniformMesh*> uniform_;
@@ -530,16 +557,17 @@ std::uint64_t cell_key(int level, std::int32_t cell) {
 // Each triangle's unit: down from its floor cell through the split cells. (The floor's cells
 // in an array: in a run that coarsens they are all the units, and this runs several times a
 // cycle.)
-std::vector<std::int32_t> walk_to_units(const RgbMesh& view, int floor, CellLevels& cells,
+// (units: the units' levels, cells and divided cells, which unit_of_cell and split look up.)
+std::vector<std::int32_t> walk_to_units(const RgbMesh& view, int floor, CellLevels& cells, const Units& units,
                                         const std::unordered_map<std::uint64_t, std::int32_t>& unit_of_cell,
                                         const std::unordered_set<std::uint64_t>& split) {
   const MacroTriangles& at_floor = cells.at(floor);
   std::vector<std::int32_t> unit_at_floor(at_floor.corners.size(), -1);
   std::vector<char> split_at_floor(at_floor.corners.size(), 0);
-  for (const auto& [key, unit] : unit_of_cell)
-    if (static_cast<int>(key >> 32) == floor) unit_at_floor[key & 0xffffffffu] = unit;
-  for (const std::uint64_t key : split)
-    if (static_cast<int>(key >> 32) == floor) split_at_floor[key & 0xffffffffu] = 1;
+  for (std::size_t k = 0; k < units.level.size(); ++k)
+    if (units.level[k] == floor) unit_at_floor[static_cast<std::size_t>(units.cell[k])] = static_cast<std::int32_t>(k);
+  for (const auto& [level, cell] : units.split)
+    if (level == floor) split_at_floor[static_cast<std::size_t>(cell)] = 1;
   std::vector<std::int32_t> out(static_cast<std::size_t>(view.triangle_slots()), -1);
   for (const TriangleHandle t : view.triangles()) {
     if (view.level(t) < floor) continue;
@@ -637,7 +665,7 @@ Units shared_units(const RgbMesh& view, int floor, int parts, const std::vector<
     next.erase(std::unique(next.begin(), next.end()), next.end());
     pending.assign(next.begin(), next.end());
   }
-  u.of_triangle = walk_to_units(view, floor, cells, unit_of_cell, split);
+  u.of_triangle = walk_to_units(view, floor, cells, u, unit_of_cell, split);
   // Neighbours: across the edges of the counted triangles (their neighbours are exact too),
   // from every process.
   std::vector<std::uint64_t> pairs;
@@ -666,12 +694,27 @@ Units shared_units(const RgbMesh& view, int floor, int parts, const std::vector<
 
 std::vector<std::int32_t> locate_units(const RgbMesh& view, int floor, const Units& units, FloorCache* cache) {
   CellLevels cells(view, floor, cache);
-  std::unordered_map<std::uint64_t, std::int32_t> unit_of_cell;
-  for (std::size_t k = 0; k < units.level.size(); ++k)
-    unit_of_cell[cell_key(units.level[k], units.cell[k])] = static_cast<std::int32_t>(k);
-  std::unordered_set<std::uint64_t> split;
-  for (const auto& [level, cell] : units.split) split.insert(cell_key(level, cell));
-  return walk_to_units(view, floor, cells, unit_of_cell, split);
+  const auto lookups = [&units](std::unordered_map<std::uint64_t, std::int32_t>& unit_of_cell,
+                                std::unordered_set<std::uint64_t>& split) {
+    unit_of_cell.clear();
+    split.clear();
+    for (std::size_t k = 0; k < units.level.size(); ++k)
+      unit_of_cell[cell_key(units.level[k], units.cell[k])] = static_cast<std::int32_t>(k);
+    for (const auto& [level, cell] : units.split) split.insert(cell_key(level, cell));
+  };
+  if (cache == nullptr) {
+    std::unordered_map<std::uint64_t, std::int32_t> unit_of_cell;
+    std::unordered_set<std::uint64_t> split;
+    lookups(unit_of_cell, split);
+    return walk_to_units(view, floor, cells, units, unit_of_cell, split);
+  }
+  if (cache->units_level != units.level || cache->units_cell != units.cell || cache->units_split != units.split) {
+    lookups(cache->unit_of_cell, cache->split);
+    cache->units_level = units.level;
+    cache->units_cell = units.cell;
+    cache->units_split = units.split;
+  }
+  return walk_to_units(view, floor, cells, units, cache->unit_of_cell, cache->split);
 }
 
 Partition partition(const Units& units, int parts) {
