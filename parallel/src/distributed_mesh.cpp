@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -213,10 +214,14 @@ class DistributedMesh {
     partitioned_imbalance_ = parted.imbalance;
     if (!whole_) {
       // The new parts, where shared_units just placed the view's triangles.
-      part.assign(units_.of_triangle.size(), -1);
-      for (std::size_t t = 0; t < part.size(); ++t)
-        part[t] =
-            units_.of_triangle[t] >= 0 ? unit_part_[static_cast<std::size_t>(units_.of_triangle[t])] : -1;
+      const auto new_parts = [&] {
+        part.assign(units_.of_triangle.size(), -1);
+        for (std::size_t t = 0; t < part.size(); ++t)
+          part[t] =
+              units_.of_triangle[t] >= 0 ? unit_part_[static_cast<std::size_t>(units_.of_triangle[t])] : -1;
+      };
+      new_parts();
+      if (relabel_to_stay(counted, part)) new_parts();
       migrate(view, counted, part, true);
     }
     whole_ = false;
@@ -695,6 +700,36 @@ class DistributedMesh {
     const double imbalance =
         static_cast<double>(largest) * static_cast<double>(counts.size()) / static_cast<double>(total);
     return imbalance <= std::max(1.1, 1.02 * partitioned_imbalance_);
+  }
+
+  // METIS numbers the parts it makes afresh each time: on two processes it may give the
+  // moving peak's parts the other way round, and then nearly every triangle migrates. The new
+  // parts are renumbered so that each keeps as many of a process's triangles as it can (the
+  // largest overlaps first), the same on every process (the overlaps are summed over all).
+  // `counted`: this process's triangles before; `part`: their new parts. Returns whether any
+  // part was renumbered (unit_part_ then is).
+  bool relabel_to_stay(const std::vector<char>& counted, const std::vector<std::int32_t>& part) {
+    const auto p = static_cast<std::size_t>(parts_);
+    std::vector<std::uint64_t> overlap(p * p, 0);  // [new part * P + old part]
+    for (std::size_t t = 0; t < counted.size(); ++t)
+      if (counted[t] && part[t] >= 0) ++overlap[static_cast<std::size_t>(part[t]) * p + static_cast<std::size_t>(me_)];
+    detail::sum(overlap.data(), overlap.size());
+    std::vector<std::size_t> order(p * p);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return overlap[a] > overlap[b]; });
+    std::vector<std::int32_t> label(p, -1);
+    std::vector<char> taken(p, 0);
+    for (const std::size_t k : order) {
+      const std::size_t fresh = k / p, old = k % p;
+      if (label[fresh] >= 0 || taken[old]) continue;
+      label[fresh] = static_cast<std::int32_t>(old);
+      taken[old] = 1;
+    }
+    bool changed = false;
+    for (std::size_t q = 0; q < p; ++q) changed = changed || label[q] != static_cast<std::int32_t>(q);
+    if (!changed) return false;
+    for (std::int32_t& q : unit_part_) q = label[static_cast<std::size_t>(q)];
+    return true;
   }
 
   // Each triangle's part (per slot; -1 where the view is coarser than the whole mesh).
