@@ -8,7 +8,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -705,25 +704,39 @@ class DistributedMesh {
   // METIS numbers the parts it makes afresh each time: on two processes it may give the
   // moving peak's parts the other way round, and then nearly every triangle migrates. The new
   // parts are renumbered so that each keeps as many of a process's triangles as it can (the
-  // largest overlaps first), the same on every process (the overlaps are summed over all).
+  // largest overlaps first), the same on every process. Each process hands the others only the
+  // overlaps of its own triangles (a few new parts each), not a P x P table.
   // `counted`: this process's triangles before; `part`: their new parts. Returns whether any
   // part was renumbered (unit_part_ then is).
   bool relabel_to_stay(const std::vector<char>& counted, const std::vector<std::int32_t>& part) {
     const auto p = static_cast<std::size_t>(parts_);
-    std::vector<std::uint64_t> overlap(p * p, 0);  // [new part * P + old part]
+    std::vector<std::uint64_t> mine(p, 0);  // per new part: this process's triangles in it
     for (std::size_t t = 0; t < counted.size(); ++t)
-      if (counted[t] && part[t] >= 0) ++overlap[static_cast<std::size_t>(part[t]) * p + static_cast<std::size_t>(me_)];
-    detail::sum(overlap.data(), overlap.size());
-    std::vector<std::size_t> order(p * p);
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return overlap[a] > overlap[b]; });
+      if (counted[t] && part[t] >= 0) ++mine[static_cast<std::size_t>(part[t])];
+    std::vector<std::uint64_t> sent;  // (count, new part, old part: this process)
+    for (std::size_t q = 0; q < p; ++q)
+      if (mine[q] > 0) sent.insert(sent.end(), {mine[q], q, static_cast<std::uint64_t>(me_)});
+    const std::vector<std::uint64_t> all = detail::all_gather(sent);
+    std::vector<std::array<std::uint64_t, 3>> overlap;
+    for (std::size_t i = 0; i + 2 < all.size(); i += 3) overlap.push_back({all[i], all[i + 1], all[i + 2]});
+    // The largest overlaps first; ties by new part, then old.
+    std::sort(overlap.begin(), overlap.end(), [](const auto& x, const auto& y) {
+      return x[0] != y[0] ? x[0] > y[0] : x[1] != y[1] ? x[1] < y[1] : x[2] < y[2];
+    });
     std::vector<std::int32_t> label(p, -1);
     std::vector<char> taken(p, 0);
-    for (const std::size_t k : order) {
-      const std::size_t fresh = k / p, old = k % p;
+    for (const auto& [count, fresh, old] : overlap) {
       if (label[fresh] >= 0 || taken[old]) continue;
       label[fresh] = static_cast<std::int32_t>(old);
       taken[old] = 1;
+    }
+    // New parts that overlap no free old one take the old numbers left, in order.
+    std::size_t next_old = 0;
+    for (std::size_t fresh = 0; fresh < p; ++fresh) {
+      if (label[fresh] >= 0) continue;
+      while (taken[next_old]) ++next_old;
+      label[fresh] = static_cast<std::int32_t>(next_old);
+      taken[next_old] = 1;
     }
     bool changed = false;
     for (std::size_t q = 0; q < p; ++q) changed = changed || label[q] != static_cast<std::int32_t>(q);

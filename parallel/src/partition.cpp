@@ -397,10 +397,11 @@ std::vector<std::int32_t> floor_numbers(const RgbMesh& mesh, const std::vector<V
     number[static_cast<std::size_t>(v.idx)] = it->second;
     ++found;
   }
-  bool whole_floor = true;
-  for (const TriangleHandle t : mesh.triangles()) whole_floor = whole_floor && mesh.level(t) >= floor;
-  if (whole_floor && found != cache.vertex_of_name.size()) return {};
-  return number;
+  if (found == cache.vertex_of_name.size()) return number;
+  // Fewer: a view holding part of the floor (a triangle coarser than it), or another mesh.
+  for (const TriangleHandle t : mesh.triangles())
+    if (mesh.level(t) < floor) return number;
+  return {};
 }
 
 void fill_floor_cache(const RgbMesh& mesh, int floor, FloorCache& cache) {
