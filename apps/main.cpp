@@ -64,8 +64,11 @@ void tune_allocator() {
 // only at start; so the tool restarts itself once with it set. Measured 2026-12-05 on the
 // 2-core development machine, rgbmesh adapt, two rounds of one script (docs/performance.md):
 // 0.79-0.88 of the time for P1 and 0.82-0.84 for P2 to 300,000 unknowns, 0.81-0.94 for Loop
-// elements to 30,000; a third of the page faults; peak memory 0.5-3.5% more. Not under an MPI
-// launcher, not where GLIBC_TUNABLES already names malloc.hugetlb (the user's choice), not with
+// elements to 30,000; a third of the page faults; peak memory 0.5-3.5% more. Under an MPI
+// launcher too (the restart keeps the process, its environment and its binding; MPI starts
+// later): on two processes the moving peak's second step (940,000 unknowns coarsened to 61,000)
+// took 11.8-12.6 s against 14.5-15.3 s without (2026-12-07). Not where
+// GLIBC_TUNABLES already names malloc.hugetlb (the user's choice), not with
 // RGBMESH_NO_HUGEPAGES set, and never twice: the restarted process finds
 // RGBMESH_HUGEPAGES_RESTARTED, whatever glibc makes of GLIBC_TUNABLES (one that does not know
 // the tunable may drop it from the environment). If the restart fails the tool goes on as it
@@ -74,8 +77,7 @@ void tune_allocator() {
 // not.
 void restart_with_huge_pages(int argc, char** argv) {
 #if defined(__linux__) && defined(__GLIBC__)
-  for (const char* name : {"RGBMESH_NO_HUGEPAGES", "RGBMESH_HUGEPAGES_RESTARTED", "OMPI_COMM_WORLD_SIZE",
-                           "PMIX_RANK", "PMI_RANK"})
+  for (const char* name : {"RGBMESH_NO_HUGEPAGES", "RGBMESH_HUGEPAGES_RESTARTED"})
     if (std::getenv(name) != nullptr) return;
   for (int i = 1; i < argc; ++i) {
     const std::string word = argv[i];

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <thread>
 #include <tuple>
 
 #include "rgbmesh/canonical.hpp"
@@ -136,6 +137,34 @@ TEST(Uniform, AllEdgesAtOnceDoesNotDependOnTheThreads) {
   }
   for (TriangleHandle t : one.triangles()) ASSERT_EQ(one.triangle_vertices(t), all.triangle_vertices(t));
 }
+
+#if defined(__linux__)
+TEST(Threads, NoMoreThreadsThanTheCoresThisThreadMayRunOn) {
+  // A launcher that binds a process to one core (mpirun -np 1 does) leaves its loops one
+  // thread: more on one core only take turns. Checked on a thread of its own, whose affinity
+  // is then set to one core.
+  if (std::thread::hardware_concurrency() < 2) GTEST_SKIP() << "one core";
+  std::size_t bound = 0, counted = 0;
+  std::thread([&] {
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    cpu_set_t all;
+    ASSERT_EQ(sched_getaffinity(0, sizeof all, &all), 0);
+    for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu)
+      if (CPU_ISSET(cpu, &all)) {
+        CPU_SET(cpu, &one);
+        break;
+      }
+    ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
+    bound = detail::hardware_threads();
+    // The loop runs on this thread alone: every index on thread 0.
+    detail::parallel_for(100000, 16, detail::hardware_threads(),
+                         [&](std::size_t thread, std::size_t) { counted += thread == 0 ? 1 : 0; });
+  }).join();
+  EXPECT_EQ(bound, 1u);
+  EXPECT_EQ(counted, 100000u);
+}
+#endif
 
 TEST(Uniform, AllEdgesAtOnceNeedsAUniformMesh) {
   RgbMesh m = testing::icosahedron().build();

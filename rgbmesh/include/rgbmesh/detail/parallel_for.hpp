@@ -11,17 +11,39 @@
 #include <thread>
 #include <vector>
 
+#if defined(__linux__)
+#include <sched.h>
+#endif
+
 namespace rgbmesh::detail {
 
 /// A cap on the threads of every loop (0: none). Several processes on one machine (an MPI
 /// run) share its cores: rgbmesh::parallel sets the cores per process here.
 inline std::atomic<unsigned> thread_cap{0};
 
-/// The threads worth starting: the hardware's (or the cap's), at least one.
+/// The cores this thread may run on: the machine's, or fewer where its CPU affinity allows
+/// fewer (taskset, a cpuset container, an MPI launcher that binds each process to a core, as
+/// `mpirun -np 1` and `-np 2` do): threads beyond them only take turns on the same cores. At
+/// least one.
+inline unsigned allowed_cores() {
+  const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
+#if defined(__linux__)
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0) {
+    const int count = CPU_COUNT(&set);
+    if (count > 0) return std::min(hardware, static_cast<unsigned>(count));
+  }
+#endif
+  return hardware;
+}
+
+/// The threads worth starting: the cores this thread may run on (or the cap's, if fewer), at
+/// least one.
 inline std::size_t hardware_threads() {
   const unsigned cap = thread_cap.load(std::memory_order_relaxed);
-  const unsigned hardware = std::thread::hardware_concurrency();
-  return std::max(1u, cap > 0 ? std::min(cap, std::max(1u, hardware)) : hardware);
+  const unsigned cores = allowed_cores();
+  return cap > 0 ? std::min(cap, cores) : cores;
 }
 
 /// Calls work(thread, i) for every i in [0, n), on up to `threads` threads (this one is thread
