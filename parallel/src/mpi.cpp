@@ -234,11 +234,9 @@ void initialize(int* argc, char*** argv) {
   int here = 1;
   MPI_Comm_size(local, &here);
   MPI_Comm_free(&local);
-  // (A launcher that bound the process to some cores has shared them already.)
-  const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
-  const unsigned allowed = rgbmesh::detail::allowed_cores();
-  rgbmesh::detail::thread_cap =
-      allowed < hardware ? allowed : std::max(1u, hardware / static_cast<unsigned>(std::max(1, here)));
+  // (A launcher that bound the process to fewer cores: hardware_threads takes those.)
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  rgbmesh::detail::thread_cap = std::max(1u, cores / static_cast<unsigned>(std::max(1, here)));
   std::atexit([] {
     fem::petsc::module().finalize();
     int mpi_finalized = 0;
