@@ -103,6 +103,30 @@ TEST_F(Cli, SphereHarmonicRunsAdaptively) {
   EXPECT_GE(json_array_size(json, "cycles"), 5);
 }
 
+// The marking's rule (every triangle's indicator below target / sqrt(triangles)) bounds the
+// estimate by the target, so a step above it did not reach the rule: said once, with the
+// count and the way out. Two steps jump half the path each (the default embedded problem:
+// estimates 4.7 and 3.7 against 1.16); eight steps follow the peak (every estimate below).
+TEST_F(Cli, MovingPeakSaysWhichStepsDidNotReachTheTarget) {
+  const RunResult jump = run("adapt --problem moving-peak --steps 2 --out " + path("jump") + " --report " + path("jump.json"));
+  ASSERT_EQ(jump.code, 0) << jump.err;
+  const std::string j = read_text(path("jump.json"));
+  const double target = json_number(j, "target_estimate");
+  ASSERT_GT(target, 0.0);
+  int above = 0;
+  for (auto p = j.find("\"cycles\": ["); (p = j.find("\"estimate\": ", p + 1)) != std::string::npos;)
+    above += std::strtod(j.c_str() + p + 12, nullptr) > target ? 1 : 0;
+  ASSERT_GT(above, 0) << j;
+  EXPECT_NE(jump.err.find("rgbmesh: note: " + std::to_string(above) + " of 3 steps ended with an estimate above the target"),
+            std::string::npos)
+      << jump.err;
+  EXPECT_NE(jump.err.find("more --steps"), std::string::npos) << jump.err;
+  EXPECT_NE(jump.out.find("every step adapts 2 times toward"), std::string::npos) << jump.out;
+  const RunResult follow = run("adapt --problem moving-peak --steps 8 --out " + path("follow"));
+  ASSERT_EQ(follow.code, 0) << follow.err;
+  EXPECT_EQ(follow.err.find("above the target"), std::string::npos) << follow.err;
+}
+
 TEST_F(Cli, MovingPeakObeysEveryOption) {
   // --max-dofs bounds the uniform strategy, which keeps its one mesh for all the steps.
   const RunResult u = run("adapt --problem moving-peak --strategy uniform --steps 2 --max-dofs 3000 --out " + path("u") +
