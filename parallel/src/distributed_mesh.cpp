@@ -844,27 +844,18 @@ class DistributedMesh {
       if (q >= 0 && q != me_) other_part[static_cast<std::size_t>(q)] = 1;
     }
     std::vector<std::vector<char>> sending(static_cast<std::size_t>(parts_));
-    std::vector<char> one_ring, two_rings;
-    const auto touches = [&view](const std::vector<char>& flag, TriangleHandle t) {
-      const auto c = view.triangle_vertices(t);
-      return flag[static_cast<std::size_t>(c[0].idx)] || flag[static_cast<std::size_t>(c[1].idx)] ||
-             flag[static_cast<std::size_t>(c[2].idx)];
-    };
     for (std::int32_t q = 0; q < parts_; ++q) {
       if (!other_part[static_cast<std::size_t>(q)]) continue;
-      one_ring.assign(slots, 0);
-      two_rings.assign(slots, 0);
-      for (const TriangleHandle t : view.triangles())
-        if (part[static_cast<std::size_t>(t.idx)] == q)
-          for (const VertexHandle v : view.triangle_vertices(t)) one_ring[static_cast<std::size_t>(v.idx)] = 1;
-      for (const TriangleHandle t : view.triangles())
-        if (touches(one_ring, t))
-          for (const VertexHandle v : view.triangle_vertices(t)) two_rings[static_cast<std::size_t>(v.idx)] = 1;
+      const std::vector<char> near = corners_and_layers(view, part, q, 1);  // within two rings of q's part
       auto& s = sending[static_cast<std::size_t>(q)];
       for (const TriangleHandle t : view.triangles()) {
-        if (!counted[static_cast<std::size_t>(t.idx)] || !touches(two_rings, t)) continue;
+        if (!counted[static_cast<std::size_t>(t.idx)]) continue;
+        const auto c = view.triangle_vertices(t);
+        if (!near[static_cast<std::size_t>(c[0].idx)] && !near[static_cast<std::size_t>(c[1].idx)] &&
+            !near[static_cast<std::size_t>(c[2].idx)])
+          continue;
         if (s.empty()) s.assign(slots, 0);
-        for (const VertexHandle v : view.triangle_vertices(t)) s[static_cast<std::size_t>(v.idx)] = 1;
+        for (const VertexHandle v : c) s[static_cast<std::size_t>(v.idx)] = 1;
       }
     }
     const std::vector<VertexName> name = vertex_names(view);
