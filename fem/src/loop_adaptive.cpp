@@ -119,16 +119,11 @@ SparseMatrix galerkin_product(const SparseMatrix& k, const SparseMatrix& e) {
 }
 
 // The control values' expansion in the coefficients, row by row in the order the control
-// vertices were found (every rule refers to earlier rows). Hierarchical: an inserted vertex adds
-// its coefficient (a detail) to the value its rule gives it. Truncated: an inserted vertex's
-// value is its coefficient, so coarser functions stop where finer ones take over.
-SparseMatrix expand(const ControlNet& net, const std::vector<std::int32_t>& coefficient_control,
-                    bool truncated) {
-  const std::size_t m = net.vertex.size(), n = coefficient_control.size();
-  std::vector<std::int32_t> own(m, -1);  // control vertex -> the coefficient inserted there
-  for (std::size_t i = 0; i < n; ++i)
-    if (coefficient_control[i] >= 0)
-      own[static_cast<std::size_t>(coefficient_control[i])] = static_cast<std::int32_t>(i);
+// vertices were found (every rule refers to earlier rows): a row is its rule's combination of
+// the rows one level up where `predicted`, plus its own coefficient where it has one (`own`).
+SparseMatrix expand(const ControlNet& net, const std::vector<std::int32_t>& own, const std::vector<char>& predicted,
+                    std::size_t n) {
+  const std::size_t m = net.vertex.size();
   // Built as rows (compressed, each in column order), read back by the rows after them.
   std::vector<SparseMatrix::StorageIndex> row_start{0}, columns;
   std::vector<double> values;
@@ -142,15 +137,13 @@ SparseMatrix expand(const ControlNet& net, const std::vector<std::int32_t>& coef
       if (!seen[c]) touched.push_back(col), seen[c] = 1;
       dense[c] += w;
     };
-    if (!truncated || own[r] < 0)
+    if (predicted[r])
       for (std::size_t k = net.rule_start[r]; k < net.rule_start[r + 1]; ++k) {
         const auto from = static_cast<std::size_t>(net.rule[k].first);
         for (auto at = static_cast<std::size_t>(row_start[from]);
              at < static_cast<std::size_t>(row_start[from + 1]); ++at)
           add(columns[at], net.rule[k].second * values[at]);
       }
-    // A level-0 vertex is its coefficient; an inserted vertex adds its detail at the level it
-    // was inserted at (or, truncated, is its coefficient there).
     if (own[r] >= 0) add(own[r], 1.0);
     std::sort(touched.begin(), touched.end());
     for (const std::int32_t col : touched) {
@@ -164,6 +157,75 @@ SparseMatrix expand(const ControlNet& net, const std::vector<std::int32_t>& coef
   return Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>>(
       static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(values.size()),
       row_start.data(), columns.data(), values.data());
+}
+
+// The details' basis (LoopBasisKind::details) on the coefficients numbered by the caller. Every
+// control vertex is kept, those only the split cells use too: they are the chain from the base
+// that each value comes down (ControlVertex::origin), and cost no matrix entries.
+// Hierarchical: an inserted vertex adds its coefficient (a detail) to the value its rule gives
+// it. Truncated: an inserted vertex's value is its coefficient, so coarser functions stop where
+// finer ones take over.
+void details_basis(const ControlNet& net, const RgbMesh& mesh, AdaptiveLoopSpace& space) {
+  const std::size_t m = net.vertex.size(), n = space.num_dofs();
+  space.coefficient_control.assign(n, -1);
+  std::vector<std::int32_t> own(m, -1);
+  for (std::size_t r = 0; r < m; ++r) {
+    const AdaptiveLoopSpace::ControlVertex& v = net.vertex[r];
+    if (v.vertex.valid() && mesh.level(v.vertex) == v.level) {
+      own[r] = space.coefficient_of_vertex[static_cast<std::size_t>(v.vertex.idx)];
+      space.coefficient_control[static_cast<std::size_t>(own[r])] = static_cast<std::int32_t>(r);
+    }
+  }
+  space.coefficient_level.clear();
+  for (const VertexHandle v : space.vertex) space.coefficient_level.push_back(mesh.level(v));
+  space.expansion = expand(net, own, std::vector<char>(m, 1), n);
+  std::vector<char> predicted(m);
+  for (std::size_t r = 0; r < m; ++r) predicted[r] = own[r] < 0;
+  space.truncated_expansion = expand(net, own, predicted, n);
+  // The prediction of each inserted vertex: the rule of its control vertex.
+  std::vector<Eigen::Triplet<double, SparseMatrix::StorageIndex>> entries;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (space.coefficient_control[i] < 0)
+      throw std::logic_error("build_adaptive_loop_space: an inserted vertex without its control vertex");
+    if (i < space.num_base) continue;
+    const auto r = static_cast<std::size_t>(space.coefficient_control[i]);
+    for (std::size_t k = net.rule_start[r]; k < net.rule_start[r + 1]; ++k)
+      entries.emplace_back(static_cast<SparseMatrix::StorageIndex>(i), net.rule[k].first, net.rule[k].second);
+  }
+  space.prediction.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(m));
+  space.prediction.setFromTriplets(entries.begin(), entries.end());
+}
+
+// The truncated hierarchical basis (LoopBasisKind::truncated_hierarchical): the active
+// functions in the order the control vertices were found (level by level), and the expansion
+// x_l = T_l S x_{l-1} + the active level-l coefficients, row by row. A control vertex whose
+// function lies in Ω_l takes its own coefficient if it is active and nothing if it is covered
+// (finer functions carry the values there: the truncation T_l); any other takes its rule's
+// combination of the rows one level up.
+void truncated_hierarchical_basis(const ControlNet& net, const RgbMesh& mesh, AdaptiveLoopSpace& space) {
+  const std::size_t m = net.vertex.size();
+  space.basis = LoopBasisKind::truncated_hierarchical;
+  space.vertex.clear();
+  space.num_base = 0;
+  space.coefficient_of_vertex.assign(static_cast<std::size_t>(mesh.vertex_slots()), -1);
+  space.coefficient_control.clear();
+  space.coefficient_level.clear();
+  std::vector<std::int32_t> own(m, -1);
+  std::vector<char> predicted(m);
+  for (std::size_t r = 0; r < m; ++r) {
+    const AdaptiveLoopSpace::ControlVertex& v = net.vertex[r];
+    predicted[r] = !v.in_domain;
+    if (!v.in_domain || v.covered) continue;
+    if (!v.vertex.valid()) throw std::logic_error("build_adaptive_loop_space: an active function at no RGB vertex");
+    own[r] = static_cast<std::int32_t>(space.vertex.size());
+    space.coefficient_of_vertex[static_cast<std::size_t>(v.vertex.idx)] = own[r];
+    space.vertex.push_back(v.vertex);
+    space.coefficient_control.push_back(static_cast<std::int32_t>(r));
+    space.coefficient_level.push_back(v.level);
+  }
+  space.expansion = expand(net, own, predicted, space.vertex.size());
+  space.truncated_expansion = space.expansion;
+  space.prediction.resize(static_cast<Eigen::Index>(space.vertex.size()), static_cast<Eigen::Index>(m));
 }
 
 // The diagonal of Eᵀ K E without the product: each column's eⱼᵀ K eⱼ.
@@ -261,13 +323,14 @@ Eigen::VectorXd AdaptiveLoopSpace::truncated_coefficients(const Eigen::VectorXd&
 }
 
 Eigen::VectorXd AdaptiveLoopSpace::constant() const {
+  if (basis == LoopBasisKind::truncated_hierarchical) return Eigen::VectorXd::Ones(static_cast<Eigen::Index>(num_dofs()));
   Eigen::VectorXd one = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(num_dofs()));
   one.head(static_cast<Eigen::Index>(num_base)).setOnes();
   return one;
 }
 
 AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<Projection> projection,
-                                            const LoopQuadratureOptions& quadrature) {
+                                            const LoopQuadratureOptions& quadrature, LoopBasisKind basis) {
   if (quadrature.points_per_direction < 1 || quadrature.points_per_direction > 20 ||
       quadrature.extraordinary_depth < 0 || quadrature.extraordinary_depth > 20)
     throw std::invalid_argument(
@@ -353,6 +416,24 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
   for (int level = 0; !level_cells.empty(); ++level) {
     std::vector<Cell> next;
     for (Cell& cell : level_cells) {
+      // The domains of the truncated hierarchical basis: the cell is in Ω_level when its
+      // corners are RGB vertices, its children all in Ω_level+1 when its edges' midpoints are.
+      // A function is in a domain when every cell of its level whose patch holds it is (the
+      // cells that exist: a triangle of that level outside the tree is outside both domains,
+      // and one of its neighbours in the tree then is too).
+      {
+        const std::array<std::int32_t, 3> c{cell.vertices[0], cell.vertices[1], cell.vertices[2]};
+        bool inside = true, covered = true;
+        for (std::size_t k = 0; k < 3; ++k) {
+          inside = inside && net.vertex[static_cast<std::size_t>(c[k])].vertex.valid();
+          covered = covered && rgb_midpoint(c[k], c[(k + 1) % 3]) >= 0;
+        }
+        for (const std::int32_t w : cell.vertices) {
+          AdaptiveLoopSpace::ControlVertex& cv = net.vertex[static_cast<std::size_t>(w)];
+          cv.in_domain = cv.in_domain && inside;
+          cv.covered = cv.covered && covered;
+        }
+      }
       auto [found, fresh] = children_of.try_emplace(cell.shape);
       if (fresh)
         for (int k = 0; k < 4; ++k)
@@ -432,34 +513,10 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
     level_cells = std::move(next);
   }
 
-  // The expansions, row by row in the order found (every rule refers to earlier rows). Every
-  // control vertex is kept, those only the split cells use too: they are the chain from the
-  // base that each value comes down (ControlVertex::origin), and cost no matrix entries.
-  space.coefficient_control.assign(space.num_dofs(), -1);
-  for (std::size_t r = 0; r < net.vertex.size(); ++r) {
-    const AdaptiveLoopSpace::ControlVertex& v = net.vertex[r];
-    if (v.vertex.valid() && mesh.level(v.vertex) == v.level)
-      space.coefficient_control[static_cast<std::size_t>(
-          space.coefficient_of_vertex[static_cast<std::size_t>(v.vertex.idx)])] =
-          static_cast<std::int32_t>(r);
-  }
-  space.expansion = expand(net, space.coefficient_control, false);
-  space.truncated_expansion = expand(net, space.coefficient_control, true);
-  {
-    // The prediction of each inserted vertex: the rule of its control vertex.
-    std::vector<Eigen::Triplet<double, SparseMatrix::StorageIndex>> entries;
-    for (std::size_t i = 0; i < space.num_dofs(); ++i) {
-      if (space.coefficient_control[i] < 0)
-        throw std::logic_error("build_adaptive_loop_space: an inserted vertex without its control vertex");
-      if (i < space.num_base) continue;
-      const auto r = static_cast<std::size_t>(space.coefficient_control[i]);
-      for (std::size_t k = net.rule_start[r]; k < net.rule_start[r + 1]; ++k)
-        entries.emplace_back(static_cast<SparseMatrix::StorageIndex>(i), net.rule[k].first,
-                             net.rule[k].second);
-    }
-    space.prediction.resize(static_cast<Eigen::Index>(space.num_dofs()),
-                            static_cast<Eigen::Index>(net.vertex.size()));
-    space.prediction.setFromTriplets(entries.begin(), entries.end());
+  if (basis == LoopBasisKind::truncated_hierarchical) {
+    truncated_hierarchical_basis(net, mesh, space);
+  } else {
+    details_basis(net, mesh, space);
   }
   space.control_vertex = std::move(net.vertex);
   for (const AdaptiveLoopSpace::ControlVertex& v : space.control_vertex)

@@ -41,7 +41,29 @@
 
 namespace rgbmesh::fem {
 
+/// Which functions span the adaptive Loop space of an RGB mesh.
+enum class LoopBasisKind {
+  /// One function per RGB vertex: a base vertex's level-0 function, an inserted vertex's
+  /// function at the level it was inserted (its detail). A coarse function keeps its whole
+  /// support under every finer level, so rows grow with the depth of refinement (about 190
+  /// entries on adaptive sphere-peak).
+  details,
+  /// The truncated hierarchical basis of the domains the RGB mesh refined (THB; Giannelli,
+  /// Jüttler and Speleers 2012, for box splines Kanduč et al. 2017). Level l's domain Ω_l is
+  /// the union of the level-l triangles of the Loop hierarchy whose three corners are RGB
+  /// vertices (Ω_0 the whole surface; nested, since a midpoint is inserted only on an edge of
+  /// present corners). A level-l function (a level-l control vertex's) is active when its
+  /// support (its level-l two-ring) lies in Ω_l but not in Ω_{l+1} (Kraft's selection), and is
+  /// truncated level by level: its components at level k > l on the functions whose support
+  /// lies in Ω_k are dropped, those being the finer levels' business. The functions are as
+  /// narrow as their level, and they sum to one. Several functions may sit at one RGB vertex
+  /// (one per level where it is active), and a vertex whose two-ring the RGB mesh did not
+  /// complete at its level has none of its own.
+  truncated_hierarchical,
+};
+
 struct AdaptiveLoopSpace {
+  LoopBasisKind basis = LoopBasisKind::details;
   /// The integration cells, as the elements of a LoopSpace whose DOFs are control values at
   /// the cells' levels (the "control vertices": each level's vertices that some cell's patch
   /// uses). Errors, estimates and pictures take `cells` and control_values(u): for instance
@@ -67,15 +89,25 @@ struct AdaptiveLoopSpace {
     /// level up (Loop's vertex rule), {a, b} for the midpoint of edge ab (the edge rule);
     /// {-1, -1} at level 0.
     std::array<std::int32_t, 2> origin{-1, -1};
+    /// Its level's function has its support in Ω_level: every triangle of that level whose
+    /// patch holds it has its corners in the RGB mesh (LoopBasisKind::truncated_hierarchical).
+    bool in_domain = true;
+    /// ... and in Ω_{level + 1}: every such triangle has its edges' midpoints in the RGB mesh.
+    bool covered = true;
   };
   std::vector<ControlVertex> control_vertex;
   /// control values = expansion * coefficients (rows: control vertices; columns: coefficients).
   SparseMatrix expansion;
   std::vector<VertexHandle> vertex;  ///< coefficient -> RGB vertex (base vertices first)
-  std::size_t num_base = 0;          ///< coefficients 0 .. num_base - 1 are the base vertices' values
-  std::vector<std::int32_t> coefficient_of_vertex;  ///< vertex slot -> coefficient (-1 if none)
+  /// Coefficients 0 .. num_base - 1 are the base vertices' values (details; 0 for the
+  /// truncated hierarchical basis, whose functions are all alike).
+  std::size_t num_base = 0;
+  /// Vertex slot -> coefficient (-1 if none); with the truncated hierarchical basis, the
+  /// vertex's finest function.
+  std::vector<std::int32_t> coefficient_of_vertex;
 
-  /// The same space's truncated basis, which the solvers use: there an inserted vertex's
+  /// The same space's truncated basis, which the solvers use (with the truncated hierarchical
+  /// basis: the expansion itself, the coefficients' conversions both the identity): there an inserted vertex's
   /// control value at its level is its coefficient (rather than the value its rule predicts
   /// plus a detail), so coarser functions are cut off where finer ones take over (as truncated
   /// hierarchical B-splines are). The matrix has as many entries (the ghost control vertices
@@ -86,6 +118,9 @@ struct AdaptiveLoopSpace {
   /// values one level up (rows: coefficients, empty for base vertices; columns: control vertices).
   SparseMatrix prediction;
   std::vector<std::int32_t> coefficient_control;  ///< coefficient -> its control vertex at its level
+  /// Per coefficient, the level of its function (for the truncated hierarchical basis; for the
+  /// details, the vertex's level).
+  std::vector<int> coefficient_level;
 
   std::size_t num_dofs() const { return vertex.size(); }
   Eigen::VectorXd control_values(const Eigen::VectorXd& u) const { return expansion * u; }
@@ -120,7 +155,8 @@ Eigen::VectorXd loop_values_on(const AdaptiveLoopSpace& space, const Eigen::Vect
 /// the base).
 AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh,
                                             std::optional<Projection> projection = std::nullopt,
-                                            const LoopQuadratureOptions& quadrature = {});
+                                            const LoopQuadratureOptions& quadrature = {},
+                                            LoopBasisKind basis = LoopBasisKind::details);
 
 /// -Δu + c u = f on the surface, as solve_loop: the cells' matrices assembled on their control
 /// values (K), then the coefficients' system expansionᵀ K expansion. On a closed surface with
