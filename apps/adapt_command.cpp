@@ -168,6 +168,9 @@ Settings settle(const AdaptArgs& a, const TriangleMeshData& base) {
     if (a.processes > 1) throw InputError("--element loop: runs on one process for now");
     if (a.given.count("--estimator") && a.estimator != "residual")
       throw InputError("--estimator " + a.estimator + ": Loop elements have the residual estimator only");
+    o.loop_basis = a.loop_basis == "thb" ? fem::LoopBasisKind::truncated_hierarchical : fem::LoopBasisKind::details;
+  } else if (a.given.count("--loop-basis")) {
+    throw InputError("--loop-basis " + a.loop_basis + ": for --element loop only");
   }
   o.min_level = a.min_level;
   s.estimator = a.estimator;
@@ -374,6 +377,9 @@ PriorRun read_prior_run(const std::string& folder) {
   a.estimator = text(root, "estimator", file);
   a.order = root.find("order") ? static_cast<int>(count(root, "order", file)) : 1;  // reports before --order: P1
   a.element = root.find("element") ? text(root, "element", file) : (a.order == 2 ? "p2" : "p1");
+  a.loop_basis = root.find("loop_basis") ? text(root, "loop_basis", file) : "details";  // reports before it: details
+  if (a.loop_basis != "details" && a.loop_basis != "thb")
+    damaged(file, "loop_basis '" + a.loop_basis + "' is neither details nor thb");
   a.solver = text(root, "solver", file);
   a.geometry = text(root, "geometry", file);
   a.theta = real(root, "theta", file);
@@ -474,6 +480,7 @@ AdaptArgs resumed_args(const AdaptArgs& given, const PriorRun& p) {
         {"--estimator", given.estimator, r.estimator},
         {"--order", std::to_string(given.order), std::to_string(r.order)},
         {"--element", given.element, r.element},
+        {"--loop-basis", given.loop_basis, r.loop_basis},
         {"--min-level", std::to_string(given.min_level), std::to_string(r.min_level)},
         {"--solver", given.solver, r.solver},
         {"--geometry", given.geometry, r.geometry}})
@@ -736,6 +743,7 @@ class RunFiles {
         .add("estimator", s_.estimator)
         .add("order", a_.order)
         .add("element", a_.element)
+        .add("loop_basis", a_.loop_basis)
         .add("solver", a_.solver)
         .add("geometry", s_.geometry);
     j.raw("coarsen", exact(s_.options.coarsen_below))
@@ -869,7 +877,8 @@ int run_adapt(const AdaptArgs& args) {
   std::cout << "rgbmesh adapt: problem " << s.problem << ", " << a.strategy
             << (s.options.strategy == adapt::Strategy::adaptive ? " (" + s.marking + ")" : std::string())
             << ", geometry " << s.geometry
-            << (a.element == "loop" ? ", Loop elements"
+            << (a.element == "loop" ? (a.loop_basis == "thb" ? ", Loop elements (truncated hierarchical basis)"
+                                                             : ", Loop elements")
                 : a.order == 2      ? ", P2 elements"
                                     : "")
             << ", mesh " << s.mesh_name
@@ -989,6 +998,12 @@ void AdaptCommand::add(CLI::App& tool, CompressionOption& compression) {
          "the Loop limit surface, whose boundary rounds off corners of open meshes; Dirichlet data imposed "
          "weakly; one process)")
       ->check(CLI::IsMember({"p1", "p2", "loop"}));
+  app->add_option("--loop-basis", args.loop_basis,
+                  "with --element loop: details (one unknown per vertex, a coarse function whole under finer "
+                  "levels) or thb (truncated hierarchical: functions as narrow as their level, matrix rows as the "
+                  "uniform space's; unknowns where the mesh holds a function's two-ring)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"details", "thb"}));
   app->add_option(
          "--coarsen", args.coarsen,
          "Remove vertices whose largest indicator over their star is below this times the refinement "
@@ -1049,7 +1064,7 @@ void AdaptCommand::add(CLI::App& tool, CompressionOption& compression) {
 void AdaptCommand::settle_given() {
   for (const char* name :
        {"--mesh",     "--problem", "--strategy",  "--marking", "--theta", "--estimator",    "--order",
-        "--element",  "--coarsen", "--min-level", "--cycles",  "--steps", "--target-error", "--max-dofs",
+        "--element",  "--loop-basis", "--coarsen", "--min-level", "--cycles",  "--steps", "--target-error", "--max-dofs",
         "--geometry", "--center",  "--width",     "--solver",  "--out",   "--triangulate",  "--repair",
         "--sharp-angle"}) {
     if (app->count(name) > 0) args.given.insert(name);

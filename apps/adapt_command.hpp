@@ -30,6 +30,7 @@ struct AdaptArgs {
   std::string estimator = "residual";  // residual, zz
   int order = 1;                       // finite elements: 1 (P1) or 2 (P2)
   std::string element;                 // p1, p2, loop; empty: P1 or P2 by --order
+  std::string loop_basis = "details";  // Loop elements: details, thb (truncated hierarchical)
   std::string geometry;                // loop, sphere; empty: sphere for the sphere problems
   std::string solver = "auto";
   double theta = 0.5;

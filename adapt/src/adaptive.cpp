@@ -86,28 +86,38 @@ void count_over_parts(SolvedCycle& c, const RgbMesh& mesh, const AdaptOptions& o
   c.report.dofs = options.order == 2 ? c.vertices + c.edges : c.vertices;
 }
 
+// Whether a mesh's unknowns are known only when its cycle is solved: a distributed mesh's once
+// its parts are decided, the truncated hierarchical Loop basis's once its space is built (its
+// functions are not the vertices). Such runs stop at the solve that would pass max_dofs.
+bool unknowns_known_at_solve(const AdaptOptions& options) {
+  return options.distribution.distributed_mesh ||
+         (options.element == AdaptOptions::Element::loop &&
+          options.loop_basis == fem::LoopBasisKind::truncated_hierarchical);
+}
+
 // A cycle with Loop elements: the solve on the Loop space; what the cycle keeps (the P1 mesh
 // of the limit positions, the values there, the indicators per triangle) as for P1.
 SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
-                             ErrorsWanted errors) {
+                             ErrorsWanted errors, bool check_max_dofs) {
   SolvedCycle c;
   const auto t_mesh = std::chrono::steady_clock::now();
   c.fe = fem::build_surface_mesh(mesh, options.projection, 1);
   // The hierarchical space of the RGB mesh (on a uniform mesh, build_loop_space's space in
   // another basis): its cells are integrated, its coefficients solved for.
-  const fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh, options.projection);
+  const fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh, options.projection, {}, options.loop_basis);
   c.report.mesh_seconds = seconds_since(t_mesh);
+  if (check_max_dofs && space.num_dofs() > options.max_dofs) {
+    c.over_max_dofs = true;
+    c.report.dofs = space.num_dofs();
+    return c;
+  }
   if (options.control.interruption_point) options.control.interruption_point();
   Eigen::VectorXd energies;
   const fem::Solution loop = fem::solve_loop(space, problem, options.solve, energies);
   if (options.control.interruption_point) options.control.interruption_point();
   const Eigen::VectorXd control = space.control_values(loop.u);
-  for (const VertexHandle v : c.fe.vertex) {
-    const std::int32_t i = space.coefficient_of_vertex[static_cast<std::size_t>(v.idx)];
-    c.removal_cost.push_back(static_cast<std::size_t>(i) < space.num_base
-                                 ? std::numeric_limits<double>::infinity()
-                                 : std::abs(loop.u(i)) * std::sqrt(std::max(energies(i), 0.0)));
-  }
+  const std::vector<double> removal_cost = fem::loop_removal_costs(space, mesh, loop.u, energies);
+  for (const VertexHandle v : c.fe.vertex) c.removal_cost.push_back(removal_cost[static_cast<std::size_t>(v.idx)]);
   c.solution = loop;
   c.solution.u = fem::loop_values_on(space, loop.u, c.fe);
   int levels = options.loop_view_levels;
@@ -148,7 +158,7 @@ SolvedCycle solve_and_estimate_now(RgbMesh& mesh, const fem::Problem& problem, c
       mesh.live_fraction() < options.compact_below)
     mesh.compact();
   if (options.element == AdaptOptions::Element::loop) {
-    SolvedCycle loop = solve_loop_cycle(mesh, problem, options, errors);
+    SolvedCycle loop = solve_loop_cycle(mesh, problem, options, errors, check_max_dofs && unknowns_known_at_solve(options));
     loop.report.mesh_bytes = mesh.memory_bytes();
     return loop;
   }
@@ -496,7 +506,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
     }
     SolvedCycle c = solve_and_estimate(mesh, problem, options, transfer,
                                        cycle > std::max(0, options.control.first_cycle - 1));
-    if (c.over_max_dofs) {  // a distributed mesh knows its size once its parts are decided
+    if (c.over_max_dofs) {  // known at the solve (unknowns_known_at_solve)
       run.stopped = StopReason::max_dofs;
       break;
     }
@@ -537,7 +547,7 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
       run.stopped = StopReason::memory;
       break;
     }
-    if (!options.distribution.distributed_mesh && unknowns(mesh, options.order) > options.max_dofs) {
+    if (!unknowns_known_at_solve(options) && unknowns(mesh, options.order) > options.max_dofs) {
       run.stopped = StopReason::max_dofs;
       break;
     }

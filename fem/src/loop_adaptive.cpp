@@ -159,6 +159,41 @@ SparseMatrix expand(const ControlNet& net, const std::vector<std::int32_t>& own,
       row_start.data(), columns.data(), values.data());
 }
 
+// The cells of the truncated hierarchical basis from the full tree (whose splits decided the
+// domains): the nodes in `whole` become cells, their subtrees dropped. The tree is renumbered
+// breadth first from the base triangles (nodes 0 .. T0 - 1 stay theirs), so that the cells
+// stay in order of level, as the full tree's leaves are.
+void integrate_whole(AdaptiveLoopSpace& space, std::size_t roots, std::vector<std::int32_t>& whole,
+                     std::vector<Cell>& kept, const std::vector<int>& kept_level, std::vector<Cell>& leaves,
+                     std::vector<int>& leaf_level) {
+  whole.resize(space.tree.size(), -1);
+  const std::vector<AdaptiveLoopSpace::Node> full = std::move(space.tree);
+  std::vector<Cell> full_leaves = std::move(leaves);
+  const std::vector<int> full_level = std::move(leaf_level);
+  const std::vector<std::array<VertexHandle, 3>> full_anchors = std::move(space.anchors);
+  leaves.clear(), leaf_level.clear(), space.anchors.clear();
+  std::vector<std::int32_t> queue;  // the full tree's node of each new node
+  for (std::size_t r = 0; r < roots; ++r) queue.push_back(static_cast<std::int32_t>(r));
+  space.tree.assign(roots, {});
+  for (std::size_t at = 0; at < queue.size(); ++at) {
+    const auto old = static_cast<std::size_t>(queue[at]);
+    const bool is_whole = whole[old] >= 0;
+    if (is_whole || full[old].cell >= 0) {
+      const auto k = static_cast<std::size_t>(is_whole ? whole[old] : full[old].cell);
+      space.tree[at].cell = static_cast<std::int32_t>(leaves.size());
+      Cell c = std::move(is_whole ? kept[k] : full_leaves[k]);
+      c.node = static_cast<std::int32_t>(at);
+      space.anchors.push_back(is_whole ? c.anchors : full_anchors[k]);
+      leaves.push_back(std::move(c));
+      leaf_level.push_back(is_whole ? kept_level[k] : full_level[k]);
+    } else {
+      space.tree[at].first_child = static_cast<std::int32_t>(space.tree.size());
+      for (std::int32_t k = 0; k < 4; ++k) queue.push_back(full[old].first_child + k);
+      space.tree.resize(space.tree.size() + 4);
+    }
+  }
+}
+
 // The details' basis (LoopBasisKind::details) on the coefficients numbered by the caller. Every
 // control vertex is kept, those only the split cells use too: they are the chain from the base
 // that each value comes down (ControlVertex::origin), and cost no matrix entries.
@@ -223,9 +258,24 @@ void truncated_hierarchical_basis(const ControlNet& net, const RgbMesh& mesh, Ad
     space.coefficient_control.push_back(static_cast<std::int32_t>(r));
     space.coefficient_level.push_back(v.level);
   }
-  space.expansion = expand(net, own, predicted, space.vertex.size());
+  const std::size_t n = space.vertex.size();
+  space.expansion = expand(net, own, predicted, n);
   space.truncated_expansion = space.expansion;
-  space.prediction.resize(static_cast<Eigen::Index>(space.vertex.size()), static_cast<Eigen::Index>(m));
+  // The hierarchical (untruncated) view of the same functions, for the details that coarsening
+  // weighs: a THB coefficient is the value, at its control vertex, of the untruncated sum of the
+  // functions of its level and coarser (THB's preservation of coefficients), so the sums'
+  // control values take the coefficients where functions are and their rules elsewhere, and a
+  // function's detail is its coefficient less its rule's prediction from the level above.
+  for (std::size_t r = 0; r < m; ++r) predicted[r] = own[r] < 0;
+  space.accumulated = expand(net, own, predicted, n);
+  std::vector<Eigen::Triplet<double, SparseMatrix::StorageIndex>> entries;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto r = static_cast<std::size_t>(space.coefficient_control[i]);
+    for (std::size_t k = net.rule_start[r]; k < net.rule_start[r + 1]; ++k)
+      entries.emplace_back(static_cast<SparseMatrix::StorageIndex>(i), net.rule[k].first, net.rule[k].second);
+  }
+  space.prediction.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(m));
+  space.prediction.setFromTriplets(entries.begin(), entries.end());
 }
 
 // The diagonal of Eᵀ K E without the product: each column's eⱼᵀ K eⱼ.
@@ -311,10 +361,20 @@ std::vector<LoopSpace::Seam> seams_of(const AdaptiveLoopSpace& space, const RgbM
 }  // namespace
 
 Eigen::VectorXd AdaptiveLoopSpace::hierarchical_coefficients(const Eigen::VectorXd& truncated) const {
-  return truncated - prediction * (truncated_expansion * truncated);
+  const SparseMatrix& values = basis == LoopBasisKind::truncated_hierarchical ? accumulated : truncated_expansion;
+  return truncated - prediction * (values * truncated);
 }
 
 Eigen::VectorXd AdaptiveLoopSpace::truncated_coefficients(const Eigen::VectorXd& hierarchical) const {
+  if (basis == LoopBasisKind::truncated_hierarchical) {
+    // c = a + prediction (accumulated c): a function's prediction reads only coarser levels'
+    // functions, so one pass per level makes it exact.
+    int deepest = 0;
+    for (const int l : coefficient_level) deepest = std::max(deepest, l);
+    Eigen::VectorXd c = hierarchical;
+    for (int pass = 0; pass < deepest; ++pass) c = hierarchical + prediction * (accumulated * c);
+    return c;
+  }
   const Eigen::VectorXd control = expansion * hierarchical;
   Eigen::VectorXd out(hierarchical.size());
   for (Eigen::Index i = 0; i < out.size(); ++i)
@@ -404,6 +464,11 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
   // at the child's level; otherwise it is an integration cell.
   std::vector<Cell> leaves;
   std::vector<int> leaf_level;
+  // Split nodes that the truncated hierarchical basis integrates whole: per node, its index in
+  // `kept` (-1: none).
+  std::vector<std::int32_t> whole;
+  std::vector<Cell> kept;
+  std::vector<int> kept_level;
   const auto rgb_midpoint = [&](std::int32_t a, std::int32_t b) -> std::int32_t {
     const VertexHandle va = net.vertex[static_cast<std::size_t>(a)].vertex,
                        vb = net.vertex[static_cast<std::size_t>(b)].vertex;
@@ -465,6 +530,7 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
       }
       space.tree[static_cast<std::size_t>(cell.node)].first_child =
           static_cast<std::int32_t>(space.tree.size());
+      bool child_in_domain = false;  // for the truncated hierarchical basis's cells
       for (const auto& kid : kids) {
         Cell child;
         child.shape = &kid->patch;
@@ -507,11 +573,24 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
           child.vertices[i] = cv;
         }
         child.anchors = anchors_of(child.vertices, net, cell.anchors);
+        child_in_domain = child_in_domain || (net.vertex[static_cast<std::size_t>(child.vertices[0])].vertex.valid() &&
+                                              net.vertex[static_cast<std::size_t>(child.vertices[1])].vertex.valid() &&
+                                              net.vertex[static_cast<std::size_t>(child.vertices[2])].vertex.valid());
         next.push_back(std::move(child));
+      }
+      if (basis == LoopBasisKind::truncated_hierarchical && irregular < 2 && !child_in_domain) {
+        // No child in Ω_level+1: no finer function reaches the cell, and the truncated
+        // hierarchical basis integrates it whole (the split above still decides the domains).
+        whole.resize(space.tree.size(), -1);
+        whole[static_cast<std::size_t>(cell.node)] = static_cast<std::int32_t>(kept.size());
+        kept.push_back(std::move(cell));
+        kept_level.push_back(level);
       }
     }
     level_cells = std::move(next);
   }
+  if (!kept.empty())
+    integrate_whole(space, mesh.base_triangles().size(), whole, kept, kept_level, leaves, leaf_level);
 
   if (basis == LoopBasisKind::truncated_hierarchical) {
     truncated_hierarchical_basis(net, mesh, space);
@@ -662,7 +741,8 @@ Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, cons
   s.seconds += seconds_since(t0);
   SolveOptions truncated_options = options;
   Eigen::VectorXd guess;
-  if (options.initial_guess != nullptr &&
+  const bool details = space.basis == LoopBasisKind::details;
+  if (details && options.initial_guess != nullptr &&
       options.initial_guess->size() == static_cast<Eigen::Index>(space.num_dofs())) {
     guess = space.truncated_coefficients(*options.initial_guess);
     truncated_options.initial_guess = &guess;
@@ -672,8 +752,52 @@ Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, cons
                                                     "LoopNitscheOptions::penalty, 4 by default")
                      : detail::solve_closed_loop_system(s, problem, truncated_options,
                                                         Eigen::VectorXd::Ones(s.a.rows()));
-  sol.u = space.hierarchical_coefficients(sol.u);
+  if (details) sol.u = space.hierarchical_coefficients(sol.u);
   return sol;
+}
+
+std::vector<double> loop_removal_costs(const AdaptiveLoopSpace& space, const RgbMesh& mesh, const Eigen::VectorXd& u,
+                                       const Eigen::VectorXd& energies) {
+  const auto n = static_cast<Eigen::Index>(space.num_dofs());
+  if (u.size() != n || energies.size() != n ||
+      space.coefficient_of_vertex.size() != static_cast<std::size_t>(mesh.vertex_slots()))
+    throw std::invalid_argument("loop_removal_costs: coefficients of another space or mesh");
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> cost(static_cast<std::size_t>(mesh.vertex_slots()), 0.0);
+  const auto weighed = [&](const Eigen::VectorXd& detail, Eigen::Index i) {
+    return std::abs(detail(i)) * std::sqrt(std::max(energies(i), 0.0));
+  };
+  if (space.basis == LoopBasisKind::details) {
+    for (const VertexHandle v : mesh.vertices()) {
+      const std::int32_t i = space.coefficient_of_vertex[static_cast<std::size_t>(v.idx)];
+      if (i < 0) throw std::invalid_argument("loop_removal_costs: a vertex the space does not know");
+      cost[static_cast<std::size_t>(v.idx)] = static_cast<std::size_t>(i) < space.num_base ? inf : weighed(u, i);
+    }
+    return cost;
+  }
+  const Eigen::VectorXd detail = space.hierarchical_coefficients(u);
+  // Per vertex slot, the largest of its functions' weighed details, -1 where it has none.
+  std::vector<double> own(cost.size(), -1.0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double& at = own[static_cast<std::size_t>(space.vertex[static_cast<std::size_t>(i)].idx)];
+    at = std::max(at, weighed(detail, i));
+  }
+  VertexStar star;
+  for (const VertexHandle v : mesh.vertices()) {
+    const auto slot = static_cast<std::size_t>(v.idx);
+    if (mesh.level(v) == 0) {
+      cost[slot] = inf;
+    } else if (own[slot] >= 0) {
+      cost[slot] = own[slot];
+    } else {
+      mesh.star(v, star);
+      double most = 0;
+      for (const VertexHandle w : star.neighbors)
+        if (mesh.level(w) >= mesh.level(v)) most = std::max(most, own[static_cast<std::size_t>(w.idx)]);
+      cost[slot] = most;
+    }
+  }
+  return cost;
 }
 
 }  // namespace rgbmesh::fem

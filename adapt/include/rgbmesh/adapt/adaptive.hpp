@@ -14,6 +14,7 @@
 #include "rgbmesh/adapt/marking.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/fem/estimators.hpp"
+#include "rgbmesh/fem/loop_basis_kind.hpp"
 #include "rgbmesh/fem/solver.hpp"
 #include "rgbmesh/mesh.hpp"
 #include "rgbmesh/refinement.hpp"
@@ -149,6 +150,9 @@ struct AdaptOptions {
   /// vertices of marked triangles. On one process, on a closed mesh, not in run_dynamic
   /// (InputError otherwise).
   enum class Element { lagrange, loop } element = Element::lagrange;
+  /// Loop elements: the basis of the space (fem::LoopBasisKind). The truncated hierarchical
+  /// basis has rows as narrow as the uniform space's; the details have one unknown per vertex.
+  fem::LoopBasisKind loop_basis = fem::LoopBasisKind::details;
   /// Loop elements: also a picture of each cycle's solution finer than the mesh
   /// (fem::loop_refined_view with this many levels, CycleState::loop_view); 0 for none. Reduced
   /// on large meshes to stay within 3·10^6 pieces.

@@ -37,30 +37,10 @@
 #include <optional>
 #include <vector>
 
+#include "rgbmesh/fem/loop_basis_kind.hpp"
 #include "rgbmesh/fem/loop_elements.hpp"
 
 namespace rgbmesh::fem {
-
-/// Which functions span the adaptive Loop space of an RGB mesh.
-enum class LoopBasisKind {
-  /// One function per RGB vertex: a base vertex's level-0 function, an inserted vertex's
-  /// function at the level it was inserted (its detail). A coarse function keeps its whole
-  /// support under every finer level, so rows grow with the depth of refinement (about 190
-  /// entries on adaptive sphere-peak).
-  details,
-  /// The truncated hierarchical basis of the domains the RGB mesh refined (THB; Giannelli,
-  /// Jüttler and Speleers 2012, for box splines Kanduč et al. 2017). Level l's domain Ω_l is
-  /// the union of the level-l triangles of the Loop hierarchy whose three corners are RGB
-  /// vertices (Ω_0 the whole surface; nested, since a midpoint is inserted only on an edge of
-  /// present corners). A level-l function (a level-l control vertex's) is active when its
-  /// support (its level-l two-ring) lies in Ω_l but not in Ω_{l+1} (Kraft's selection), and is
-  /// truncated level by level: its components at level k > l on the functions whose support
-  /// lies in Ω_k are dropped, those being the finer levels' business. The functions are as
-  /// narrow as their level, and they sum to one. Several functions may sit at one RGB vertex
-  /// (one per level where it is active), and a vertex whose two-ring the RGB mesh did not
-  /// complete at its level has none of its own.
-  truncated_hierarchical,
-};
 
 struct AdaptiveLoopSpace {
   LoopBasisKind basis = LoopBasisKind::details;
@@ -117,6 +97,10 @@ struct AdaptiveLoopSpace {
   /// Per inserted vertex's coefficient, the rule that predicts its value from the control
   /// values one level up (rows: coefficients, empty for base vertices; columns: control vertices).
   SparseMatrix prediction;
+  /// With the truncated hierarchical basis: the control values of the untruncated sums of the
+  /// functions level by level (a coefficient at its own control vertex, the rules elsewhere),
+  /// from which `prediction` gives each function's detail (hierarchical_coefficients).
+  SparseMatrix accumulated;
   std::vector<std::int32_t> coefficient_control;  ///< coefficient -> its control vertex at its level
   /// Per coefficient, the level of its function (for the truncated hierarchical basis; for the
   /// details, the vertex's level).
@@ -124,7 +108,9 @@ struct AdaptiveLoopSpace {
 
   std::size_t num_dofs() const { return vertex.size(); }
   Eigen::VectorXd control_values(const Eigen::VectorXd& u) const { return expansion * u; }
-  /// Hierarchical coefficients (details) from truncated ones (values), and back: the same function.
+  /// Hierarchical coefficients (details) from truncated ones (values), and back: the same
+  /// function. With the truncated hierarchical basis, its coefficients and the details of the
+  /// hierarchical (untruncated) basis of the same functions.
   Eigen::VectorXd hierarchical_coefficients(const Eigen::VectorXd& truncated) const;
   Eigen::VectorXd truncated_coefficients(const Eigen::VectorXd& hierarchical) const;
   /// The coefficients of the function 1 (the base vertices' functions sum to one).
@@ -159,7 +145,8 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh,
                                             LoopBasisKind basis = LoopBasisKind::details);
 
 /// -Δu + c u = f on the surface, as solve_loop: the cells' matrices assembled on their control
-/// values (K), then the coefficients' system expansionᵀ K expansion. On a closed surface with
+/// values (K), then the coefficients' system expansionᵀ K expansion (the details' in their
+/// truncated basis, the result converted back; the truncated hierarchical basis in itself). On a closed surface with
 /// c = 0, the zero-mean solution; on a surface with a boundary, u = g there by Nitsche's
 /// method, except on the Neumann sides (as solve_loop on a LoopSpace). The result's `u` holds
 /// the coefficients.
@@ -169,8 +156,18 @@ Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, cons
 /// The same, also returning the energy of each coefficient's function, a(φ_i, φ_i) (the
 /// diagonal of the coefficients' matrix): |u_i| sqrt(a(φ_i, φ_i)) is what dropping a detail
 /// costs in the energy norm, to first order, which is how adaptive runs choose the vertices
-/// to remove.
+/// to remove. (With the truncated hierarchical basis, the truncated functions' energies.)
 Solution solve_loop(const AdaptiveLoopSpace& space, const Problem& problem, const SolveOptions& options,
                     Eigen::VectorXd& energies, const LoopNitscheOptions& nitsche = {});
+
+/// What removing each RGB vertex would cost the solution u (coefficients of `space`), to first
+/// order in the energy norm, from the energies solve_loop returned: per vertex slot, a base
+/// vertex's infinite. Details: the vertex's |detail| sqrt(a(φ, φ)). Truncated hierarchical: the
+/// largest of the details of its functions (hierarchical_coefficients) times their energies'
+/// roots; a vertex with no function of its own (its two-ring incomplete at its level), whose
+/// removal takes its neighbours' functions of its level and finer away from the domain, the
+/// largest of theirs.
+std::vector<double> loop_removal_costs(const AdaptiveLoopSpace& space, const RgbMesh& mesh, const Eigen::VectorXd& u,
+                                       const Eigen::VectorXd& energies);
 
 }  // namespace rgbmesh::fem
