@@ -101,6 +101,12 @@ struct AdaptiveLoopSpace {
   /// functions level by level (a coefficient at its own control vertex, the rules elsewhere),
   /// from which `prediction` gives each function's detail (hierarchical_coefficients).
   SparseMatrix accumulated;
+  /// With the truncated hierarchical basis: active functions left out because they depend on
+  /// the others (which span the same space); see dependent_columns in loop_adaptive.cpp.
+  std::size_t dependent_left_out = 0;
+  /// With the truncated hierarchical basis: the coefficients of the function 1 (all ones, unless
+  /// dependent functions were left out); constant() returns them.
+  Eigen::VectorXd constant_coefficients;
   std::vector<std::int32_t> coefficient_control;  ///< coefficient -> its control vertex at its level
   /// Per coefficient, the level of its function (for the truncated hierarchical basis; for the
   /// details, the vertex's level).
