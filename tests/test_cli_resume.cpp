@@ -110,7 +110,7 @@ TEST_F(Resume, AMaxDofsStopExtendsWithMoreUnknowns) {
   EXPECT_EQ(report_of(part).find("max_dofs")->number, 1500);
 }
 
-// With P1 and with Loop elements (whose steps also write the smooth picture).
+// With P1 and with Loop elements (whose steps also write the smooth picture), in both bases.
 class MovingResume : public Resume, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(MovingResume, AMovingPeakRunResumedRepeatsTheUninterruptedRun) {
@@ -147,9 +147,13 @@ TEST_P(MovingResume, AMovingPeakRunResumedRepeatsTheUninterruptedRun) {
   EXPECT_EQ(lines(more.err), 1) << more.err;
 }
 
-INSTANTIATE_TEST_SUITE_P(Resume, MovingResume, ::testing::Values("", " --element loop"),
+INSTANTIATE_TEST_SUITE_P(Resume, MovingResume,
+                         ::testing::Values("", " --element loop", " --element loop --loop-basis thb"),
                          [](const ::testing::TestParamInfo<const char*>& p) {
-                           return std::string(*p.param == '\0' ? "P1" : "Loop");
+                           const std::string args = p.param;
+                           return std::string(args.empty()                             ? "P1"
+                                              : args.find("thb") != std::string::npos ? "LoopThb"
+                                                                                       : "Loop");
                          });
 
 TEST_F(Resume, ConflictingOptionsAndDamagedFoldersAreRefused) {

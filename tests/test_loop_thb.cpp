@@ -301,6 +301,49 @@ TEST(TruncatedHierarchicalLoop, DependentFunctionsNearHighValenceAreLeftOut) {
   EXPECT_GT(left_out, 0u);
 }
 
+// THB keeps coefficients: the function whose control values at every level are the control
+// points' x coordinates has, as its coefficients, each function's control point's x. Loop's
+// rules reproduce linear functions, so its values at the RGB vertices (loop_values_on, which
+// reads them at the cells' corners and, where a cell is integrated whole, at its sides'
+// midpoints) are the x coordinates of their limit positions.
+TEST(TruncatedHierarchicalLoop, ReproducesTheCoordinatesAtTheVertices) {
+  // Graded meshes, and a level-2 mesh with single edges split (red triangles: RGB vertices
+  // inside cells that the basis integrates whole).
+  std::vector<std::pair<std::string, RgbMesh>> meshes;
+  for (const testing::BaseMesh& base : {testing::icosahedron(), testing::torus(6, 8), testing::fan_disk(6)})
+    meshes.emplace_back(base.name, graded(base, 1, 4, 0.5));
+  RgbMesh split = testing::icosahedron().build();
+  selective_refinement(split, UniformLevel(2));
+  std::vector<EdgeHandle> edges(split.edges().begin(), split.edges().end());
+  for (std::size_t k = 0; k < edges.size(); k += 23)
+    if (split.alive(edges[k])) split.split_edge(edges[k]);
+  meshes.emplace_back("icosahedron with single splits", std::move(split));
+  std::size_t inside_whole_cells = 0;
+  for (auto& [name, mesh] : meshes) {
+    const fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh, std::nullopt, {}, kThb);
+    ASSERT_EQ(space.dependent_left_out, 0u);
+    std::set<std::int32_t> corners;
+    for (const auto& cell : space.cells.elements)
+      for (std::size_t k = 0; k < 3; ++k)
+        if (space.control_vertex[static_cast<std::size_t>(cell.dofs[k])].vertex.valid())
+          corners.insert(space.control_vertex[static_cast<std::size_t>(cell.dofs[k])].vertex.idx);
+    inside_whole_cells += mesh.num_vertices() - corners.size();
+    Eigen::VectorXd x(static_cast<Eigen::Index>(space.num_dofs()));
+    for (std::size_t i = 0; i < space.num_dofs(); ++i)
+      x(static_cast<Eigen::Index>(i)) = space.cells.control[static_cast<std::size_t>(space.coefficient_control[i])].x;
+    const fem::SurfaceMesh p1 = fem::build_surface_mesh(mesh, std::nullopt, 1);
+    const Eigen::VectorXd values = fem::loop_values_on(space, x, p1);
+    mesh.compute_limits();
+    double worst = 0;
+    for (std::size_t i = 0; i < p1.vertex.size(); ++i)
+      worst = std::max(worst, std::abs(values(static_cast<Eigen::Index>(i)) - mesh.limit_position(p1.vertex[i]).x));
+    std::printf("  %s: %zu vertices (%zu at no cell's corner), worst |value - limit x| %.1e\n", name.c_str(),
+                p1.vertex.size(), mesh.num_vertices() - corners.size(), worst);
+    EXPECT_LT(worst, 1e-12) << name;
+  }
+  EXPECT_GT(inside_whole_cells, 0u);
+}
+
 // On a uniformly refined mesh every level-L vertex has one function, of level L, whose control
 // values are its own unit vector: the uniform space in its own basis, and the same solution as
 // build_loop_space's (up to the two rules' different quadrature points, as for the details).

@@ -557,9 +557,11 @@ AdaptRun run_cycles(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptio
 
 AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& problem_at,
                      const AdaptOptions& options, const DynamicOptions& dynamic, const CycleCallback& on_step) {
-  // A distributed mesh knows its size when a cycle is solved (its parts decided): a step
-  // whose mesh would pass max_dofs stops the run at its solve instead of after its adaptation.
+  // A distributed mesh knows its size when a cycle is solved (its parts decided), and so does
+  // the truncated hierarchical Loop basis (unknowns_known_at_solve): a step whose mesh would
+  // pass max_dofs stops the run at its solve instead of after its adaptation.
   const bool distributed = options.distribution.distributed_mesh;
+  const bool counted_at_solve = unknowns_known_at_solve(options);
   refine_to_floor(mesh, options);
   AdaptRun run;
   const bool resuming = dynamic.first_step > 0;
@@ -575,7 +577,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
       start.marking = start.marking->before_target();
     AdaptRun started = run_cycles(mesh, problem_at(0.0), start);
     run.start = std::move(started.cycles);
-    const bool over = distributed ? options.strategy != Strategy::uniform
+    const bool over = counted_at_solve ? options.strategy != Strategy::uniform
                                   : unknowns(mesh, options.order) > options.max_dofs;
     if ((started.stopped == StopReason::max_dofs && over) || started.stopped == StopReason::memory) {
       run.stopped = started.stopped;  // even the start needs more than max_dofs, or the memory
@@ -589,7 +591,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
       run.stopped = StopReason::memory;
       return true;
     }
-    if (!distributed && unknowns(mesh, options.order) > options.max_dofs) {
+    if (!counted_at_solve && unknowns(mesh, options.order) > options.max_dofs) {
       run.stopped = StopReason::max_dofs;
       return true;
     }
@@ -604,7 +606,7 @@ AdaptRun run_dynamic(RgbMesh& mesh, const std::function<fem::Problem(double)>& p
   // A solve; false (the run stopped) where a distributed mesh turns out to pass max_dofs.
   const auto solve = [&](const fem::Problem& problem, const AdaptOptions& with, SolvedCycle& c,
                          ErrorsWanted errors) {
-    c = solve_and_estimate(mesh, problem, with, transfer, distributed, errors);
+    c = solve_and_estimate(mesh, problem, with, transfer, counted_at_solve, errors);
     if (!c.over_max_dofs) return true;
     run.stopped = StopReason::max_dofs;
     return false;

@@ -853,6 +853,33 @@ Eigen::VectorXd loop_values_on(const AdaptiveLoopSpace& space, const Eigen::Vect
       by_slot[static_cast<std::size_t>(v.idx)] = sum;
     }
   }
+  // The truncated hierarchical basis integrates some cells whole over RGB vertices of the next
+  // level: those are midpoints of the cells' sides (a deeper one would have made a child of the
+  // cell part of the next domain), evaluated there.
+  bool missing = false;
+  for (const VertexHandle v : p1.vertex)
+    missing = missing || (static_cast<std::size_t>(v.idx) < by_slot.size() && std::isnan(by_slot[static_cast<std::size_t>(v.idx)]));
+  if (missing) {
+    std::unordered_map<std::uint64_t, std::int32_t> midpoint_of;  // control vertices' edge -> its midpoint
+    for (std::size_t r = 0; r < space.control_vertex.size(); ++r) {
+      const auto& o = space.control_vertex[r].origin;
+      if (o[1] >= 0) midpoint_of.emplace(detail::edge_key(o[0], o[1]), static_cast<std::int32_t>(r));
+    }
+    constexpr std::array<std::array<double, 2>, 3> at{{{0.5, 0.0}, {0.5, 0.5}, {0.0, 0.5}}};
+    for (const LoopSpace::Element& cell : space.cells.elements) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        const auto it = midpoint_of.find(detail::edge_key(cell.dofs[k], cell.dofs[(k + 1) % 3]));
+        if (it == midpoint_of.end()) continue;
+        const VertexHandle v = space.control_vertex[static_cast<std::size_t>(it->second)].vertex;
+        if (!v.valid() || !std::isnan(by_slot[static_cast<std::size_t>(v.idx)])) continue;
+        const Eigen::VectorXd w = evaluate_loop_basis(cell.rule->patch, at[k][0], at[k][1]).value;
+        double sum = 0;
+        for (std::size_t i = 0; i < cell.dofs.size(); ++i)
+          sum += w(static_cast<Eigen::Index>(i)) * control(cell.dofs[i]);
+        by_slot[static_cast<std::size_t>(v.idx)] = sum;
+      }
+    }
+  }
   Eigen::VectorXd out(static_cast<Eigen::Index>(p1.vertex.size()));
   for (std::size_t i = 0; i < p1.vertex.size(); ++i) {
     const auto slot = static_cast<std::size_t>(p1.vertex[i].idx);

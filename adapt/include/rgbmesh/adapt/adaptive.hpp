@@ -141,17 +141,18 @@ struct AdaptOptions {
   /// adaptation (SolutionTransfer) as the next solve's initial guess, and writes each cycle's
   /// solution at the vertices (quadratic_snapshot: every node).
   int order = 1;
-  /// lagrange: P1 or P2 by `order`. loop: Loop-basis elements in the hierarchical basis of the
-  /// RGB mesh (fem/loop_adaptive.hpp), one unknown per vertex (order 1), each cycle's solution
+  /// lagrange: P1 or P2 by `order`. loop: Loop-basis elements in the hierarchical space of the
+  /// RGB mesh (fem/loop_adaptive.hpp) in the basis `loop_basis` (order 1), each cycle's solution
   /// written as its values at the limit positions and estimated by fem::loop_residual_estimate
   /// per cell, the indicators moved onto the RGB triangles for marking
   /// (fem::loop_indicators_on_triangles); coarsening compares what removing a vertex's detail
-  /// costs, |u_i| sqrt(a(φ_i, φ_i)), instead of the indicators around it, and keeps the
-  /// vertices of marked triangles. On one process, on a closed mesh, not in run_dynamic
-  /// (InputError otherwise).
+  /// costs (fem::loop_removal_costs) instead of the indicators around it, and keeps the
+  /// vertices of marked triangles. On one process.
   enum class Element { lagrange, loop } element = Element::lagrange;
   /// Loop elements: the basis of the space (fem::LoopBasisKind). The truncated hierarchical
-  /// basis has rows as narrow as the uniform space's; the details have one unknown per vertex.
+  /// basis has rows as narrow as the uniform space's and its unknowns are counted when its space
+  /// is built (a run stops at the solve that would pass max_dofs); the details have one unknown
+  /// per vertex.
   fem::LoopBasisKind loop_basis = fem::LoopBasisKind::details;
   /// Loop elements: also a picture of each cycle's solution finer than the mesh
   /// (fem::loop_refined_view with this many levels, CycleState::loop_view); 0 for none. Reduced
