@@ -197,8 +197,15 @@ adapt::SolvedMesh levels_of(const RgbMesh& mesh, const fem::SurfaceMesh& fe) {
 // Loop-basis elements: the unknowns are control values; the Solution keeps what the other
 // elements' have, on the P1 mesh of the limit positions: the values there, one indicator per
 // triangle.
+// The basis of Loop elements by its name ('details' or 'thb').
+fem::LoopBasisKind loop_basis_named(const std::string& name) {
+  static const std::vector<Named<fem::LoopBasisKind>> bases = {
+      {"details", fem::LoopBasisKind::details}, {"thb", fem::LoopBasisKind::truncated_hierarchical}};
+  return named_row(bases, name, "loop_basis").value;
+}
+
 std::shared_ptr<Solution> solve_loop_elements(RgbMesh& mesh, const PyProblem& p, const Setup& setup,
-                                              const std::string& estimator) {
+                                              const std::string& estimator, fem::LoopBasisKind basis) {
   if (estimator != "residual")
     throw InputError("estimator '" + estimator + "': Loop elements have the residual estimator only");
   auto s = std::make_shared<Solution>();
@@ -206,7 +213,7 @@ std::shared_ptr<Solution> solve_loop_elements(RgbMesh& mesh, const PyProblem& p,
   s->element = "loop";
   py::gil_scoped_release release;
   // The hierarchical space of the mesh as it is (on a uniform mesh, the uniform space).
-  fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh, setup.projection);
+  fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh, setup.projection, {}, basis);
   check_signals();
   fem::SolveOptions o;
   o.solver = setup.solver;
@@ -256,10 +263,12 @@ bool resolve_element(int& order, const std::optional<std::string>& element) {
 std::shared_ptr<Solution> solve(RgbMesh& mesh, const PyProblem& p, int order,
                                 const std::optional<std::string>& element,
                                 const std::optional<std::string>& geometry, const std::string& solver,
-                                const std::string& estimator) {
-  if (resolve_element(order, element)) {
-    std::shared_ptr<Solution> s =
-        solve_loop_elements(mesh, p, settle(mesh, p, 1, geometry, solver), estimator);
+                                const std::string& estimator, const std::optional<std::string>& loop_basis) {
+  const bool loop = resolve_element(order, element);
+  if (loop_basis && !loop) throw InputError("loop_basis '" + *loop_basis + "': for element='loop' only");
+  if (loop) {
+    std::shared_ptr<Solution> s = solve_loop_elements(mesh, p, settle(mesh, p, 1, geometry, solver), estimator,
+                                                      loop_basis_named(loop_basis.value_or("details")));
     warn_note(s->report.note);
     return s;
   }
@@ -318,9 +327,10 @@ py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strateg
                    double theta, const std::string& estimator, int order,
                    const std::optional<std::string>& element, double coarsen, int min_level, int max_level,
                    int cycles, double target_error, std::size_t max_dofs,
-                   const std::optional<std::string>& geometry, const std::string& solver, py::object callback,
-                   py::object stop) {
+                   const std::optional<std::string>& geometry, const std::string& solver,
+                   const std::optional<std::string>& loop_basis, py::object callback, py::object stop) {
   const bool loop = resolve_element(order, element);
+  if (loop_basis && !loop) throw InputError("loop_basis '" + *loop_basis + "': for element='loop' only");
   if (loop && estimator != "residual")
     throw InputError("estimator '" + estimator + "': Loop elements have the residual estimator only");
   const Setup setup = settle(mesh, p, order, geometry, solver);
@@ -345,6 +355,7 @@ py::dict run_adapt(RgbMesh& mesh, const PyProblem& p, const std::string& strateg
   if (loop) {  // the hierarchical Loop space of each cycle's mesh (run_cycles)
     o.element = adapt::AdaptOptions::Element::loop;
     o.loop_view_levels = kCycleViewLevels;
+    o.loop_basis = loop_basis_named(loop_basis.value_or("details"));
   }
   o.coarsen_below = coarsen;
   o.min_level = min_level;
@@ -548,7 +559,7 @@ void bind_fem(py::module_& m) {
 
   m.def("solve", &solve, py::arg("mesh"), py::arg("problem"), py::kw_only(), py::arg("order") = 1,
         py::arg("element") = py::none(), py::arg("geometry") = py::none(), py::arg("solver") = "auto",
-        py::arg("estimator") = "residual",
+        py::arg("estimator") = "residual", py::arg("loop_basis") = py::none(),
         "Solves the problem on the mesh as it is (P1 or P2 elements, vertices on the Loop limit surface, or "
         "projected "
         "onto the unit sphere with geometry='sphere', the default for built-in problems) and estimates the "
@@ -556,7 +567,8 @@ void bind_fem(py::module_& m) {
         "triangle ('residual' or 'zz'). element='loop': Loop-basis (smooth) elements, one unknown per "
         "vertex (the hierarchical space of the mesh as refined; on an open mesh Loop's boundary rules, with "
         "the "
-        "Dirichlet data imposed weakly), residual estimator. "
+        "Dirichlet data imposed weakly), residual estimator; loop_basis='thb' solves in the truncated "
+        "hierarchical basis (functions as narrow as their level; 'details', the default, one per vertex). "
         "Returns a Solution.");
   m.def(
       "adapt", &run_adapt, py::arg("mesh"), py::arg("problem"), py::kw_only(),
@@ -564,14 +576,15 @@ void bind_fem(py::module_& m) {
       py::arg("estimator") = "residual", py::arg("order") = 1, py::arg("element") = py::none(),
       py::arg("coarsen") = 0.0, py::arg("min_level") = 0, py::arg("max_level") = kMaxLevel,
       py::arg("cycles") = 20, py::arg("target_error") = 0.0, py::arg("max_dofs") = 100000,
-      py::arg("geometry") = py::none(), py::arg("solver") = "auto", py::arg("callback") = py::none(),
-      py::arg("stop") = py::none(),
+      py::arg("geometry") = py::none(), py::arg("solver") = "auto", py::arg("loop_basis") = py::none(),
+      py::arg("callback") = py::none(), py::arg("stop") = py::none(),
       "Adaptive cycles on the mesh, in place, as rgbmesh adapt runs them: solve, estimate, mark, refine (and "
       "coarsen), until cycles, target_error or max_dofs stops them. callback(solution) after each cycle (the "
       "Solution of that cycle; the mesh is already adapted for the next); stop(report) -> True ends the run "
       "with "
       "that cycle. Returns {'cycles': [report, ...], 'stopped': why}. Ctrl-C interrupts between steps. "
-      "element='loop': Loop-basis elements (the hierarchical space of the adaptive mesh), "
+      "element='loop': Loop-basis elements (the hierarchical space of the adaptive mesh; loop_basis 'details' "
+      "or 'thb', as for solve), "
       "each "
       "cycle's Solution keeping its picture for write_smooth().");
 }

@@ -131,6 +131,26 @@ def test_loop_elements_from_python(tmp_path):
     assert rgbmesh.read(tmp_path / "graded.vtp").num_triangles >= 16 * coarse.num_triangles
 
 
+def test_loop_elements_in_the_truncated_hierarchical_basis():
+    """loop_basis='thb': on the mesh refined around the peak, the truncated hierarchical basis has
+    fewer unknowns than vertices (a function needs its two-ring refined) and is as accurate as the
+    details' basis; adapt takes it too; it is refused for Lagrange elements."""
+    mesh = unit_icosphere(2)
+    mesh.refine(ball=(*PEAK_DIRECTION, 0.5, 5))
+    details = rgbmesh.solve(mesh, rgbmesh.Problem.builtin("sphere-peak"), element="loop")
+    thb = rgbmesh.solve(mesh, rgbmesh.Problem.builtin("sphere-peak"), element="loop", loop_basis="thb")
+    assert thb.report["dofs"] < details.report["dofs"] == mesh.num_vertices
+    assert thb.u.shape == details.u.shape  # values at the same vertices
+    assert thb.report["error_h1"] < 2 * details.report["error_h1"]
+    run = rgbmesh.adapt(unit_icosphere(2), rgbmesh.Problem.builtin("sphere-peak"), element="loop",
+                        loop_basis="thb", cycles=6)
+    assert len(run["cycles"]) == 6 and run["cycles"][-1]["error_h1"] < run["cycles"][0]["error_h1"] / 10
+    with pytest.raises(ValueError, match="loop_basis 'thb': for element='loop' only"):
+        rgbmesh.solve(mesh, rgbmesh.Problem.builtin("sphere-peak"), loop_basis="thb")
+    with pytest.raises(ValueError, match="loop_basis: 'q' is not one of details, thb"):
+        rgbmesh.solve(mesh, rgbmesh.Problem.builtin("sphere-peak"), element="loop", loop_basis="q")
+
+
 def test_loop_elements_on_an_open_mesh():
     """element='loop' on a flat square (an open mesh): Loop's boundary rules, the Dirichlet data
     from a numpy function imposed weakly. u = exp(x) sin(y) is harmonic; at the vertices' limit
