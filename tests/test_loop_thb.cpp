@@ -20,6 +20,7 @@
 
 #include "opensubdiv_refiner.hpp"
 #include "public_data.hpp"
+#include "rgbmesh/adapt/marking.hpp"
 #include "rgbmesh/fem/loop_adaptive.hpp"
 #include "rgbmesh/refinement.hpp"
 #include "test_meshes.hpp"
@@ -419,7 +420,7 @@ struct Cycle {
   double h1;
   Overlap overlap;
 };
-std::vector<Cycle> adaptive_sphere_peak(fem::LoopBasisKind basis, std::size_t until) {
+std::vector<Cycle> adaptive_sphere_peak(fem::LoopBasisKind basis, std::size_t until, int admissible = 0) {
   const fem::Problem problem = fem::sphere_peak();
   RgbMesh mesh = testing::icosahedron().build();
   selective_refinement(mesh, UniformLevel(2));
@@ -441,7 +442,15 @@ std::vector<Cycle> adaptive_sphere_peak(fem::LoopBasisKind basis, std::size_t un
       threshold = x;
       if (sum >= 0.5 * estimate.total * estimate.total) break;
     }
-    selective_refinement(mesh, FieldCriterion(marks, std::sqrt(threshold) * (1 - 1e-12), {}, 0));
+    const double cut = std::sqrt(threshold) * (1 - 1e-12);
+    std::vector<TriangleHandle> triangles(mesh.triangles().begin(), mesh.triangles().end());
+    std::vector<char> marked;
+    for (const TriangleHandle t : triangles) marked.push_back(marks[static_cast<std::size_t>(t.idx)] >= cut);
+    adapt::mark_admissible(mesh, triangles, marked, admissible);
+    std::vector<double> values(marks.size(), 0.0);
+    for (std::size_t i = 0; i < triangles.size(); ++i)
+      if (marked[i]) values[static_cast<std::size_t>(triangles[i].idx)] = 1.0;
+    selective_refinement(mesh, FieldCriterion(values, 0.5, {}, 0));
   }
   return history;
 }
@@ -476,6 +485,26 @@ TEST(TruncatedHierarchicalLoop, RowsStayNarrowAtTheDetailsAccuracy) {
   const double at = static_cast<double>(std::min(thb.back().dofs, details.back().dofs));
   std::printf("  H1 at %.0f unknowns: thb %.3e, details %.3e\n", at, h1_at(thb, at), h1_at(details, at));
   EXPECT_LT(h1_at(thb, at), 1.5 * h1_at(details, at));
+}
+
+// The admissible marking (adapt::mark_admissible, class 2): on adaptive sphere-peak at most two
+// levels of functions meet on a cell; the error per unknown stays that of the plain marking.
+TEST(TruncatedHierarchicalLoop, AdmissibleMarkingKeepsTwoLevelsOnACell) {
+  const std::vector<Cycle> plain = adaptive_sphere_peak(kThb, 6000);
+  const std::vector<Cycle> admissible = adaptive_sphere_peak(kThb, 6000, 2);
+  for (const Cycle& c : admissible) {
+    std::printf("  admissible %6zu unknowns, H1 %.3e, median row %3zu, cells by levels:", c.dofs, c.h1,
+                c.overlap.median_row);
+    for (std::size_t k = 1; k < c.overlap.cells_with_levels.size(); ++k) std::printf(" %zu", c.overlap.cells_with_levels[k]);
+    std::printf("\n");
+  }
+  int most = 0;
+  for (const Cycle& c : admissible) most = std::max(most, c.overlap.most_levels);
+  EXPECT_LE(most, 2);
+  EXPECT_GT(plain.back().overlap.most_levels, 2);
+  const double at = static_cast<double>(std::min(plain.back().dofs, admissible.back().dofs));
+  std::printf("  H1 at %.0f unknowns: admissible %.3e, plain %.3e\n", at, h1_at(admissible, at), h1_at(plain, at));
+  EXPECT_LT(h1_at(admissible, at), 1.5 * h1_at(plain, at));
 }
 
 }  // namespace

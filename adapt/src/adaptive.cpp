@@ -355,6 +355,9 @@ std::vector<char> adapt_mesh(RgbMesh& mesh, const SolvedCycle& c, const AdaptOpt
   } else {
     const Indicators indicators = indicators_of(c, options, own);
     marked = options.marking->mark(indicators);
+    if (options.element == AdaptOptions::Element::loop &&
+        options.loop_basis == fem::LoopBasisKind::truncated_hierarchical)
+      mark_admissible(mesh, c.fe.triangle, marked, options.loop_admissible_levels);
     std::vector<double> triangle_values(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
     for (std::size_t i = 0; i < marked.size(); ++i) {
       if (marked[i]) triangle_values[c.fe.triangle[i].idx] = 1.0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <queue>
 #include <cstdint>
 #include <cstring>
 #include <numeric>
@@ -187,6 +188,61 @@ const std::vector<NamedMarking>& marking_table() {
 
 std::shared_ptr<const MarkingStrategy> make_marking(const std::string& name, double theta) {
   return named_row(marking_table(), name, "marking").make(theta);
+}
+
+std::size_t mark_admissible(const RgbMesh& mesh, const std::vector<TriangleHandle>& triangles,
+                            std::vector<char>& marked, int levels) {
+  if (marked.size() != triangles.size()) throw std::invalid_argument("mark_admissible: one mark per triangle");
+  if (levels < 2) return 0;
+  std::vector<std::int32_t> entry(static_cast<std::size_t>(mesh.triangle_slots()), -1);
+  for (std::size_t i = 0; i < triangles.size(); ++i) entry[static_cast<std::size_t>(triangles[i].idx)] = static_cast<std::int32_t>(i);
+  // The marked triangles by the level k whose cells they make refine, walked from the finest
+  // k down: a triangle marked by the walk of level k has level k or less, so it makes level
+  // k - 1 or coarser refine, and is walked later. One walk per level, from all its triangles'
+  // corners at once (the union of their neighbourhoods).
+  std::vector<std::vector<std::size_t>> by_level;
+  const auto add = [&](std::size_t i) {
+    const int k = mesh.level(triangles[i]) - levels + 1;
+    if (k < 0) return;
+    if (by_level.size() <= static_cast<std::size_t>(k)) by_level.resize(static_cast<std::size_t>(k) + 1);
+    by_level[static_cast<std::size_t>(k)].push_back(i);
+  };
+  for (std::size_t i = 0; i < marked.size(); ++i)
+    if (marked[i]) add(i);
+  std::size_t added = 0;
+  std::vector<double> distance(static_cast<std::size_t>(mesh.vertex_slots()), -1.0);
+  std::vector<std::int32_t> reached;
+  using Item = std::pair<double, std::int32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> front;
+  VertexStar star;
+  constexpr double kReach = 3.0;  // level-k edges
+  for (int k = static_cast<int>(by_level.size()) - 1; k >= 0; --k) {
+    for (const std::size_t i : by_level[static_cast<std::size_t>(k)])
+      for (const VertexHandle v : mesh.triangle_vertices(triangles[i])) front.emplace(0.0, v.idx);
+    while (!front.empty()) {
+      const auto [d, slot] = front.top();
+      front.pop();
+      double& known = distance[static_cast<std::size_t>(slot)];
+      if (known >= 0 && known <= d) continue;
+      if (known < 0) reached.push_back(slot);
+      known = d;
+      mesh.star(VertexHandle(slot), star);
+      for (const TriangleHandle u : star.triangles) {
+        const std::int32_t e = entry[static_cast<std::size_t>(u.idx)];
+        if (e < 0 || marked[static_cast<std::size_t>(e)] || mesh.level(u) > k) continue;
+        marked[static_cast<std::size_t>(e)] = 1;
+        add(static_cast<std::size_t>(e));
+        ++added;
+      }
+      for (std::size_t n = 0; n < star.neighbors.size(); ++n) {
+        const double step = std::ldexp(1.0, k - mesh.level(star.edges[n]));
+        if (d + step <= kReach) front.emplace(d + step, star.neighbors[n].idx);
+      }
+    }
+    for (const std::int32_t slot : reached) distance[static_cast<std::size_t>(slot)] = -1.0;
+    reached.clear();
+  }
+  return added;
 }
 
 }  // namespace rgbmesh::adapt

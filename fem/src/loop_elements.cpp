@@ -505,10 +505,15 @@ detail::LoopSystem assemble_loop(const LoopSpace& space, const Form& form, const
 // 13.4 s; 66,078 (12.5·10^6 entries): 17.5 s, 19.1 s, the run's peak memory 993 MB against
 // 752 MB. CHOLMOD's time grows as N^1.4 there and AMG's as N^1.2, so they cross near 10^5
 // unknowns (~1.9·10^7 entries); from 1.5·10^7 entries AMG is about as fast and lighter.
+// Narrow rows (at most 60 entries: the uniform space, the truncated hierarchical basis) take
+// AMG from 20,000 unknowns, as P1 and P2 do (2026-12-07, the solve alone, same script: uniform
+// 40,962 unknowns CHOLMOD 1.48 s, AMG 0.49 s in 11 iterations; adaptive sphere-peak in the
+// truncated hierarchical basis, 21,854: 0.54 s, 0.35 s; 49,073: 1.85 s, 0.95 s in 32).
 SolveOptions detail::loop_solver(const SolveOptions& options, const SparseMatrix& a) {
   SolveOptions chosen = options;
   const Eigen::Index n = a.rows();
-  const bool large = n >= 100000 || (n >= 20000 && a.nonZeros() >= 15000000);
+  const bool narrow = a.nonZeros() <= 60 * n;
+  const bool large = n >= 100000 || (n >= 20000 && (narrow || a.nonZeros() >= 15000000));
   if (chosen.solver == SolverKind::automatic && !chosen.linear_solver) {
     if (amg_available() && large)
       chosen.solver = SolverKind::amg;

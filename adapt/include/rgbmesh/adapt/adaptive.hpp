@@ -154,6 +154,9 @@ struct AdaptOptions {
   /// is built (a run stops at the solve that would pass max_dofs); the details have one unknown
   /// per vertex.
   fem::LoopBasisKind loop_basis = fem::LoopBasisKind::details;
+  /// The truncated hierarchical basis: the marks are extended so that at most this many levels
+  /// of functions meet on a cell (mark_admissible); below 2, not.
+  int loop_admissible_levels = 2;
   /// Loop elements: also a picture of each cycle's solution finer than the mesh
   /// (fem::loop_refined_view with this many levels, CycleState::loop_view); 0 for none. Reduced
   /// on large meshes to stay within 3·10^6 pieces.

@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "rgbmesh/mesh.hpp"
+
 namespace rgbmesh::adapt {
 
 /// What a marking strategy sees: one indicator per FE triangle of this process, the target of
@@ -111,6 +113,18 @@ struct NamedMarking {
   std::shared_ptr<const MarkingStrategy> (*make)(double theta);
 };
 /// "dorfler", "fraction", "equidistribution".
+/// Marks more triangles so that the refinement keeps the truncated hierarchical Loop space
+/// admissible of class `levels` (at most that many levels of functions non-zero on any cell;
+/// Bracco, Giannelli and Vázquez 2018, as GeoPDEs' mark_admissible does): a marked triangle of
+/// level l makes the triangles of level l - levels + 1 or coarser within that level's support
+/// extension of it marked too, and so on from those. The support extension, the union of the
+/// supports of the level-k functions non-zero on the triangle, reaches three level-k edges
+/// from it; distances are walked along the mesh's edges, an edge of level j counting 2^(k - j)
+/// level-k edges. `marked` is per entry of `triangles` (the finite-element mesh's); the marks
+/// added stay within it. Returns how many were added. levels < 2: nothing.
+std::size_t mark_admissible(const RgbMesh& mesh, const std::vector<TriangleHandle>& triangles,
+                            std::vector<char>& marked, int levels);
+
 const std::vector<NamedMarking>& marking_table();
 /// The strategy of that name with θ; InputError naming the choices otherwise, or when θ is not
 /// in (0, 1].
