@@ -4,6 +4,7 @@
 #   docs/adapted-mesh.svg  the last adaptive mesh, colored by level
 #   docs/fit-before.svg, docs/fit-after.svg  the bunny fit: limit surfaces of the base before and after
 #   docs/cad-smooth.svg, docs/cad-sharp.svg  a CAD part's limit surface without and with --sharp-angle 30
+#   docs/thb-functions.svg  the truncated hierarchical Loop basis's functions around the peak (example 09)
 # Needs python3 (standard library only) and a built tool (scripts/run-main.sh); the files are
 # written with zlib, which the standard library reads.
 set -euo pipefail
@@ -34,3 +35,6 @@ build/bin/rgbmesh --compression zlib refine "$part" "$tmp/sharp.vtp" --uniform 2
 python3 scripts/figures.py mesh "$tmp/smooth.vtp" docs/cad-smooth.svg 1 0.8 1.2
 python3 scripts/figures.py mesh "$tmp/sharp.vtp" docs/cad-sharp.svg 1 0.8 1.2
 echo "wrote docs/cad-smooth.svg and docs/cad-sharp.svg"
+# The truncated hierarchical Loop basis: its functions at about 1,000 unknowns, by level.
+build/bin/example_09_smooth_adaptive --basis thb --max-dofs 1000 --svg docs/thb-functions.svg >/dev/null
+echo "wrote docs/thb-functions.svg"
