@@ -12,10 +12,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <map>
-#include <random>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <random>
 #include <set>
 
 #include "opensubdiv_refiner.hpp"
@@ -80,10 +80,11 @@ std::vector<Eigen::Index> cell_rows(const fem::AdaptiveLoopSpace& space) {
 // The active functions are those in Ω_l and not in Ω_l+1, each at an RGB vertex.
 TEST(TruncatedHierarchicalLoop, DomainsAreThoseOfTheFullHierarchy) {
   std::size_t left_out = 0;  // functions in Ω_l and covered by Ω_l+1, over all cases
-  for (const testing::BaseMesh& base : {testing::icosahedron(), testing::torus(6, 8), testing::double_torus(),
-                                        testing::grid_with_holes(6, 1), testing::fan_disk(6),
-                                        read_off(testing::public_data("anchor.off"))}) {
-    for (const auto& [floor, peak, radius] : {std::tuple{1, 4, 0.5}, std::tuple{0, 3, 0.3}, std::tuple{2, 5, 1.0}}) {
+  for (const testing::BaseMesh& base :
+       {testing::icosahedron(), testing::torus(6, 8), testing::double_torus(), testing::grid_with_holes(6, 1),
+        testing::fan_disk(6), read_off(testing::public_data("anchor.off"))}) {
+    for (const auto& [floor, peak, radius] :
+         {std::tuple{1, 4, 0.5}, std::tuple{0, 3, 0.3}, std::tuple{2, 5, 1.0}}) {
       RgbMesh mesh = graded(base, floor, peak, radius);
       const fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh, std::nullopt, {}, kThb);
       int deepest = 0;
@@ -94,13 +95,15 @@ TEST(TruncatedHierarchicalLoop, DomainsAreThoseOfTheFullHierarchy) {
       std::vector<std::vector<char>> present(static_cast<std::size_t>(deepest) + 2);
       std::map<std::int32_t, Index> osd;  // RGB slot -> OpenSubdiv index at the current level
       present[0].assign(base.points.size(), 1);
-      for (std::size_t i = 0; i < base.points.size(); ++i) osd[static_cast<std::int32_t>(i)] = static_cast<Index>(i);
+      for (std::size_t i = 0; i < base.points.size(); ++i)
+        osd[static_cast<std::int32_t>(i)] = static_cast<Index>(i);
       for (int level = 1; level <= deepest + 1; ++level) {
         const auto& up = refiner->GetLevel(level - 1);
         auto& here = present[static_cast<std::size_t>(level)];
         here.assign(static_cast<std::size_t>(refiner->GetLevel(level).GetNumVertices()), 0);
         std::map<std::int32_t, Index> next;
-        for (const auto& [slot, index] : osd) here[static_cast<std::size_t>(next[slot] = up.GetVertexChildVertex(index))] = 1;
+        for (const auto& [slot, index] : osd)
+          here[static_cast<std::size_t>(next[slot] = up.GetVertexChildVertex(index))] = 1;
         for (const VertexHandle v : mesh.vertices()) {
           if (mesh.level(v) != level) continue;
           const auto& p = mesh.parents(v);
@@ -119,9 +122,10 @@ TEST(TruncatedHierarchicalLoop, DomainsAreThoseOfTheFullHierarchy) {
         } else {
           const auto& up = refiner->GetLevel(cv.level - 1);
           const Index a = index[static_cast<std::size_t>(cv.origin[0])];
-          index[i] = cv.origin[1] < 0
-                         ? up.GetVertexChildVertex(a)
-                         : up.GetEdgeChildVertex(up.FindEdge(a, index[static_cast<std::size_t>(cv.origin[1])]));
+          index[i] =
+              cv.origin[1] < 0
+                  ? up.GetVertexChildVertex(a)
+                  : up.GetEdgeChildVertex(up.FindEdge(a, index[static_cast<std::size_t>(cv.origin[1])]));
         }
         const auto& level = refiner->GetLevel(cv.level);
         const auto& finer = refiner->GetLevel(cv.level + 1);
@@ -158,8 +162,8 @@ TEST(TruncatedHierarchicalLoop, DomainsAreThoseOfTheFullHierarchy) {
       }
       EXPECT_EQ(space.num_dofs(), active) << base.name;
       left_out += checked - active;
-      std::printf("  %s (%d, %d): %zu RGB vertices, %zu functions, %zu control vertices\n", base.name.c_str(), floor,
-                  peak, mesh.num_vertices(), space.num_dofs(), space.control_vertex.size());
+      std::printf("  %s (%d, %d): %zu RGB vertices, %zu functions, %zu control vertices\n", base.name.c_str(),
+                  floor, peak, mesh.num_vertices(), space.num_dofs(), space.control_vertex.size());
     }
   }
   EXPECT_GT(left_out, 1000u);  // the truncation had work to do
@@ -169,19 +173,21 @@ TEST(TruncatedHierarchicalLoop, DomainsAreThoseOfTheFullHierarchy) {
 // cells read determine a function, Loop's functions being locally independent on a triangle),
 // and each one's level is where it is made of that level's functions only.
 TEST(TruncatedHierarchicalLoop, IsAPartitionOfUnityOfIndependentFunctions) {
-  for (const testing::BaseMesh& base : {testing::icosahedron(), testing::torus(6, 8), testing::fan_disk(6),
-                                        testing::sharp_cube(), testing::octahedron_with_darts(),
-                                        testing::graded_icosahedron(CreaseMethod::chaikin)}) {
+  for (const testing::BaseMesh& base :
+       {testing::icosahedron(), testing::torus(6, 8), testing::fan_disk(6), testing::sharp_cube(),
+        testing::octahedron_with_darts(), testing::graded_icosahedron(CreaseMethod::chaikin)}) {
     RgbMesh mesh = graded(base, 1, 4, 0.4);
     const fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh, std::nullopt, {}, kThb);
     const std::vector<Eigen::Index> rows = cell_rows(space);
-    const Eigen::VectorXd sum = space.expansion * Eigen::VectorXd::Ones(static_cast<Eigen::Index>(space.num_dofs()));
+    const Eigen::VectorXd sum =
+        space.expansion * Eigen::VectorXd::Ones(static_cast<Eigen::Index>(space.num_dofs()));
     double worst = 0;
     for (const Eigen::Index r : rows) worst = std::max(worst, std::abs(sum(r) - 1));
     EXPECT_LT(worst, 1e-13) << base.name;
     EXPECT_LT((space.constant().array() - 1).abs().maxCoeff(), 1e-15);
     // Rank of the expansion restricted to the cells' rows.
-    Eigen::MatrixXd dense(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(space.num_dofs()));
+    Eigen::MatrixXd dense(static_cast<Eigen::Index>(rows.size()),
+                          static_cast<Eigen::Index>(space.num_dofs()));
     const Eigen::MatrixXd full(space.expansion);
     for (std::size_t k = 0; k < rows.size(); ++k) dense.row(static_cast<Eigen::Index>(k)) = full.row(rows[k]);
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(dense);
@@ -193,8 +199,9 @@ TEST(TruncatedHierarchicalLoop, IsAPartitionOfUnityOfIndependentFunctions) {
       EXPECT_EQ(space.control_vertex[static_cast<std::size_t>(r)].level, space.coefficient_level[i]);
       EXPECT_EQ(space.expansion.coeff(r, static_cast<Eigen::Index>(i)), 1.0);
     }
-    std::printf("  %s: %zu RGB vertices, %zu functions, partition of unity to %.1e, rank %ld\n", base.name.c_str(),
-                mesh.num_vertices(), space.num_dofs(), worst, static_cast<long>(qr.rank()));
+    std::printf("  %s: %zu RGB vertices, %zu functions, partition of unity to %.1e, rank %ld\n",
+                base.name.c_str(), mesh.num_vertices(), space.num_dofs(), worst,
+                static_cast<long>(qr.rank()));
   }
 }
 
@@ -203,7 +210,8 @@ TEST(TruncatedHierarchicalLoop, IsAPartitionOfUnityOfIndependentFunctions) {
 // triangle, through the two spaces' different cells). The other way round it is not (the test
 // can fail): the fine space's functions are not all in the coarse one.
 TEST(TruncatedHierarchicalLoop, IsNestedUnderRefinement) {
-  for (const testing::BaseMesh& base : {testing::icosahedron(), testing::sharp_cube(), testing::fan_disk(6)}) {
+  for (const testing::BaseMesh& base :
+       {testing::icosahedron(), testing::sharp_cube(), testing::fan_disk(6)}) {
     RgbMesh mesh = graded(base, 1, 3, 0.5);
     const fem::AdaptiveLoopSpace coarse = fem::build_adaptive_loop_space(mesh, std::nullopt, {}, kThb);
     mesh.compute_limits();
@@ -223,12 +231,13 @@ TEST(TruncatedHierarchicalLoop, IsNestedUnderRefinement) {
       }
     const auto values = [&](const fem::AdaptiveLoopSpace& space) {
       // Column j: function j at the points.
-      Eigen::MatrixXd m(static_cast<Eigen::Index>(points.size()), static_cast<Eigen::Index>(space.num_dofs()));
+      Eigen::MatrixXd m(static_cast<Eigen::Index>(points.size()),
+                        static_cast<Eigen::Index>(space.num_dofs()));
       for (Eigen::Index j = 0; j < m.cols(); ++j) {
         const Eigen::VectorXd control = space.expansion.col(j);
         for (std::size_t p = 0; p < points.size(); ++p)
-          m(static_cast<Eigen::Index>(p), j) =
-              fem::loop_value_at(space, control, static_cast<std::size_t>(points[p][0]), points[p][1], points[p][2]);
+          m(static_cast<Eigen::Index>(p), j) = fem::loop_value_at(
+              space, control, static_cast<std::size_t>(points[p][0]), points[p][1], points[p][2]);
       }
       return m;
     };
@@ -239,8 +248,9 @@ TEST(TruncatedHierarchicalLoop, IsNestedUnderRefinement) {
       return ((fit - targets).colwise().norm().array() / targets.colwise().norm().array()).maxCoeff();
     };
     const double in = worst_residual(f, c), out = worst_residual(c, f);
-    std::printf("  %s: %zu -> %zu functions; coarse in fine: worst relative residual %.1e; fine in coarse %.1e\n",
-                base.name.c_str(), coarse.num_dofs(), fine.num_dofs(), in, out);
+    std::printf(
+        "  %s: %zu -> %zu functions; coarse in fine: worst relative residual %.1e; fine in coarse %.1e\n",
+        base.name.c_str(), coarse.num_dofs(), fine.num_dofs(), in, out);
     EXPECT_LT(in, 1e-9) << base.name;
     EXPECT_GT(out, 1e-3) << base.name;
   }
@@ -264,7 +274,8 @@ TEST(TruncatedHierarchicalLoop, DependentFunctionsNearHighValenceAreLeftOut) {
     left_out += space.dependent_left_out;
     const std::vector<Eigen::Index> rows = cell_rows(space);
     std::vector<Eigen::Index> row_of(static_cast<std::size_t>(space.expansion.rows()), -1);
-    for (std::size_t k = 0; k < rows.size(); ++k) row_of[static_cast<std::size_t>(rows[k])] = static_cast<Eigen::Index>(k);
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      row_of[static_cast<std::size_t>(rows[k])] = static_cast<Eigen::Index>(k);
     std::vector<Eigen::Triplet<double>> entries;
     for (Eigen::Index j = 0; j < space.expansion.outerSize(); ++j)
       for (fem::SparseMatrix::InnerIterator it(space.expansion, j); it; ++it)
@@ -296,8 +307,10 @@ TEST(TruncatedHierarchicalLoop, DependentFunctionsNearHighValenceAreLeftOut) {
     fem::Problem unit = wave;
     unit.source = [](const Vec3&) { return 1.0; };  // u = 1: the constant's coefficients
     EXPECT_LT((fem::solve_loop(space, unit, direct).u - space.constant()).cwiseAbs().maxCoeff(), 1e-9);
-    std::printf("  level %d within %.2f: %zu RGB vertices, %zu functions, %zu dependent ones left out, rank %ld\n", level,
-                radius, mesh.num_vertices(), space.num_dofs(), space.dependent_left_out, static_cast<long>(qr.rank()));
+    std::printf(
+        "  level %d within %.2f: %zu RGB vertices, %zu functions, %zu dependent ones left out, rank %ld\n",
+        level, radius, mesh.num_vertices(), space.num_dofs(), space.dependent_left_out,
+        static_cast<long>(qr.rank()));
   }
   EXPECT_GT(left_out, 0u);
 }
@@ -331,13 +344,15 @@ TEST(TruncatedHierarchicalLoop, ReproducesTheCoordinatesAtTheVertices) {
     inside_whole_cells += mesh.num_vertices() - corners.size();
     Eigen::VectorXd x(static_cast<Eigen::Index>(space.num_dofs()));
     for (std::size_t i = 0; i < space.num_dofs(); ++i)
-      x(static_cast<Eigen::Index>(i)) = space.cells.control[static_cast<std::size_t>(space.coefficient_control[i])].x;
+      x(static_cast<Eigen::Index>(i)) =
+          space.cells.control[static_cast<std::size_t>(space.coefficient_control[i])].x;
     const fem::SurfaceMesh p1 = fem::build_surface_mesh(mesh, std::nullopt, 1);
     const Eigen::VectorXd values = fem::loop_values_on(space, x, p1);
     mesh.compute_limits();
     double worst = 0;
     for (std::size_t i = 0; i < p1.vertex.size(); ++i)
-      worst = std::max(worst, std::abs(values(static_cast<Eigen::Index>(i)) - mesh.limit_position(p1.vertex[i]).x));
+      worst = std::max(worst,
+                       std::abs(values(static_cast<Eigen::Index>(i)) - mesh.limit_position(p1.vertex[i]).x));
     std::printf("  %s: %zu vertices (%zu at no cell's corner), worst |value - limit x| %.1e\n", name.c_str(),
                 p1.vertex.size(), mesh.num_vertices() - corners.size(), worst);
     EXPECT_LT(worst, 1e-12) << name;
@@ -363,8 +378,8 @@ TEST(TruncatedHierarchicalLoop, UniformMeshGivesTheUniformSpace) {
   for (std::size_t i = 0; i < thb.num_dofs(); ++i)
     worst = std::max(worst, std::abs(a.u(static_cast<Eigen::Index>(i)) -
                                      b.u(nodal.dof_of_vertex[static_cast<std::size_t>(thb.vertex[i].idx)])));
-  std::printf("  %zu functions; worst difference from the uniform space's solution %.2e (of %.2e)\n", thb.num_dofs(),
-              worst, b.u.cwiseAbs().maxCoeff());
+  std::printf("  %zu functions; worst difference from the uniform space's solution %.2e (of %.2e)\n",
+              thb.num_dofs(), worst, b.u.cwiseAbs().maxCoeff());
   EXPECT_LT(worst, 1e-8 * b.u.cwiseAbs().maxCoeff());
 }
 
@@ -429,7 +444,8 @@ std::vector<Cycle> adaptive_sphere_peak(fem::LoopBasisKind basis, std::size_t un
     const fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh, kSphere, {}, basis);
     const fem::Solution s = fem::solve_loop(space, problem);
     const Eigen::VectorXd control = space.control_values(s.u);
-    history.push_back({space.num_dofs(), fem::loop_error_norms(space.cells, control, *problem.exact).h1, overlap(space)});
+    history.push_back(
+        {space.num_dofs(), fem::loop_error_norms(space.cells, control, *problem.exact).h1, overlap(space)});
     if (space.num_dofs() > until) break;
     const fem::Estimate estimate = fem::loop_residual_estimate(space.cells, problem, control);
     const std::vector<double> marks = fem::loop_indicators_on_triangles(space, mesh, estimate.eta);
@@ -459,7 +475,8 @@ std::vector<Cycle> adaptive_sphere_peak(fem::LoopBasisKind basis, std::size_t un
 double h1_at(const std::vector<Cycle>& run, double dofs) {
   for (std::size_t k = 1; k < run.size(); ++k)
     if (static_cast<double>(run[k].dofs) >= dofs) {
-      const double x0 = std::log(static_cast<double>(run[k - 1].dofs)), x1 = std::log(static_cast<double>(run[k].dofs));
+      const double x0 = std::log(static_cast<double>(run[k - 1].dofs)),
+                   x1 = std::log(static_cast<double>(run[k].dofs));
       const double t = (std::log(dofs) - x0) / (x1 - x0);
       return std::exp((1 - t) * std::log(run[k - 1].h1) + t * std::log(run[k].h1));
     }
@@ -495,7 +512,8 @@ TEST(TruncatedHierarchicalLoop, AdmissibleMarkingKeepsTwoLevelsOnACell) {
   for (const Cycle& c : admissible) {
     std::printf("  admissible %6zu unknowns, H1 %.3e, median row %3zu, cells by levels:", c.dofs, c.h1,
                 c.overlap.median_row);
-    for (std::size_t k = 1; k < c.overlap.cells_with_levels.size(); ++k) std::printf(" %zu", c.overlap.cells_with_levels[k]);
+    for (std::size_t k = 1; k < c.overlap.cells_with_levels.size(); ++k)
+      std::printf(" %zu", c.overlap.cells_with_levels[k]);
     std::printf("\n");
   }
   int most = 0;
@@ -503,7 +521,8 @@ TEST(TruncatedHierarchicalLoop, AdmissibleMarkingKeepsTwoLevelsOnACell) {
   EXPECT_LE(most, 2);
   EXPECT_GT(plain.back().overlap.most_levels, 2);
   const double at = static_cast<double>(std::min(plain.back().dofs, admissible.back().dofs));
-  std::printf("  H1 at %.0f unknowns: admissible %.3e, plain %.3e\n", at, h1_at(admissible, at), h1_at(plain, at));
+  std::printf("  H1 at %.0f unknowns: admissible %.3e, plain %.3e\n", at, h1_at(admissible, at),
+              h1_at(plain, at));
   EXPECT_LT(h1_at(admissible, at), 1.5 * h1_at(plain, at));
 }
 

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <queue>
 #include <cstdint>
 #include <cstring>
 #include <numeric>
+#include <queue>
 
 #include "rgbmesh/errors.hpp"
 
@@ -192,10 +192,12 @@ std::shared_ptr<const MarkingStrategy> make_marking(const std::string& name, dou
 
 std::size_t mark_admissible(const RgbMesh& mesh, const std::vector<TriangleHandle>& triangles,
                             std::vector<char>& marked, int levels) {
-  if (marked.size() != triangles.size()) throw std::invalid_argument("mark_admissible: one mark per triangle");
+  if (marked.size() != triangles.size())
+    throw std::invalid_argument("mark_admissible: one mark per triangle");
   if (levels < 2) return 0;
   std::vector<std::int32_t> entry(static_cast<std::size_t>(mesh.triangle_slots()), -1);
-  for (std::size_t i = 0; i < triangles.size(); ++i) entry[static_cast<std::size_t>(triangles[i].idx)] = static_cast<std::int32_t>(i);
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+    entry[static_cast<std::size_t>(triangles[i].idx)] = static_cast<std::int32_t>(i);
   // The marked triangles by the level k whose cells they make refine, walked from the finest
   // k down: a triangle marked by the walk of level k has level k or less, so it makes level
   // k - 1 or coarser refine, and is walked later. One walk per level, from all its triangles'

@@ -37,8 +37,8 @@ Vec3 unit(const Vec3& v) { return v * (1.0 / norm(v)); }
 // The mesh seen from the peak's direction d (the visible half, within `radius` of the peak),
 // and the truncated hierarchical basis's functions: a dot at the vertex of each, coloured by
 // its level (several at one vertex: the finest), a ring where a vertex has none of its own.
-void draw_functions(const std::string& path, RgbMesh& mesh, const fem::AdaptiveLoopSpace& space, const Vec3& d,
-                    double radius) {
+void draw_functions(const std::string& path, RgbMesh& mesh, const fem::AdaptiveLoopSpace& space,
+                    const Vec3& d, double radius) {
   mesh.compute_limits();
   // An orthonormal frame (e1, e2) across d.
   const Vec3 e1 = unit(cross(d, std::abs(d.z) < 0.9 ? Vec3(0, 0, 1) : Vec3(1, 0, 0)));
@@ -50,15 +50,17 @@ void draw_functions(const std::string& path, RgbMesh& mesh, const fem::AdaptiveL
   std::ofstream svg(path);
   if (!svg) throw std::runtime_error("cannot write " + path);
   svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << size << "\" height=\"" << size + 30
-      << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+      << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" "
+         "fill=\"white\"/>\n";
   for (const TriangleHandle t : mesh.triangles()) {
     const auto v = mesh.triangle_vertices(t);
     const Vec3 a = mesh.limit_position(v[0]), b = mesh.limit_position(v[1]), c = mesh.limit_position(v[2]);
     if (!seen(a) || !seen(b) || !seen(c)) continue;
-    svg << "<polygon points=\"" << x(a) << ',' << y(a) << ' ' << x(b) << ',' << y(b) << ' ' << x(c) << ',' << y(c)
-        << "\" fill=\"none\" stroke=\"#999\" stroke-width=\"0.4\"/>\n";
+    svg << "<polygon points=\"" << x(a) << ',' << y(a) << ' ' << x(b) << ',' << y(b) << ' ' << x(c) << ','
+        << y(c) << "\" fill=\"none\" stroke=\"#999\" stroke-width=\"0.4\"/>\n";
   }
-  static const char* colour[] = {"#4e79a7", "#59a14f", "#edc948", "#f28e2b", "#e15759", "#b07aa1", "#76b7b2", "#9c755f"};
+  static const char* colour[] = {"#4e79a7", "#59a14f", "#edc948", "#f28e2b",
+                                 "#e15759", "#b07aa1", "#76b7b2", "#9c755f"};
   int deepest = 0;
   for (const int l : space.coefficient_level) deepest = std::max(deepest, l);
   for (const VertexHandle v : mesh.vertices()) {
@@ -66,14 +68,17 @@ void draw_functions(const std::string& path, RgbMesh& mesh, const fem::AdaptiveL
     if (!seen(p)) continue;
     const std::int32_t i = space.coefficient_of_vertex[static_cast<std::size_t>(v.idx)];
     if (i < 0) {
-      svg << "<circle cx=\"" << x(p) << "\" cy=\"" << y(p) << "\" r=\"2.2\" fill=\"none\" stroke=\"#333\" stroke-width=\"0.6\"/>\n";
+      svg << "<circle cx=\"" << x(p) << "\" cy=\"" << y(p)
+          << "\" r=\"2.2\" fill=\"none\" stroke=\"#333\" stroke-width=\"0.6\"/>\n";
     } else {
       const int level = space.coefficient_level[static_cast<std::size_t>(i)];
-      svg << "<circle cx=\"" << x(p) << "\" cy=\"" << y(p) << "\" r=\"2.6\" fill=\"" << colour[level % 8] << "\"/>\n";
+      svg << "<circle cx=\"" << x(p) << "\" cy=\"" << y(p) << "\" r=\"2.6\" fill=\"" << colour[level % 8]
+          << "\"/>\n";
     }
   }
   svg << "<text x=\"8\" y=\"" << size + 20 << "\">functions of level";
-  for (int l = 0; l <= deepest; ++l) svg << "<tspan fill=\"" << colour[l % 8] << "\"> \u25cf " << l << "</tspan>";
+  for (int l = 0; l <= deepest; ++l)
+    svg << "<tspan fill=\"" << colour[l % 8] << "\"> \u25cf " << l << "</tspan>";
   svg << "<tspan> \u25cb a vertex with no function of its own</tspan></text>\n</svg>\n";
 }
 
@@ -84,9 +89,11 @@ int main(int argc, char** argv) {
   std::size_t max_dofs = 20000;
   double theta = 0.5;
   std::string out, basis = "details", svg;
-  app.add_option("--basis", basis, "the space's basis: details (one function per vertex) or thb (truncated hierarchical)")
+  app.add_option("--basis", basis,
+                 "the space's basis: details (one function per vertex) or thb (truncated hierarchical)")
       ->check(CLI::IsMember({"details", "thb"}));
-  app.add_option("--svg", svg, "with --basis thb: draw the last mesh's functions around the peak here (.svg)");
+  app.add_option("--svg", svg,
+                 "with --basis thb: draw the last mesh's functions around the peak here (.svg)");
   app.add_option("--max-dofs", max_dofs, "stop once a mesh has more unknowns than this")
       ->check(CLI::Range(std::size_t{12}, std::size_t{200000}));
   app.add_option("--theta", theta, "Dörfler's fraction of the estimate to mark")
@@ -134,7 +141,8 @@ int main(int argc, char** argv) {
       }
       std::vector<char> marked = marking.mark(adapt::Indicators(eta));
       // The truncated hierarchical basis: at most two levels of functions on a cell.
-      if (kind == fem::LoopBasisKind::truncated_hierarchical) adapt::mark_admissible(mesh, triangles, marked, 2);
+      if (kind == fem::LoopBasisKind::truncated_hierarchical)
+        adapt::mark_admissible(mesh, triangles, marked, 2);
       std::vector<double> raise(static_cast<std::size_t>(mesh.triangle_slots()), 0.0);
       for (std::size_t i = 0; i < triangles.size(); ++i)
         if (marked[i]) raise[static_cast<std::size_t>(triangles[i].idx)] = 1.0;
