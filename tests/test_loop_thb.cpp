@@ -315,6 +315,36 @@ TEST(TruncatedHierarchicalLoop, DependentFunctionsNearHighValenceAreLeftOut) {
   EXPECT_GT(left_out, 0u);
 }
 
+// The hierarchical (untruncated) view of the same functions, which coarsening weighs: a
+// function's detail is its coefficient less what Loop's rules predict from the levels above
+// (a level-0 function's is its coefficient), and details convert back to the coefficients.
+TEST(TruncatedHierarchicalLoop, DetailsAndCoefficientsConvertBothWays) {
+  std::size_t level0 = 0;  // over all meshes
+  double finer = 0;
+  for (const testing::BaseMesh& base :
+       {testing::icosahedron(), testing::torus(6, 8), testing::double_torus()}) {
+    RgbMesh mesh = graded(base, 0, 3, 0.3);
+    const fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh, std::nullopt, {}, kThb);
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> unit(-1, 1);
+    Eigen::VectorXd c(static_cast<Eigen::Index>(space.num_dofs()));
+    for (Eigen::Index i = 0; i < c.size(); ++i) c(i) = unit(random);
+    const Eigen::VectorXd h = space.hierarchical_coefficients(c);
+    for (std::size_t i = 0; i < space.num_dofs(); ++i) {
+      const auto k = static_cast<Eigen::Index>(i);
+      if (space.coefficient_level[i] == 0) {
+        EXPECT_EQ(h(k), c(k));
+        ++level0;
+      } else {
+        finer = std::max(finer, std::abs(h(k) - c(k)));
+      }
+    }
+    EXPECT_LT((space.truncated_coefficients(h) - c).cwiseAbs().maxCoeff(), 1e-12) << base.name;
+  }
+  EXPECT_GT(level0, 0u);
+  EXPECT_GT(finer, 1e-3);
+}
+
 // THB keeps coefficients: the function whose control values at every level are the control
 // points' x coordinates has, as its coefficients, each function's control point's x. Loop's
 // rules reproduce linear functions, so its values at the RGB vertices (loop_values_on, which
