@@ -12,6 +12,7 @@
 #include <map>
 #include <random>
 
+#include "graded_mesh.hpp"
 #include "opensubdiv_refiner.hpp"
 #include "rgbmesh/errors.hpp"
 #include "rgbmesh/fem/loop_adaptive.hpp"
@@ -25,19 +26,7 @@ using OpenSubdiv::Far::Index;
 
 const fem::Projection kSphere(fem::project_to_unit_sphere);
 
-// The RGB mesh of `base` refined to `floor` everywhere and to `peak` in a ball around the
-// limit point of the base's first vertex (radius relative to the first base edge): triangles
-// of several levels, with red and blue ones between them.
-RgbMesh graded(const testing::BaseMesh& base, int floor, int peak, double radius) {
-  RgbMesh mesh = base.build();
-  if (floor > 0) selective_refinement(mesh, AtLeastLevel(floor));
-  const auto& t = base.triangles[0];
-  const double edge =
-      norm(base.points[static_cast<std::size_t>(t[0])] - base.points[static_cast<std::size_t>(t[1])]);
-  mesh.compute_limits();
-  selective_refinement(mesh, BallLevel(mesh.limit_position(VertexHandle(0)), radius * edge, peak));
-  return mesh;
-}
+using testing::graded;
 
 struct Scalar {
   double x = 0;

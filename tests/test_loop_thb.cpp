@@ -18,6 +18,7 @@
 #include <random>
 #include <set>
 
+#include "graded_mesh.hpp"
 #include "opensubdiv_refiner.hpp"
 #include "public_data.hpp"
 #include "rgbmesh/adapt/marking.hpp"
@@ -54,16 +55,7 @@ testing::BaseMesh read_off(const std::string& path) {
   return m;
 }
 
-RgbMesh graded(const testing::BaseMesh& base, int floor, int peak, double radius) {
-  RgbMesh mesh = base.build();
-  if (floor > 0) selective_refinement(mesh, AtLeastLevel(floor));
-  const auto& t = base.triangles[0];
-  const double edge =
-      norm(base.points[static_cast<std::size_t>(t[0])] - base.points[static_cast<std::size_t>(t[1])]);
-  mesh.compute_limits();
-  selective_refinement(mesh, BallLevel(mesh.limit_position(VertexHandle(0)), radius * edge, peak));
-  return mesh;
-}
+using testing::graded;
 
 // The rows of the expansion that some cell reads (the control values the functions are made of).
 std::vector<Eigen::Index> cell_rows(const fem::AdaptiveLoopSpace& space) {
