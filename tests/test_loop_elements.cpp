@@ -125,6 +125,27 @@ TEST(LoopElements, AmgSolvesTheLoopSystem) {
   EXPECT_NEAR(amg.errors.h1, direct.errors.h1, 1e-6 * direct.errors.h1);
 }
 
+// The unit sphere's projection has its derivatives in closed form (first and second); any other
+// projection is differentiated by central differences. The same sphere given as a lambda (which
+// takes the differences) must give the same solution, estimate and fourth-order solution
+// (second derivatives of the geometry) to the differences' accuracy.
+TEST(LoopElements, SphereProjectionsDerivativesInClosedFormMatchDifferences) {
+  const fem::Projection differenced = [](const Vec3& x) { return fem::project_to_unit_sphere(x); };
+  RgbMesh mesh = uniform(testing::icosahedron(), 3);
+  const fem::LoopSpace closed = fem::build_loop_space(mesh, kSphere), numeric = fem::build_loop_space(mesh, differenced);
+  const fem::Problem problem = fem::sphere_harmonic();
+  const fem::Solution a = fem::solve_loop(closed, problem), b = fem::solve_loop(numeric, problem);
+  EXPECT_LT((a.u - b.u).norm(), 1e-6 * a.u.norm());
+  const double ea = fem::loop_residual_estimate(closed, problem, a.u).total,
+               eb = fem::loop_residual_estimate(numeric, problem, b.u).total;
+  EXPECT_NEAR(ea, eb, 1e-5 * eb);
+  const fem::BiharmonicProblem fourth = fem::sphere_biharmonic();
+  const fem::Solution c = fem::solve_loop_biharmonic(closed, fourth), d = fem::solve_loop_biharmonic(numeric, fourth);
+  EXPECT_LT((c.u - d.u).norm(), 1e-5 * c.u.norm());
+  std::printf("  closed form against differences: u %.1e, estimate %.1e, fourth order %.1e (relative)\n",
+              (a.u - b.u).norm() / a.u.norm(), std::abs(ea - eb) / eb, (c.u - d.u).norm() / c.u.norm());
+}
+
 // The Laplace-Beltrami operator of the coordinate functions of a surface is its mean curvature
 // vector, normal to the surface: on the Loop limit surface, whose coordinates are functions of
 // the space (the control points' coordinates as coefficients), loop_laplacian's vector must be

@@ -98,7 +98,7 @@ bool unknowns_known_at_solve(const AdaptOptions& options) {
 // A cycle with Loop elements: the solve on the Loop space; what the cycle keeps (the P1 mesh
 // of the limit positions, the values there, the indicators per triangle) as for P1.
 SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const AdaptOptions& options,
-                             ErrorsWanted errors, bool check_max_dofs) {
+                             const SolutionTransfer& transfer, ErrorsWanted errors, bool check_max_dofs) {
   SolvedCycle c;
   const auto t_mesh = std::chrono::steady_clock::now();
   c.fe = fem::build_surface_mesh(mesh, options.projection, 1);
@@ -112,8 +112,17 @@ SolvedCycle solve_loop_cycle(RgbMesh& mesh, const fem::Problem& problem, const A
     return c;
   }
   if (options.control.interruption_point) options.control.interruption_point();
+  // The last solution's values, carried to this mesh's vertices, seed an iterative solve: a
+  // function's coefficient is its control value at its level, close to the limit value at its
+  // vertex (the details basis takes them as details of those values).
+  fem::SolveOptions solve = options.solve;
+  Eigen::VectorXd guess = transfer.at(space.vertex);
+  if (guess.size() > 0) {
+    if (space.basis == fem::LoopBasisKind::details) guess = space.hierarchical_coefficients(guess);
+    solve.initial_guess = &guess;
+  }
   Eigen::VectorXd energies;
-  const fem::Solution loop = fem::solve_loop(space, problem, options.solve, energies);
+  const fem::Solution loop = fem::solve_loop(space, problem, solve, energies);
   if (options.control.interruption_point) options.control.interruption_point();
   const Eigen::VectorXd control = space.control_values(loop.u);
   const std::vector<double> removal_cost = fem::loop_removal_costs(space, mesh, loop.u, energies);
@@ -158,7 +167,8 @@ SolvedCycle solve_and_estimate_now(RgbMesh& mesh, const fem::Problem& problem, c
       mesh.live_fraction() < options.compact_below)
     mesh.compact();
   if (options.element == AdaptOptions::Element::loop) {
-    SolvedCycle loop = solve_loop_cycle(mesh, problem, options, errors, check_max_dofs && unknowns_known_at_solve(options));
+    SolvedCycle loop = solve_loop_cycle(mesh, problem, options, transfer, errors,
+                                        check_max_dofs && unknowns_known_at_solve(options));
     loop.report.mesh_bytes = mesh.memory_bytes();
     return loop;
   }

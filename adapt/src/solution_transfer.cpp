@@ -172,6 +172,13 @@ Eigen::VectorXd SolutionTransfer::on(const fem::SurfaceMesh& fe) const {
   return u;
 }
 
+Eigen::VectorXd SolutionTransfer::at(const std::vector<VertexHandle>& vertices) const {
+  if (!has_values_) return {};
+  Eigen::VectorXd u(static_cast<Eigen::Index>(vertices.size()));
+  for (std::size_t i = 0; i < vertices.size(); ++i) u[static_cast<Eigen::Index>(i)] = values_[vertices[i].idx];
+  return u;
+}
+
 void SolutionTransfer::observe() {
   insertion_id_ = mesh_.add_insertion_observer(
       [this](VertexHandle v, VertexHandle a, VertexHandle b) { inserted(v, a, b); });

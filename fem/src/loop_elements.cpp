@@ -35,6 +35,8 @@ using detail::laplacian_weights;
 using detail::LaplacianWeights;
 using detail::neumann_side;
 using detail::point_source;
+using detail::projected_tangent;
+using detail::projection_hessian;
 using detail::PointSource;
 using detail::side_points;
 using detail::SidePoint;
@@ -47,22 +49,43 @@ Vec3 patch_sum(const Eigen::MatrixXd& weights, Eigen::Index point, const std::ve
   return sum;
 }
 
-// dP a at x, by central differences with a step of 1e-4 of the tangent's length (the
+// Whether p is project_to_unit_sphere, whose derivatives are known in closed form (the sphere
+// problems' geometry: 23 calls of the projection a quadrature point otherwise).
+bool is_unit_sphere(const Projection& p) {
+  const auto* f = p.target<Vec3 (*)(const Vec3&)>();
+  return f != nullptr && *f == &project_to_unit_sphere;
+}
+
+}  // namespace
+
+// dP a at x: for the unit sphere's P(x) = x / |x|, (a - (y·a) y) / |x| with y = P(x); for
+// other projections by central differences with a step of 1e-4 of the tangent's length (the
 // projections are smooth on the scale of the surface; the error is then ~1e-8 relative).
-Vec3 projected_tangent(const Projection& p, const Vec3& x, const Vec3& a) {
+Vec3 detail::projected_tangent(const Projection& p, const Vec3& x, const Vec3& a) {
+  if (is_unit_sphere(p)) {
+    const double r = norm(x);
+    const Vec3 y = x * (1.0 / r);
+    return (a - dot(y, a) * y) * (1.0 / r);
+  }
   const double h = 1e-4;
   return (p(x + h * a) - p(x - h * a)) * (0.5 / h);
 }
 
-// D²P[a, b] at x by central differences, with steps of 1e-4 of |x| in space (the projections
-// are onto surfaces of that scale: the error is then ~1e-8 relative).
-Vec3 projection_hessian(const Projection& p, const Vec3& x, const Vec3& a, const Vec3& b) {
+// D²P[a, b] at x: for the unit sphere, (3 (y·a)(y·b) y - (y·b) a - (y·a) b - (a·b) y) / |x|²;
+// for other projections by central differences, with steps of 1e-4 of |x| in space (the
+// projections are onto surfaces of that scale: the error is then ~1e-8 relative).
+Vec3 detail::projection_hessian(const Projection& p, const Vec3& x, const Vec3& a, const Vec3& b) {
+  if (is_unit_sphere(p)) {
+    const double r = norm(x);
+    const Vec3 y = x * (1.0 / r);
+    const double ya = dot(y, a), yb = dot(y, b);
+    return (3 * ya * yb * y - yb * a - ya * b - dot(a, b) * y) * (1.0 / (r * r));
+  }
   const double s = 1e-4 * std::max(norm(x), 1e-3) / std::max({norm(a), norm(b), 1e-300});
   return (p(x + s * a + s * b) - p(x + s * a - s * b) - p(x - s * a + s * b) + p(x - s * a - s * b)) *
          (0.25 / (s * s));
 }
 
-}  // namespace
 
 detail::Frame detail::frame_at(const LoopSpace& space, const LoopSpace::Element& e, Eigen::Index p) {
   const LoopQuadrature& r = *e.rule;
@@ -121,17 +144,20 @@ SparseMatrix pattern(const LoopSpace& space) {
   }
   std::vector<std::vector<std::int32_t>> rows(n);
   detail::for_each_index(n, [&](std::size_t j) {
+    // Each row once (a patch's DOFs are met by every patch holding j: about twice as many as
+    // the row has), marked by a stamp unique to this column on this thread; then sorted.
+    thread_local std::vector<std::uint64_t> seen;
+    thread_local std::uint64_t stamp = 0;
+    if (seen.size() < n) seen.resize(n, 0);
+    ++stamp;
     std::vector<std::int32_t>& r = rows[j];
-    std::size_t size = 0;
     for (std::size_t k = start[j]; k < start[j + 1]; ++k)
-      size += space.elements[static_cast<std::size_t>(holding[k])].dofs.size();
-    r.reserve(size);
-    for (std::size_t k = start[j]; k < start[j + 1]; ++k) {
-      const auto& dofs = space.elements[static_cast<std::size_t>(holding[k])].dofs;
-      r.insert(r.end(), dofs.begin(), dofs.end());
-    }
+      for (const std::int32_t i : space.elements[static_cast<std::size_t>(holding[k])].dofs)
+        if (seen[static_cast<std::size_t>(i)] != stamp) {
+          seen[static_cast<std::size_t>(i)] = stamp;
+          r.push_back(i);
+        }
     std::sort(r.begin(), r.end());
-    r.erase(std::unique(r.begin(), r.end()), r.end());
   });
   SparseMatrix m(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
   std::size_t nonzeros = 0;
@@ -225,13 +251,17 @@ void local_parts(const LoopSpace& space, std::size_t element, const Form& form, 
     accumulate<12>(space, e, form, f, out);
   else
     accumulate<Eigen::Dynamic>(space, e, form, f, out);
-  // Where each entry goes (searched here, on every core, so that the sums afterwards only add).
+  // Where each entry goes (found here, on every core, so that the sums afterwards only add):
+  // column j's rows are written into a map from row to position, which the patch's DOFs read
+  // (all of them are in the column). Cheaper than a binary search per entry.
+  thread_local std::vector<Eigen::Index> position_of_row;
+  if (position_of_row.size() < static_cast<std::size_t>(pattern.rows()))
+    position_of_row.resize(static_cast<std::size_t>(pattern.rows()));
   out.position.clear();
   for (const std::int32_t j : e.dofs) {
-    const SparseMatrix::StorageIndex* begin = pattern.innerIndexPtr() + pattern.outerIndexPtr()[j];
-    const SparseMatrix::StorageIndex* end = pattern.innerIndexPtr() + pattern.outerIndexPtr()[j + 1];
-    for (const std::int32_t i : e.dofs)
-      out.position.push_back(std::lower_bound(begin, end, i) - pattern.innerIndexPtr());
+    for (Eigen::Index k = pattern.outerIndexPtr()[j]; k < pattern.outerIndexPtr()[j + 1]; ++k)
+      position_of_row[static_cast<std::size_t>(pattern.innerIndexPtr()[k])] = k;
+    for (const std::int32_t i : e.dofs) out.position.push_back(position_of_row[static_cast<std::size_t>(i)]);
   }
 }
 
@@ -506,14 +536,17 @@ detail::LoopSystem assemble_loop(const LoopSpace& space, const Form& form, const
 // 752 MB. CHOLMOD's time grows as N^1.4 there and AMG's as N^1.2, so they cross near 10^5
 // unknowns (~1.9·10^7 entries); from 1.5·10^7 entries AMG is about as fast and lighter.
 // Narrow rows (at most 60 entries: the uniform space, the truncated hierarchical basis) take
-// AMG from 20,000 unknowns, as P1 and P2 do (2026-12-07, the solve alone, same script: uniform
-// 40,962 unknowns CHOLMOD 1.48 s, AMG 0.49 s in 11 iterations; adaptive sphere-peak in the
-// truncated hierarchical basis, 21,854: 0.54 s, 0.35 s; 49,073: 1.85 s, 0.95 s in 32).
+// AMG from 10,000 unknowns (2026-12-07, the solve alone, same script: uniform 40,962 unknowns
+// CHOLMOD 1.48 s, AMG 0.49 s in 11 iterations; adaptive sphere-peak in the truncated
+// hierarchical basis, 21,854: 0.54 s, 0.35 s; 49,073: 1.85 s, 0.95 s in 32. With aggressive
+// coarsening (amg_options), whole runs with either solver: 7,148 unknowns CHOLMOD 0.13 s, AMG
+// 0.064 s; 11,740: 0.29 s, 0.12 s; 24,979: 0.65 s, 0.23 s; 52,954: 1.69 s, 0.63 s. Below
+// 10,000 the once-per-run start of PETSc, ~0.3 s, outweighs what AMG saves.)
 SolveOptions detail::loop_solver(const SolveOptions& options, const SparseMatrix& a) {
   SolveOptions chosen = options;
   const Eigen::Index n = a.rows();
   const bool narrow = a.nonZeros() <= 60 * n;
-  const bool large = n >= 100000 || (n >= 20000 && (narrow || a.nonZeros() >= 15000000));
+  const bool large = n >= 100000 || (n >= 10000 && narrow) || (n >= 20000 && a.nonZeros() >= 15000000);
   if (chosen.solver == SolverKind::automatic && !chosen.linear_solver) {
     if (amg_available() && large)
       chosen.solver = SolverKind::amg;
@@ -802,6 +835,7 @@ Solution solve_loop(const LoopSpace& space, const Problem& problem, const SolveO
 Solution detail::solve_closed_loop_system(LoopSystem& s, const Problem& problem, const SolveOptions& options,
                                           const Eigen::VectorXd& constant) {
   const bool zero_mean = problem.c == 0;
+  Eigen::Index pinned = 0;
   if (zero_mean) {
     // A closed surface with c = 0: solutions differ by constants (which the Loop space holds:
     // its functions sum to one) and exist only for a source of zero mean; the discrete load is
@@ -813,14 +847,21 @@ Solution detail::solve_closed_loop_system(LoopSystem& s, const Problem& problem,
                        std::to_string(s.integral) + "; use c > 0, or subtract the mean");
     const double measure = s.area.dot(constant);
     s.b -= (s.b.dot(constant) / measure) * s.area;
-    Eigen::Index pinned = 0;
     while (constant(pinned) == 0) ++pinned;
     for (Eigen::Index j = 0; j < s.a.outerSize(); ++j)
       for (SparseMatrix::InnerIterator it(s.a, j); it; ++it)
         if (it.row() == pinned || j == pinned) it.valueRef() = it.row() == j ? 1.0 : 0.0;
     s.b(pinned) = 0;
   }
-  Solution sol = solve_linear_system(s.a, s.b, detail::loop_solver(options, s.a), problem.name);
+  SolveOptions pinned_options = options;
+  Eigen::VectorXd guess;
+  if (zero_mean && options.initial_guess != nullptr && options.initial_guess->size() == s.b.size()) {
+    // The pinned system's solution is the one of zero value at the pinned coefficient: so is
+    // the guess, moved by a constant.
+    guess = *options.initial_guess - ((*options.initial_guess)(pinned) / constant(pinned)) * constant;
+    pinned_options.initial_guess = &guess;
+  }
+  Solution sol = solve_linear_system(s.a, s.b, detail::loop_solver(pinned_options, s.a), problem.name);
   sol.assembly_seconds = s.seconds;
   sol.zero_mean = zero_mean;
   if (zero_mean) sol.u -= (s.area.dot(sol.u) / s.area.dot(constant)) * constant;

@@ -23,6 +23,11 @@ struct Frame {
 
 Frame frame_at(const LoopSpace& space, const LoopSpace::Element& e, Eigen::Index p);
 
+// The projection's derivatives at x: DP a and D²P[a, b] (closed form for the unit sphere,
+// central differences otherwise).
+Vec3 projected_tangent(const Projection& p, const Vec3& x, const Vec3& a);
+Vec3 projection_hessian(const Projection& p, const Vec3& x, const Vec3& a, const Vec3& b);
+
 // The Laplace-Beltrami operator at a point as weights of a function's derivatives:
 // Δ_Γ u = A u_uu + B u_uv + C u_vv + D u_u + E u_v, from g^{ab} (u_ab - Γ^c_ab u_c) with
 // Γ^c_ab u_c = y_ab · ∇u and ∇u = u_u t_u + u_v t_v, t_u = g^{1c} y_c, t_v = g^{2c} y_c.

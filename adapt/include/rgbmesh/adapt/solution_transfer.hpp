@@ -48,6 +48,9 @@ class SolutionTransfer {
   /// The carried values in the DOF order of fe (its vertices; for P2 its edge nodes too, an
   /// edge no rule above reached taking the mean of its ends); empty before the first store().
   Eigen::VectorXd on(const fem::SurfaceMesh& fe) const;
+  /// The carried values at these vertices (live ones of the mesh); empty before the first
+  /// store(). Loop elements seed their coefficients with them.
+  Eigen::VectorXd at(const std::vector<VertexHandle>& vertices) const;
 
  private:
   void observe();
