@@ -548,5 +548,28 @@ TEST(TruncatedHierarchicalLoop, AdmissibleMarkingKeepsTwoLevelsOnACell) {
   EXPECT_LT(h1_at(admissible, at), 1.5 * h1_at(plain, at));
 }
 
+// The previous solution as the initial guess (what adaptive cycles pass, from the carried
+// vertex values): solving again from the solution itself needs no iteration, in both bases,
+// also moved by a constant (on a closed surface with c = 0 solutions differ by constants; one
+// coefficient is pinned, and the guess is moved to match it).
+TEST(TruncatedHierarchicalLoop, MultigridStartsFromTheGuessInBothBases) {
+  if (!fem::amg_available()) GTEST_SKIP() << "built without PETSc: no amg solver";
+  for (const fem::LoopBasisKind basis : {kThb, fem::LoopBasisKind::details}) {
+    RgbMesh mesh = graded(testing::icosahedron(), 2, 5, 0.5);
+    const fem::AdaptiveLoopSpace space = fem::build_adaptive_loop_space(mesh, kSphere, {}, basis);
+    fem::SolveOptions amg;
+    amg.solver = fem::SolverKind::amg;
+    const fem::Solution first = fem::solve_loop(space, fem::sphere_harmonic(), amg);
+    EXPECT_GT(first.iterations, 3);
+    fem::SolveOptions again = amg;
+    const Eigen::VectorXd moved = first.u + 5.0 * space.constant();
+    again.initial_guess = &moved;
+    const fem::Solution second = fem::solve_loop(space, fem::sphere_harmonic(), again);
+    EXPECT_LE(second.iterations, 1) << (basis == kThb ? "thb" : "details");
+    std::printf("  %s: %d iterations from zero, %d from the solution\n", basis == kThb ? "thb" : "details", first.iterations, second.iterations);
+    EXPECT_LT((second.u - first.u).norm(), 1e-8 * first.u.norm());
+  }
+}
+
 }  // namespace
 }  // namespace rgbmesh
