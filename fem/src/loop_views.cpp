@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <unordered_map>
 #include <stdexcept>
 #include <vector>
 
@@ -30,8 +31,22 @@ MeshSnapshot loop_refined_view(const LoopSpace& space, const Eigen::VectorXd& u,
   std::vector<double> values;
   std::vector<double> element;
   // A grid point on an element's edge or corner is shared: named by the edge's end DOFs and
-  // its place counted from the lower one.
-  std::map<std::array<std::int64_t, 3>, std::int32_t> shared;
+  // its place counted from the lower one (hashed: a run's view has millions of them).
+  struct KeyHash {
+    std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
+      std::uint64_t h = static_cast<std::uint64_t>(k[0]) * 0x9E3779B97F4A7C15ull;
+      h ^= static_cast<std::uint64_t>(k[1]) + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2);
+      h ^= static_cast<std::uint64_t>(k[2]) + 0x94D049BB133111EBull + (h << 6) + (h >> 2);
+      return static_cast<std::size_t>(h);
+    }
+  };
+  std::unordered_map<std::array<std::int64_t, 3>, std::int32_t, KeyHash> shared;
+  const std::size_t cells = space.elements.size(), per_cell = static_cast<std::size_t>(m) * static_cast<std::size_t>(m);
+  shared.reserve(cells * (3 * static_cast<std::size_t>(m) / 2 + 1));
+  view.points.reserve(cells * per_cell / 2 + cells);
+  values.reserve(cells * per_cell / 2 + cells);
+  view.triangles.reserve(cells * per_cell);
+  element.reserve(cells * per_cell);
   std::vector<std::int32_t> point(grid.size());
   for (std::size_t e = 0; e < space.elements.size(); ++e) {
     const LoopSpace::Element& el = space.elements[e];
