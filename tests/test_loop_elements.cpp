@@ -252,6 +252,13 @@ TEST(LoopElements, RefinedViewIsTheSmoothSolution) {
   EXPECT_EQ(static_cast<long>(view.points.size()) - static_cast<long>(edges.size()) +
                 static_cast<long>(view.triangles.size()),
             2);
+  // No piece folds: each faces outwards (a point shared along an edge in the wrong place would
+  // keep the edges paired but fold the pieces beside it).
+  for (const auto& t : view.triangles) {
+    const Vec3 &a = view.points[static_cast<std::size_t>(t[0])], &b = view.points[static_cast<std::size_t>(t[1])],
+               &c = view.points[static_cast<std::size_t>(t[2])];
+    ASSERT_GT(dot(cross(b - a, c - a), a + b + c), 0);
+  }
   const std::vector<double>& values = view.point_data[0].values;
   const Eigen::VectorXd at_vertices = fem::loop_vertex_values(space, s.u);
   double worst = 0, at_vertex = 0;

@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "edge_key.hpp"
+#include "for_each_index.hpp"
 #include "rgbmesh/fem/loop_basis.hpp"
 #include "rgbmesh/fem/loop_elements.hpp"
 
@@ -25,85 +27,97 @@ MeshSnapshot loop_refined_view(const LoopSpace& space, const Eigen::VectorXd& u,
   std::vector<std::array<int, 2>> grid;
   for (int j = 0; j <= m; ++j)
     for (int i = 0; i + j <= m; ++i) grid.push_back({i, j});
-  const auto grid_index = [m](int i, int j) { return j * (m + 1) - j * (j - 1) / 2 + i; };
+  const std::size_t per_element = grid.size();
+  const auto grid_index = [m](int i, int j) { return static_cast<std::size_t>(j * (m + 1) - j * (j - 1) / 2 + i); };
   std::map<const LoopQuadrature*, Eigen::MatrixXd> weights;  // n x grid points
-  MeshSnapshot view;
-  std::vector<double> values;
-  std::vector<double> element;
-  // A grid point on an element's edge or corner is shared: named by the edge's end DOFs and
-  // its place counted from the lower one (hashed: a run's view has millions of them).
-  struct KeyHash {
-    std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
-      std::uint64_t h = static_cast<std::uint64_t>(k[0]) * 0x9E3779B97F4A7C15ull;
-      h ^= static_cast<std::uint64_t>(k[1]) + 0x7F4A7C159E3779B9ull + (h << 6) + (h >> 2);
-      h ^= static_cast<std::uint64_t>(k[2]) + 0x94D049BB133111EBull + (h << 6) + (h >> 2);
-      return static_cast<std::size_t>(h);
-    }
-  };
-  std::unordered_map<std::array<std::int64_t, 3>, std::int32_t, KeyHash> shared;
-  const std::size_t cells = space.elements.size(), per_cell = static_cast<std::size_t>(m) * static_cast<std::size_t>(m);
-  shared.reserve(cells * (3 * static_cast<std::size_t>(m) / 2 + 1));
-  view.points.reserve(cells * per_cell / 2 + cells);
-  values.reserve(cells * per_cell / 2 + cells);
-  view.triangles.reserve(cells * per_cell);
-  element.reserve(cells * per_cell);
-  std::vector<std::int32_t> point(grid.size());
-  for (std::size_t e = 0; e < space.elements.size(); ++e) {
+  const std::size_t cells = space.elements.size();
+  std::vector<const Eigen::MatrixXd*> weights_of(cells);
+  for (std::size_t e = 0; e < cells; ++e) {
     const LoopSpace::Element& el = space.elements[e];
     Eigen::MatrixXd& w = weights[el.rule.get()];
     if (w.size() == 0) {
-      w.resize(static_cast<Eigen::Index>(el.dofs.size()), static_cast<Eigen::Index>(grid.size()));
-      for (std::size_t g = 0; g < grid.size(); ++g)
+      w.resize(static_cast<Eigen::Index>(el.dofs.size()), static_cast<Eigen::Index>(per_element));
+      for (std::size_t g = 0; g < per_element; ++g)
         w.col(static_cast<Eigen::Index>(g)) =
             evaluate_loop_basis(el.rule->patch, grid[g][0] / double(m), grid[g][1] / double(m)).value;
     }
-    const std::array<std::int64_t, 3> d = {el.dofs[0], el.dofs[1], el.dofs[2]};
-    for (std::size_t g = 0; g < grid.size(); ++g) {
-      const int i = grid[g][0], j = grid[g][1];
-      std::array<std::int64_t, 3> key{-1, -1, -1};
-      const auto on_edge = [&](std::int64_t a, std::int64_t b, int t) {  // t steps from a towards b
-        key = a < b ? std::array<std::int64_t, 3>{a, b, t} : std::array<std::int64_t, 3>{b, a, m - t};
-      };
-      if (j == 0)
-        on_edge(d[0], d[1], i);
-      else if (i + j == m)
-        on_edge(d[1], d[2], j);
-      else if (i == 0)
-        on_edge(d[0], d[2], j);
-      if (key[0] >= 0 && (key[2] == 0 || key[2] == m))
-        key = {key[2] == 0 ? key[0] : key[1], -1, 0};  // a corner
-      if (key[0] >= 0) {
-        const auto [it, inserted] = shared.emplace(key, static_cast<std::int32_t>(view.points.size()));
-        point[g] = it->second;
-        if (!inserted) continue;
-      } else {
-        point[g] = static_cast<std::int32_t>(view.points.size());
-      }
-      Vec3 x;
-      double value = 0;
-      for (std::size_t k = 0; k < el.dofs.size(); ++k) {
-        const double wk = w(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(g));
-        x += wk * space.control[static_cast<std::size_t>(el.dofs[k])];
-        value += wk * u(el.dofs[k]);
-      }
-      view.points.push_back(space.projection ? (*space.projection)(x) : x);
-      values.push_back(value);
+    weights_of[e] = &w;
+  }
+  // Numbering (serial, in element order: the same view on any number of cores). A grid point
+  // on an element's corner is shared by the corner's DOF, one on an edge by the edge's end DOFs
+  // and its place counted from the lower one; each edge met keeps the first of its m - 1 inner
+  // points. A point is evaluated in the first element that meets it (`source`).
+  std::vector<std::int32_t> at_corner(space.num_dofs(), -1);
+  std::unordered_map<std::uint64_t, std::int32_t> edge_first;
+  edge_first.reserve(cells * 2);
+  std::vector<std::int32_t> point(cells * per_element);
+  std::vector<std::pair<std::int32_t, std::int32_t>> source;  // (element, grid point)
+  source.reserve(cells * (per_element / 2 + 1));
+  for (std::size_t e = 0; e < cells; ++e) {
+    const std::vector<std::int32_t>& d = space.elements[e].dofs;
+    std::int32_t* mine = point.data() + e * per_element;
+    const auto fresh = [&](std::size_t g) {
+      source.emplace_back(static_cast<std::int32_t>(e), static_cast<std::int32_t>(g));
+      return static_cast<std::int32_t>(source.size() - 1);
+    };
+    // The three corners.
+    for (const auto& [corner, g] : {std::pair{d[0], grid_index(0, 0)}, std::pair{d[1], grid_index(m, 0)},
+                                    std::pair{d[2], grid_index(0, m)}}) {
+      std::int32_t& p = at_corner[static_cast<std::size_t>(corner)];
+      if (p < 0) p = fresh(g);
+      mine[g] = p;
     }
-    for (int j = 0; j < m; ++j) {
+    // The three edges' inner points: t steps from a towards b at grid point place(t).
+    const auto edge = [&](std::int32_t a, std::int32_t b, auto place) {
+      if (m < 2) return;
+      const auto [it, inserted] = edge_first.emplace(detail::edge_key(a, b), static_cast<std::int32_t>(source.size()));
+      const auto from_lower = [&](int t) { return a < b ? t : m - t; };  // steps from the lower end
+      if (inserted)
+        for (int s = 1; s < m; ++s) fresh(place(from_lower(s)));
+      for (int t = 1; t < m; ++t) mine[place(t)] = it->second + (from_lower(t) - 1);
+    };
+    edge(d[0], d[1], [&](int t) { return grid_index(t, 0); });
+    edge(d[1], d[2], [&](int t) { return grid_index(m - t, t); });
+    edge(d[0], d[2], [&](int t) { return grid_index(0, t); });
+    // The inner points.
+    for (int j = 1; j < m; ++j)
+      for (int i = 1; i + j < m; ++i) mine[grid_index(i, j)] = fresh(grid_index(i, j));
+  }
+  // Positions and values, on every core.
+  MeshSnapshot view;
+  view.points.resize(source.size());
+  std::vector<double> values(source.size());
+  detail::for_each_index(source.size(), [&](std::size_t k) {
+    const auto [e, g] = source[k];
+    const LoopSpace::Element& el = space.elements[static_cast<std::size_t>(e)];
+    const Eigen::MatrixXd& w = *weights_of[static_cast<std::size_t>(e)];
+    Vec3 x;
+    double value = 0;
+    for (std::size_t i = 0; i < el.dofs.size(); ++i) {
+      const double wi = w(static_cast<Eigen::Index>(i), g);
+      x += wi * space.control[static_cast<std::size_t>(el.dofs[i])];
+      value += wi * u(el.dofs[i]);
+    }
+    view.points[k] = space.projection ? (*space.projection)(x) : x;
+    values[k] = value;
+  });
+  // m² triangles an element, on every core.
+  const std::size_t per_cell = static_cast<std::size_t>(m) * static_cast<std::size_t>(m);
+  view.triangles.resize(cells * per_cell);
+  std::vector<double> element(cells * per_cell);
+  detail::for_each_index(cells, [&](std::size_t e) {
+    const std::int32_t* mine = point.data() + e * per_element;
+    std::size_t k = e * per_cell;
+    for (int j = 0; j < m; ++j)
       for (int i = 0; i + j < m; ++i) {
-        view.triangles.push_back({point[static_cast<std::size_t>(grid_index(i, j))],
-                                  point[static_cast<std::size_t>(grid_index(i + 1, j))],
-                                  point[static_cast<std::size_t>(grid_index(i, j + 1))]});
-        element.push_back(static_cast<double>(e));
+        view.triangles[k] = {mine[grid_index(i, j)], mine[grid_index(i + 1, j)], mine[grid_index(i, j + 1)]};
+        element[k++] = static_cast<double>(e);
         if (i + j + 1 < m) {
-          view.triangles.push_back({point[static_cast<std::size_t>(grid_index(i + 1, j))],
-                                    point[static_cast<std::size_t>(grid_index(i + 1, j + 1))],
-                                    point[static_cast<std::size_t>(grid_index(i, j + 1))]});
-          element.push_back(static_cast<double>(e));
+          view.triangles[k] = {mine[grid_index(i + 1, j)], mine[grid_index(i + 1, j + 1)], mine[grid_index(i, j + 1)]};
+          element[k++] = static_cast<double>(e);
         }
       }
-    }
-  }
+  });
   view.point_data.push_back({"solution", 1, std::move(values)});
   view.cell_data.push_back({"element", 1, std::move(element)});
   return view;
