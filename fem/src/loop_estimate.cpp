@@ -173,17 +173,22 @@ ErrorNorms loop_error_norms(const LoopSpace& space, const Eigen::VectorXd& u, co
     const LoopSpace::Element& el = space.elements[e];
     std::array<double, 4> s{};
     for (std::size_t p = 0; p < el.rule->size(); ++p) {
-      const LoopPoint q = loop_point(space, e, p);
-      double uh = 0;
-      Vec3 grad_uh;
+      const auto pi = static_cast<Eigen::Index>(p);
+      const Frame fr = frame_at(space, el, pi);
+      // u_h and its parameter derivatives, then its surface gradient (as loop_point's, without
+      // a gradient per function).
+      double uh = 0, uu = 0, uv = 0;
       for (std::size_t i = 0; i < el.dofs.size(); ++i) {
         const double ui = u(el.dofs[i]);
-        uh += el.rule->value(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(p)) * ui;
-        grad_uh += ui * q.gradient[i];
+        const auto ii = static_cast<Eigen::Index>(i);
+        uh += el.rule->value(ii, pi) * ui;
+        uu += el.rule->du(ii, pi) * ui;
+        uv += el.rule->dv(ii, pi) * ui;
       }
-      const double w = el.rule->weight[p] * q.density;
-      const double ue = exact.value(q.x);
-      const Vec3 grad_error = exact.surface_gradient(q.x) - grad_uh;
+      const Vec3 grad_uh = (fr.g11 * uu + fr.g12 * uv) * fr.yu + (fr.g12 * uu + fr.g22 * uv) * fr.yv;
+      const double w = el.rule->weight[p] * fr.density;
+      const double ue = exact.value(fr.y);
+      const Vec3 grad_error = exact.surface_gradient(fr.y) - grad_uh;
       s[0] += w * (ue - uh) * (ue - uh);
       s[1] += w * dot(grad_error, grad_error);
       s[2] += w * (ue - uh);
