@@ -11,11 +11,12 @@
 
 namespace rgbmesh::fem::detail {
 
-// Calls work(i) for every i in [0, n) on every core, in blocks of 4096 indices; work must only
-// write to slots of its own index.
+// Calls work(i) for every i in [0, n) on every core, in blocks of `block` indices; work must
+// only write to slots of its own index. Fewer than two blocks run on one thread: where each
+// index is much work (an element's matrix), pass a smaller block.
 template <class Work>
-void for_each_index(std::size_t n, Work&& work) {
-  rgbmesh::detail::parallel_for(n, 4096, rgbmesh::detail::hardware_threads(),
+void for_each_index(std::size_t n, Work&& work, std::size_t block = 4096) {
+  rgbmesh::detail::parallel_for(n, block, rgbmesh::detail::hardware_threads(),
                                 [&work](std::size_t, std::size_t i) { work(i); });
 }
 

@@ -500,8 +500,10 @@ detail::LoopSystem assemble_loop(const LoopSpace& space, const Form& form, const
   std::vector<LocalParts> parts(kBlock);
   for (std::size_t begin = 0; begin < space.elements.size(); begin += kBlock) {
     const std::size_t count = std::min(kBlock, space.elements.size() - begin);
+    // Blocks of 64 elements: 2048 in blocks of for_each_index's default 4096 would be one block,
+    // on one thread.
     detail::for_each_index(
-        count, [&](std::size_t i) { local_parts(space, begin + i, form, f.of(begin + i), out.a, parts[i]); });
+        count, [&](std::size_t i) { local_parts(space, begin + i, form, f.of(begin + i), out.a, parts[i]); }, 64);
     for (std::size_t i = 0; i < count; ++i) {  // in element order: the same sums on any number of cores
       const LoopSpace::Element& e = space.elements[begin + i];
       const LocalParts& lp = parts[i];
