@@ -34,7 +34,8 @@ SparseMatrix cyclic_band(Eigen::Index m, Eigen::Index n, int width, std::mt19937
 // Every dependent column equals its weights' combination of kept columns, to rounding: within
 // 1e-9 of the column's norm plus the combination's terms' (weights along a long band can grow
 // large, and so does the rounding of their sum).
-void expect_written_in_kept(const SparseMatrix& a, const fem::DependentColumns& found, const std::vector<char>& used) {
+void expect_written_in_kept(const SparseMatrix& a, const fem::DependentColumns& found,
+                            const std::vector<char>& used) {
   const std::set<std::int32_t> dependent(found.columns.begin(), found.columns.end());
   std::vector<Eigen::VectorXd> combination(static_cast<std::size_t>(a.cols()));
   std::vector<double> terms(static_cast<std::size_t>(a.cols()), 0.0);
@@ -52,7 +53,8 @@ void expect_written_in_kept(const SparseMatrix& a, const fem::DependentColumns& 
     if (c.size() == 0) c = Eigen::VectorXd::Zero(a.rows());
     for (Eigen::Index r = 0; r < a.rows(); ++r)
       if (!used.empty() && !used[static_cast<std::size_t>(r)]) column(r) = c(r) = 0;
-    EXPECT_LE((column - c).norm(), 1e-9 * (column.norm() + terms[static_cast<std::size_t>(j)])) << "column " << j;
+    EXPECT_LE((column - c).norm(), 1e-9 * (column.norm() + terms[static_cast<std::size_t>(j)]))
+        << "column " << j;
   }
 }
 
@@ -129,7 +131,8 @@ TEST(DependentColumns, RowsNotUsedAreIgnoredAndZeroColumnsLeftOut) {
   // With the extra rows: rank m + 2 of n columns with entries, plus the zero column.
   EXPECT_EQ(with_extra.columns.size(), static_cast<std::size_t>(n - (m + 2)) + 1);
   EXPECT_EQ(without.columns.size(), static_cast<std::size_t>(n - m) + 1);
-  EXPECT_TRUE(std::binary_search(without.columns.begin(), without.columns.end(), static_cast<std::int32_t>(n)));
+  EXPECT_TRUE(
+      std::binary_search(without.columns.begin(), without.columns.end(), static_cast<std::int32_t>(n)));
   expect_written_in_kept(a, with_extra, every);
   expect_written_in_kept(a, without, band_rows);
 }

@@ -30,8 +30,8 @@ void rank_dense(const Eigen::MatrixXd& a, double threshold, const std::vector<st
     out.push_back(group[static_cast<std::size_t>(order(rank + d))]);
     for (Eigen::Index k = 0; k < rank; ++k)
       if (weights(k, d) != 0)
-        in_kept.push_back({group[static_cast<std::size_t>(order(k))], group[static_cast<std::size_t>(order(rank + d))],
-                           weights(k, d)});
+        in_kept.push_back({group[static_cast<std::size_t>(order(k))],
+                           group[static_cast<std::size_t>(order(rank + d))], weights(k, d)});
   }
 }
 
@@ -89,7 +89,8 @@ DependentColumns dependent_columns(const SparseMatrix& e, const std::vector<char
     std::vector<std::size_t> at(start.begin(), start.end() - 1);
     for (std::size_t j = 0; j < n; ++j)
       for (SparseMatrix::InnerIterator it(e, static_cast<Eigen::Index>(j)); it; ++it)
-        if (counts(it.row(), it.value())) columns[at[static_cast<std::size_t>(it.row())]++] = static_cast<std::int32_t>(j);
+        if (counts(it.row(), it.value()))
+          columns[at[static_cast<std::size_t>(it.row())]++] = static_cast<std::int32_t>(j);
   }
   std::vector<char> alive(n, 1);
   std::vector<std::size_t> queue;
@@ -117,7 +118,8 @@ DependentColumns dependent_columns(const SparseMatrix& e, const std::vector<char
   std::iota(parent.begin(), parent.end(), 0);
   const auto root = [&parent](std::int32_t j) {
     while (parent[static_cast<std::size_t>(j)] != j)
-      j = parent[static_cast<std::size_t>(j)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(j)])];
+      j = parent[static_cast<std::size_t>(j)] =
+          parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(j)])];
     return j;
   };
   std::vector<std::int32_t> first_on_row(m, -1);
@@ -143,7 +145,8 @@ DependentColumns dependent_columns(const SparseMatrix& e, const std::vector<char
   for (std::size_t g = 0; g < by_group.size();) {
     group.clear();
     std::size_t h = g;
-    for (; h < by_group.size() && by_group[h].first == by_group[g].first; ++h) group.push_back(by_group[h].second);
+    for (; h < by_group.size() && by_group[h].first == by_group[g].first; ++h)
+      group.push_back(by_group[h].second);
     g = h;
     if (group.size() == 1) continue;  // one column with entries is independent; a zero one is in `zero`
     result.largest_group = std::max(result.largest_group, group.size());

@@ -86,7 +86,6 @@ Vec3 detail::projection_hessian(const Projection& p, const Vec3& x, const Vec3& 
          (0.25 / (s * s));
 }
 
-
 detail::Frame detail::frame_at(const LoopSpace& space, const LoopSpace::Element& e, Eigen::Index p) {
   const LoopQuadrature& r = *e.rule;
   Frame f;

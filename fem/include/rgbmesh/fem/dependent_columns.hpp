@@ -28,10 +28,10 @@ struct DependentColumnsOptions {
 };
 
 struct DependentColumns {
-  std::vector<std::int32_t> columns;        ///< dependent columns, increasing
-  std::vector<ColumnDependency> in_kept;    ///< each of them written in kept columns
-  std::size_t largest_group = 0;            ///< columns in the largest group ranked by a QR
-  std::size_t sparse_groups = 0;            ///< groups ranked by the sparse QR
+  std::vector<std::int32_t> columns;      ///< dependent columns, increasing
+  std::vector<ColumnDependency> in_kept;  ///< each of them written in kept columns
+  std::size_t largest_group = 0;          ///< columns in the largest group ranked by a QR
+  std::size_t sparse_groups = 0;          ///< groups ranked by the sparse QR
 };
 
 /// The columns of `e` that depend on the others on the rows where `used` is non-zero (`used`
