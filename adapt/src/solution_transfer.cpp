@@ -154,7 +154,7 @@ std::optional<double> SolutionTransfer::at_midpoint(VertexHandle p, VertexHandle
 Eigen::VectorXd SolutionTransfer::on(const fem::SurfaceMesh& fe) const {
   if (!has_values_) return {};
   Eigen::VectorXd u(static_cast<Eigen::Index>(fe.num_dofs()));
-  for (std::size_t i = 0; i < fe.vertex.size(); ++i) u[static_cast<Eigen::Index>(i)] = values_[fe.vertex[i].idx];
+  u.head(static_cast<Eigen::Index>(fe.vertex.size())) = at(fe.vertex);
   for (std::size_t t = 0; t < fe.edge_nodes.size(); ++t) {
     for (int k = 0; k < 3; ++k) {
       const std::int32_t a = fe.triangles[t][k], b = fe.triangles[t][(k + 1) % 3];

@@ -457,7 +457,7 @@ LoopPoint loop_point(const LoopSpace& space, std::size_t element, std::size_t po
   for (std::size_t i = 0; i < e.dofs.size(); ++i) {
     const double du = e.rule->du(static_cast<Eigen::Index>(i), p),
                  dv = e.rule->dv(static_cast<Eigen::Index>(i), p);
-    out.gradient.push_back((f.g11 * du + f.g12 * dv) * f.yu + (f.g12 * du + f.g22 * dv) * f.yv);
+    out.gradient.push_back(f.gradient(du, dv));
   }
   return out;
 }

@@ -175,8 +175,8 @@ ErrorNorms loop_error_norms(const LoopSpace& space, const Eigen::VectorXd& u, co
     for (std::size_t p = 0; p < el.rule->size(); ++p) {
       const auto pi = static_cast<Eigen::Index>(p);
       const Frame fr = frame_at(space, el, pi);
-      // u_h and its parameter derivatives, then its surface gradient (as loop_point's, without
-      // a gradient per function).
+      // u_h and its parameter derivatives, then its surface gradient (without a gradient per
+      // function, as loop_point gives).
       double uh = 0, uu = 0, uv = 0;
       for (std::size_t i = 0; i < el.dofs.size(); ++i) {
         const double ui = u(el.dofs[i]);
@@ -185,7 +185,7 @@ ErrorNorms loop_error_norms(const LoopSpace& space, const Eigen::VectorXd& u, co
         uu += el.rule->du(ii, pi) * ui;
         uv += el.rule->dv(ii, pi) * ui;
       }
-      const Vec3 grad_uh = (fr.g11 * uu + fr.g12 * uv) * fr.yu + (fr.g12 * uu + fr.g22 * uv) * fr.yv;
+      const Vec3 grad_uh = fr.gradient(uu, uv);
       const double w = el.rule->weight[p] * fr.density;
       const double ue = exact.value(fr.y);
       const Vec3 grad_error = exact.surface_gradient(fr.y) - grad_uh;

@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <limits>
 #include <map>
-#include <unordered_map>
 #include <stdexcept>
+#include <unordered_map>
 #include <vector>
 
 #include "edge_key.hpp"
