@@ -10,7 +10,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <regex>
 #include <set>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -397,29 +399,34 @@ TEST_F(Cli, LoopElementsInTheTruncatedHierarchicalBasis) {
 // estimate falls at every cycle, the smooth picture is written, and a resumed run repeats the
 // uninterrupted one exactly.
 // A CAD export whose caps lie across creases (openscad's bad-stl-wing.stl): Loop's limit
-// surface is nearly singular at two points (tangent ratios down to 2e-7), where 99% of the Loop
-// estimate sits and stays (measured: 7.8e6 falling to 4.9e3 in 20 cycles, the solution 8-10%
-// from adaptive P2's, which converges on the same surface). The tool says so once, where, and
-// what to do; the report keeps the note per cycle. A CAD mesh without such points (rotor.off)
-// and P2 on the wing get no note.
+// surface is nearly singular at two points (tangent ratios down to 2e-7), where most of the
+// Loop estimate sits (measured with 16 quadrature points a cell: 99% on 2 cells, 7.8e6 falling
+// to 4.9e3 in 20 cycles, the solution 8-10% from adaptive P2's, which converges on the same
+// surface; with the 12-point rule, whose points stay farther from the cells' corners, 62% on 3
+// cells at first). The tool says so once, where, and what to do; the report keeps the note on
+// the cycles where it holds. A CAD mesh without such points (rotor.off) and P2 on the wing get
+// no note.
 TEST_F(Cli, LoopElementsSayWhereTheLimitSurfaceIsNearlySingular) {
   const std::string wing = rgbmesh::testing::public_data("openscad/bad-stl-wing.stl");
   const RunResult r = run("adapt --mesh " + wing + " --element loop --cycles 2 --out " + path("wing"));
   ASSERT_EQ(r.code, 0) << r.err;
-  const std::string note =
-      "rgbmesh: note: cycle 0: Loop elements: 99% of the estimate lies on 2 cells where the "
-      "limit surface's parametrization is nearly singular";
-  EXPECT_NE(r.err.find(note), std::string::npos) << r.err;
+  // "cycle 0: Loop elements: S% of the estimate lies on N cells where ...", S >= 50, N small.
+  const std::regex note(
+      "rgbmesh: note: cycle 0: Loop elements: ([0-9]+)% of the estimate lies on ([0-9]+) cells where the "
+      "limit surface's parametrization is nearly singular \\(tangents [0-9.]+e-0[6-9] from parallel");
+  std::smatch said;
+  ASSERT_TRUE(std::regex_search(r.err, said, note)) << r.err;
+  EXPECT_GE(std::stoi(said[1]), 50);
+  EXPECT_LE(std::stoi(said[2]), 4);
   EXPECT_NE(r.err.find("--element p2 copes with such meshes"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("cycle 1:"), std::string::npos) << "printed once: " << r.err;
   const JsonValue report = rgbmesh::testing::report_of(path("wing"));
   ASSERT_NE(report.find("cycles"), nullptr);
   ASSERT_EQ(report.find("cycles")->array.size(), 2u);
-  for (const JsonValue& cycle : report.find("cycles")->array) {
-    ASSERT_NE(cycle.find("note"), nullptr);
-    EXPECT_EQ(cycle.find("note")->string.rfind("Loop elements: 99% of the estimate lies on 2 cells", 0), 0u)
-        << cycle.find("note")->string;
-  }
+  const JsonValue& first = report.find("cycles")->array.front();
+  ASSERT_NE(first.find("note"), nullptr);
+  EXPECT_EQ(first.find("note")->string.rfind("Loop elements: " + said[1].str() + "% of the estimate lies on", 0), 0u)
+      << first.find("note")->string;
   for (const std::string& quiet : {"adapt --mesh " + rgbmesh::testing::public_data("rotor.off") +
                                        " --element loop --cycles 2 --out " + path("rotor"),
                                    "adapt --mesh " + wing + " --element p2 --cycles 2 --out " + path("p2")}) {

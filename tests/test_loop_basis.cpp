@@ -419,5 +419,48 @@ TEST(LoopBasis, QuadratureRules) {
   EXPECT_EQ(fem::loop_quadrature(patch, options).get(), rule.get());
 }
 
+// The default rule on regular triangles (12 symmetric points) is exact to degree 6 as the
+// 4 x 4 collapsed Gauss rule is: every monomial u^i v^j with i + j <= 6, and on a regular
+// patch (quartic box splines) the products of first derivatives and of values with second
+// derivatives (degree 6) give a 7 x 7 rule's matrices.
+TEST(LoopBasis, DefaultRuleIsExactToDegreeSix) {
+  const testing::BaseMesh ico = testing::icosahedron();
+  const RgbMesh mesh = ico.build();
+  const fem::LoopPatch middle = fem::loop_child_patch(patch_of(mesh, ico.triangles[0]), 3)->patch;
+  ASSERT_TRUE(middle.regular());
+  const auto rule = fem::loop_quadrature(middle);
+  ASSERT_EQ(rule->size(), 12u);
+  for (int i = 0; i <= 6; ++i) {
+    for (int j = 0; i + j <= 6; ++j) {
+      double sum = 0;
+      for (std::size_t p = 0; p < rule->size(); ++p)
+        sum += rule->weight[p] * std::pow(rule->u[p], i) * std::pow(rule->v[p], j);
+      const double exact = std::tgamma(i + 1) * std::tgamma(j + 1) / std::tgamma(i + j + 3);
+      EXPECT_NEAR(sum, exact, 1e-15 * exact) << "u^" << i << " v^" << j;
+    }
+  }
+  fem::LoopQuadratureOptions fine_options;
+  fine_options.points_per_direction = 7;
+  const auto fine = fem::loop_quadrature(middle, fine_options);
+  const auto products = [](const fem::LoopQuadrature& r) {
+    const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(r.weight.data(), static_cast<Eigen::Index>(r.size()));
+    const Eigen::MatrixXd gradients = r.du * w.asDiagonal() * r.du.transpose() +
+                                      r.dv * w.asDiagonal() * r.dv.transpose(),
+                          curvature = r.value * w.asDiagonal() * (r.duu + r.dvv).transpose();
+    return std::pair{gradients, curvature};
+  };
+  const auto [g, c] = products(*rule);
+  const auto [g_fine, c_fine] = products(*fine);
+  EXPECT_LT((g - g_fine).norm(), 1e-14 * g_fine.norm());
+  EXPECT_LT((c - c_fine).norm(), 1e-14 * c_fine.norm());
+  // Not exact beyond: the products of values (degree 8) differ.
+  const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(rule->weight.data(), 12),
+                        w_fine = Eigen::Map<const Eigen::VectorXd>(fine->weight.data(),
+                                                                   static_cast<Eigen::Index>(fine->size()));
+  const Eigen::MatrixXd mass = rule->value * w.asDiagonal() * rule->value.transpose(),
+                        mass_fine = fine->value * w_fine.asDiagonal() * fine->value.transpose();
+  EXPECT_GT((mass - mass_fine).norm(), 1e-10 * mass_fine.norm());
+}
+
 }  // namespace
 }  // namespace rgbmesh

@@ -93,7 +93,7 @@ TEST(LoopElements, SphereHarmonicConvergesAtTheRatesExtraordinaryVerticesAllow) 
   EXPECT_LT(runs.back().errors.l2, e2.l2 / 10);
 }
 
-// The default quadrature (4 x 4 points per sub-triangle, 6 levels towards extraordinary
+// The default quadrature (12 symmetric points per sub-triangle, 6 levels towards extraordinary
 // corners) against a much finer one (7 x 7, 10 levels): the solutions' errors, both measured
 // with the finer rule, agree to 1e-4 relative.
 TEST(LoopElements, DefaultQuadratureIsConverged) {

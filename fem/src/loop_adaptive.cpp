@@ -285,10 +285,10 @@ Eigen::VectorXd AdaptiveLoopSpace::constant() const {
 
 AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<Projection> projection,
                                             const LoopQuadratureOptions& quadrature, LoopBasisKind basis) {
-  if (quadrature.points_per_direction < 1 || quadrature.points_per_direction > 20 ||
+  if (quadrature.points_per_direction < 0 || quadrature.points_per_direction > 20 ||
       quadrature.extraordinary_depth < 0 || quadrature.extraordinary_depth > 20)
     throw std::invalid_argument(
-        "build_adaptive_loop_space: points per direction in [1, 20], depth in [0, 20]");
+        "build_adaptive_loop_space: points per direction in [0, 20], depth in [0, 20]");
   AdaptiveLoopSpace space;
   space.cells.projection = std::move(projection);
   space.cells.level = -1;

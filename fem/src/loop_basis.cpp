@@ -640,24 +640,21 @@ void set_from(LoopBasisAt& out, const LoopBasisAt& local, const Eigen::MatrixXd&
 
 struct RuleBuilder {
   const LoopQuadratureOptions& options;
-  std::vector<double> gauss_x, gauss_w;
+  std::vector<std::array<double, 3>> reference;  // (s, t, weight) on the parameter triangle
   std::vector<LoopBasisAt> basis;
   std::vector<double> u, v, weight;
 
-  // The points of the collapsed Gauss rule on a sub-triangle `levels` steps down, given the map
-  // of its parameters to the root's (`to_root`).
+  // The reference rule's points on a sub-triangle `levels` steps down, given the map of its
+  // parameters to the root's (`place`).
   template <class Place>
   void add_points(int levels, const Place& place) {
     const double area = std::ldexp(1.0, -2 * levels);
-    for (std::size_t a = 0; a < gauss_x.size(); ++a) {
-      for (std::size_t b = 0; b < gauss_x.size(); ++b) {
-        const double s = gauss_x[a], t = gauss_x[b] * (1 - gauss_x[a]);
-        double ru = s, rv = t;
-        basis.push_back(place(s, t, ru, rv));
-        u.push_back(ru);
-        v.push_back(rv);
-        weight.push_back(area * gauss_w[a] * gauss_w[b] * (1 - gauss_x[a]));
-      }
+    for (const auto& [s, t, w] : reference) {
+      double ru = s, rv = t;
+      basis.push_back(place(s, t, ru, rv));
+      u.push_back(ru);
+      v.push_back(rv);
+      weight.push_back(area * w);
     }
   }
 
@@ -795,11 +792,53 @@ void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
   }
 }
 
+namespace {
+
+// The rule on the parameter triangle {s, t >= 0, s + t <= 1} (area 1/2) that every regular
+// sub-triangle gets: with points_per_direction = n >= 1 the collapsed Gauss rule (n x n points,
+// exact to degree 2n - 2); with 0 the symmetric rule of 12 points exact to degree 6, the
+// 4 x 4 rule's degree with three quarters of its points. Its orbits (barycentric coordinates
+// (a, a, 1 - 2a) with their 3 permutations twice, (a, b, 1 - a - b) with its 6) solve the
+// seven moment equations of the S3-invariant polynomials of degree <= 6 (1, e2, e3, e2^2,
+// e2 e3, e3^2, e2^3 with e1 = 1), solved by Newton's method in 40-digit arithmetic
+// (scripts/triangle_rule.py derives them again); the rule's test checks every monomial of
+// degree <= 6.
+std::vector<std::array<double, 3>> reference_rule(int points_per_direction) {
+  std::vector<std::array<double, 3>> rule;
+  if (points_per_direction >= 1) {
+    std::vector<double> x, w;
+    gauss_legendre(points_per_direction, x, w);
+    for (std::size_t a = 0; a < x.size(); ++a)
+      for (std::size_t b = 0; b < x.size(); ++b) rule.push_back({x[a], x[b] * (1 - x[a]), w[a] * w[b] * (1 - x[a])});
+    return rule;
+  }
+  struct Orbit {
+    double a, b, weight;  // b < 0: the orbit (a, a, 1 - 2a)
+  };
+  const Orbit orbits[] = {{0.06308901449150223, -1, 0.02542245318510341},
+                          {0.24928674517091043, -1, 0.058393137863189684},
+                          {0.6365024991213987, 0.3103524510337844, 0.041425537809186785}};
+  for (const Orbit& o : orbits) {
+    if (o.b < 0) {
+      const double c = 1 - 2 * o.a;
+      for (const auto& [s, t] : {std::array<double, 2>{o.a, o.a}, {o.a, c}, {c, o.a}}) rule.push_back({s, t, o.weight});
+      continue;
+    }
+    const double l[3] = {o.a, o.b, 1 - o.a - o.b};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (i != j) rule.push_back({l[i], l[j], o.weight});
+  }
+  return rule;
+}
+
+}  // namespace
+
 std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
                                                       const LoopQuadratureOptions& options) {
-  if (options.points_per_direction < 1 || options.points_per_direction > 20 ||
+  if (options.points_per_direction < 0 || options.points_per_direction > 20 ||
       options.extraordinary_depth < 0 || options.extraordinary_depth > 20)
-    throw std::invalid_argument("loop_quadrature: points per direction in [1, 20], depth in [0, 20]");
+    throw std::invalid_argument("loop_quadrature: points per direction in [0, 20], depth in [0, 20]");
   using Key = std::pair<std::array<int, 2>, PatchKey>;
   // The rules of a closed mesh refined once are few (one extraordinary corner each, a handful
   // of valences); an irregular base mesh has one per distinct neighbourhood of its triangles
@@ -814,8 +853,7 @@ std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
     const auto it = cache.find(key);
     if (it != cache.end()) return it->second;
   }
-  RuleBuilder builder{options, {}, {}, {}, {}, {}, {}};
-  gauss_legendre(options.points_per_direction, builder.gauss_x, builder.gauss_w);
+  RuleBuilder builder{options, reference_rule(options.points_per_direction), {}, {}, {}, {}};
   LoopPatch local = patch;
   for (std::size_t i = 0; i < local.vertices.size(); ++i) local.vertices[i] = static_cast<std::int32_t>(i);
   const Eigen::Index n = static_cast<Eigen::Index>(local.vertices.size());

@@ -6,6 +6,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCore>
+#include <array>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -41,11 +42,20 @@ using detail::PointSource;
 using detail::side_points;
 using detail::SidePoint;
 
-Vec3 patch_sum(const Eigen::MatrixXd& weights, Eigen::Index point, const std::vector<std::int32_t>& dofs,
-               const std::vector<Vec3>& control) {
-  const double* w = weights.col(point).data();
-  Vec3 sum;
-  for (std::size_t i = 0; i < dofs.size(); ++i) sum += w[i] * control[static_cast<std::size_t>(dofs[i])];
+// Three sums of the control points at one point with the weights of three of the rule's
+// tables (each control point read once: a point's geometry is most of the assembly's and the
+// estimator's time).
+std::array<Vec3, 3> patch_sums(const std::array<const Eigen::MatrixXd*, 3>& weights, Eigen::Index point,
+                               const std::vector<std::int32_t>& dofs, const std::vector<Vec3>& control) {
+  const double *w0 = weights[0]->col(point).data(), *w1 = weights[1]->col(point).data(),
+               *w2 = weights[2]->col(point).data();
+  std::array<Vec3, 3> sum;
+  for (std::size_t i = 0; i < dofs.size(); ++i) {
+    const Vec3& c = control[static_cast<std::size_t>(dofs[i])];
+    sum[0] += w0[i] * c;
+    sum[1] += w1[i] * c;
+    sum[2] += w2[i] * c;
+  }
   return sum;
 }
 
@@ -58,29 +68,32 @@ bool is_unit_sphere(const Projection& p) {
 
 }  // namespace
 
-// dP a at x: for the unit sphere's P(x) = x / |x|, (a - (y·a) y) / |x| with y = P(x); for
-// other projections by central differences with a step of 1e-4 of the tangent's length (the
-// projections are smooth on the scale of the surface; the error is then ~1e-8 relative).
+namespace {
+
+// The unit sphere's P(x) = x / |x| differentiated, with y = P(x) and s = 1 / |x|:
+// dP a = (a - (y·a) y) s and D²P[a, b] = (3 (y·a)(y·b) y - (y·b) a - (y·a) b - (a·b) y) s².
+Vec3 sphere_tangent(const Vec3& y, double s, const Vec3& a) { return (a - dot(y, a) * y) * s; }
+Vec3 sphere_hessian(const Vec3& y, double s, const Vec3& a, const Vec3& b) {
+  const double ya = dot(y, a), yb = dot(y, b);
+  return (3 * ya * yb * y - yb * a - ya * b - dot(a, b) * y) * (s * s);
+}
+
+}  // namespace
+
+// dP a at x: closed form for the unit sphere; for other projections central differences with a
+// step of 1e-4 of the tangent's length (the projections are smooth on the scale of the surface;
+// the error is then ~1e-8 relative).
 Vec3 detail::projected_tangent(const Projection& p, const Vec3& x, const Vec3& a) {
-  if (is_unit_sphere(p)) {
-    const double r = norm(x);
-    const Vec3 y = x * (1.0 / r);
-    return (a - dot(y, a) * y) * (1.0 / r);
-  }
+  if (is_unit_sphere(p)) return sphere_tangent(project_to_unit_sphere(x), 1 / norm(x), a);
   const double h = 1e-4;
   return (p(x + h * a) - p(x - h * a)) * (0.5 / h);
 }
 
-// D²P[a, b] at x: for the unit sphere, (3 (y·a)(y·b) y - (y·b) a - (y·a) b - (a·b) y) / |x|²;
-// for other projections by central differences, with steps of 1e-4 of |x| in space (the
-// projections are onto surfaces of that scale: the error is then ~1e-8 relative).
+// D²P[a, b] at x: closed form for the unit sphere; for other projections central differences,
+// with steps of 1e-4 of |x| in space (the projections are onto surfaces of that scale: the
+// error is then ~1e-8 relative).
 Vec3 detail::projection_hessian(const Projection& p, const Vec3& x, const Vec3& a, const Vec3& b) {
-  if (is_unit_sphere(p)) {
-    const double r = norm(x);
-    const Vec3 y = x * (1.0 / r);
-    const double ya = dot(y, a), yb = dot(y, b);
-    return (3 * ya * yb * y - yb * a - ya * b - dot(a, b) * y) * (1.0 / (r * r));
-  }
+  if (is_unit_sphere(p)) return sphere_hessian(project_to_unit_sphere(x), 1 / norm(x), a, b);
   const double s = 1e-4 * std::max(norm(x), 1e-3) / std::max({norm(a), norm(b), 1e-300});
   return (p(x + s * a + s * b) - p(x + s * a - s * b) - p(x - s * a + s * b) + p(x - s * a - s * b)) *
          (0.25 / (s * s));
@@ -89,15 +102,21 @@ Vec3 detail::projection_hessian(const Projection& p, const Vec3& x, const Vec3& 
 detail::Frame detail::frame_at(const LoopSpace& space, const LoopSpace::Element& e, Eigen::Index p) {
   const LoopQuadrature& r = *e.rule;
   Frame f;
-  f.x = patch_sum(r.value, p, e.dofs, space.control);
-  f.xu = patch_sum(r.du, p, e.dofs, space.control);
-  f.xv = patch_sum(r.dv, p, e.dofs, space.control);
+  const auto [x, xu, xv] = patch_sums({&r.value, &r.du, &r.dv}, p, e.dofs, space.control);
+  f.x = x, f.xu = xu, f.xv = xv;
   f.y = f.x, f.yu = f.xu, f.yv = f.xv;
   if (space.projection) {
     const Projection& proj = *space.projection;
-    f.y = proj(f.x);
-    f.yu = projected_tangent(proj, f.x, f.xu);
-    f.yv = projected_tangent(proj, f.x, f.xv);
+    if (is_unit_sphere(proj)) {  // asked once a point: laplacian_weights reads inverse_radius
+      f.inverse_radius = 1 / norm(f.x);
+      f.y = f.x * f.inverse_radius;
+      f.yu = sphere_tangent(f.y, f.inverse_radius, f.xu);
+      f.yv = sphere_tangent(f.y, f.inverse_radius, f.xv);
+    } else {
+      f.y = proj(f.x);
+      f.yu = projected_tangent(proj, f.x, f.xu);
+      f.yv = projected_tangent(proj, f.x, f.xv);
+    }
   }
   const double a = dot(f.yu, f.yu), b = dot(f.yu, f.yv), c = dot(f.yv, f.yv);
   const double det = a * c - b * b;
@@ -111,9 +130,13 @@ detail::LaplacianWeights detail::laplacian_weights(const LoopSpace& space, const
   const LoopQuadrature& r = *el.rule;
   // Second derivatives of the surface: those of the limit surface, and through the projection
   // y = P(x): y_ab = D²P[x_a, x_b] + DP x_ab.
-  Vec3 yuu = patch_sum(r.duu, p, el.dofs, space.control), yuv = patch_sum(r.duv, p, el.dofs, space.control),
-       yvv = patch_sum(r.dvv, p, el.dofs, space.control);
-  if (space.projection) {
+  auto [yuu, yuv, yvv] = patch_sums({&r.duu, &r.duv, &r.dvv}, p, el.dofs, space.control);
+  if (f.inverse_radius > 0) {
+    const double s = f.inverse_radius;
+    yuu = sphere_hessian(f.y, s, f.xu, f.xu) + sphere_tangent(f.y, s, yuu);
+    yuv = sphere_hessian(f.y, s, f.xu, f.xv) + sphere_tangent(f.y, s, yuv);
+    yvv = sphere_hessian(f.y, s, f.xv, f.xv) + sphere_tangent(f.y, s, yvv);
+  } else if (space.projection) {
     const Projection& proj = *space.projection;
     yuu = projection_hessian(proj, f.x, f.xu, f.xu) + projected_tangent(proj, f.x, yuu);
     yuv = projection_hessian(proj, f.x, f.xu, f.xv) + projected_tangent(proj, f.x, yuv);
@@ -293,9 +316,9 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
                        std::to_string(t.idx) + " is not a green triangle of level " +
                        std::to_string(space.level));
   }
-  if (quadrature.points_per_direction < 1 || quadrature.points_per_direction > 20 ||
+  if (quadrature.points_per_direction < 0 || quadrature.points_per_direction > 20 ||
       quadrature.extraordinary_depth < 0 || quadrature.extraordinary_depth > 20)
-    throw std::invalid_argument("build_loop_space: points per direction in [1, 20], depth in [0, 20]");
+    throw std::invalid_argument("build_loop_space: points per direction in [0, 20], depth in [0, 20]");
   mesh.compute_limits();
   // Numbered canonically (canonical.hpp), each triangle's corners from its lowest-numbered one:
   // the parametrization of each element, hence its quadrature points, and every sum then

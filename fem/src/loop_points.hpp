@@ -19,6 +19,7 @@ struct Frame {
   Vec3 y, yu, yv;                    // on the surface computed on (the projection's image, or the same)
   double g11 = 0, g12 = 0, g22 = 0;  // the inverse metric
   double density = 0;
+  double inverse_radius = 0;  // 1 / |x| when the projection is the unit sphere's (closed-form derivatives)
   // The surface gradient of a function whose parameter derivatives are (du, dv) here.
   Vec3 gradient(double du, double dv) const { return (g11 * du + g12 * dv) * yu + (g12 * du + g22 * dv) * yv; }
 };
