@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
 #include <unordered_map>
 
@@ -370,8 +371,16 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
     const auto it = midpoint.find(detail::edge_key(va.idx, vb.idx));
     return it == midpoint.end() ? -1 : it->second;
   };
-  // The children of each connectivity met, asked once (the lookups by connectivity copy it).
-  std::unordered_map<const LoopPatch*, std::array<std::shared_ptr<const LoopChildPatch>, 4>> children_of;
+  // The children of each connectivity met, asked once (the lookups by connectivity copy it),
+  // with the parent's edges whose midpoints they hold, each once: four children's patches name
+  // about 20 distinct midpoints in 36 places, and each is looked up once a cell instead.
+  struct Children {
+    std::array<std::shared_ptr<const LoopChildPatch>, 4> kid;
+    std::size_t odd_edges = 0;
+    std::array<std::vector<std::int32_t>, 4> odd;  // per child vertex: its edge's index, -1 if even
+  };
+  std::unordered_map<const LoopPatch*, Children> children_of;
+  std::vector<std::int32_t> odd_rgb, odd_control;  // per edge of the cell: -2 until looked up
   for (int level = 0; !level_cells.empty(); ++level) {
     std::vector<Cell> next;
     for (Cell& cell : level_cells) {
@@ -394,10 +403,33 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
         }
       }
       auto [found, fresh] = children_of.try_emplace(cell.shape);
-      if (fresh)
-        for (int k = 0; k < 4; ++k)
-          found->second[static_cast<std::size_t>(k)] = loop_child_patch(*cell.shape, k);
-      const auto& kids = found->second;
+      if (fresh) {
+        Children& c = found->second;
+        std::map<std::pair<int, int>, std::int32_t> index;
+        for (std::size_t k = 0; k < 4; ++k) {
+          c.kid[k] = loop_child_patch(*cell.shape, static_cast<int>(k));
+          for (const auto& o : c.kid[k]->origin) {
+            std::int32_t at = -1;
+            if (o[1] >= 0)
+              at = index.try_emplace({std::min(o[0], o[1]), std::max(o[0], o[1])}, static_cast<std::int32_t>(index.size()))
+                       .first->second;
+            c.odd[k].push_back(at);
+          }
+        }
+        c.odd_edges = index.size();
+      }
+      const Children& children = found->second;
+      const auto& kids = children.kid;
+      odd_rgb.assign(children.odd_edges, -2);
+      odd_control.assign(children.odd_edges, -2);
+      const auto rgb_midpoint_of = [&](std::size_t k, std::size_t i) {
+        std::int32_t& m = odd_rgb[static_cast<std::size_t>(children.odd[k][i])];
+        if (m == -2) {
+          const auto o = kids[k]->origin[i];
+          m = rgb_midpoint(cell.vertices[static_cast<std::size_t>(o[0])], cell.vertices[static_cast<std::size_t>(o[1])]);
+        }
+        return m;
+      };
       // A cell with two or three irregular corners is split once whatever the mesh: its
       // children have one at most. The function is the same on the children (their control
       // values are the parent's subdivided), and a quadrature rule is built per patch
@@ -411,10 +443,9 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
         irregular +=
             !cell.shape->regular_corner(k) && !(cell.shape->creases && cell.shape->creases->transient(k));
       bool split = irregular >= 2;
-      for (int k = 0; k < 4 && !split; ++k)
-        for (const auto& o : kids[static_cast<std::size_t>(k)]->origin)
-          split = split || (o[1] >= 0 && rgb_midpoint(cell.vertices[static_cast<std::size_t>(o[0])],
-                                                      cell.vertices[static_cast<std::size_t>(o[1])]) >= 0);
+      for (std::size_t k = 0; k < 4 && !split; ++k)
+        for (std::size_t i = 0; i < kids[k]->origin.size() && !split; ++i)
+          split = children.odd[k][i] >= 0 && rgb_midpoint_of(k, i) >= 0;
       if (!split) {
         space.tree[static_cast<std::size_t>(cell.node)].cell = static_cast<std::int32_t>(leaves.size());
         space.anchors.push_back(cell.anchors);
@@ -425,7 +456,8 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
       space.tree[static_cast<std::size_t>(cell.node)].first_child =
           static_cast<std::int32_t>(space.tree.size());
       bool child_in_domain = false;  // for the truncated hierarchical basis's cells
-      for (const auto& kid : kids) {
+      for (std::size_t k = 0; k < 4; ++k) {
+        const auto& kid = kids[k];
         Cell child;
         child.shape = &kid->patch;
         child.vertices.resize(kid->origin.size());
@@ -436,7 +468,9 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
           const std::int32_t a = cell.vertices[static_cast<std::size_t>(o[0])];
           const std::int32_t b = o[1] < 0 ? -1 : cell.vertices[static_cast<std::size_t>(o[1])];
           std::int32_t cv = b < 0 ? net.even_child[static_cast<std::size_t>(a)] : -1;
-          if (b >= 0) {
+          std::int32_t* memo = b < 0 ? nullptr : &odd_control[static_cast<std::size_t>(children.odd[k][i])];
+          if (memo != nullptr && *memo >= 0) cv = *memo;
+          if (memo != nullptr && *memo == -2) {
             const auto it = net.odd_child.find(detail::edge_key(a, b));
             if (it != net.odd_child.end()) cv = it->second;
           }
@@ -447,7 +481,7 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
             if (b < 0) {
               v.vertex = net.vertex[static_cast<std::size_t>(a)].vertex;
             } else {
-              const std::int32_t slot = rgb_midpoint(a, b);
+              const std::int32_t slot = rgb_midpoint_of(k, i);
               if (slot >= 0) v.vertex = VertexHandle(slot);
             }
             Vec3 p;
@@ -464,6 +498,7 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
             else
               net.odd_child.emplace(detail::edge_key(a, b), cv);
           }
+          if (memo != nullptr) *memo = cv;
           child.vertices[i] = cv;
         }
         child.anchors = anchors_of(child.vertices, net, cell.anchors);
