@@ -250,8 +250,8 @@ TEST_P(MovingPeak, MeshFollowsItAtASteadySizeCentredOnIt) {
   const bool loop = GetParam() == AdaptOptions::Element::loop;
   double worst_h1 = 0;
   for (const CycleReport& step : steps) worst_h1 = std::max(worst_h1, *step.error_h1);
-  std::printf("  finest patch at most %.2f degrees off the peak; triangles %zu to %zu; last step %zu unknowns; "
-              "H1 at most %.2e\n",
+  std::printf("  finest patch at most %.2f degrees off the peak; triangles %zu to %zu; last step %zu "
+              "unknowns; H1 at most %.2e\n",
               *std::max_element(offset.begin() + 1, offset.end()), lo, hi, steps.back().dofs, worst_h1);
   EXPECT_LT(double(hi) / double(lo), loop ? 1.4 : 1.3) << "triangles between " << lo << " and " << hi;
   for (const CycleReport& step : steps) EXPECT_LT(*step.error_h1, loop ? 5e-3 : 0.15);

@@ -425,8 +425,9 @@ TEST_F(Cli, LoopElementsSayWhereTheLimitSurfaceIsNearlySingular) {
   ASSERT_EQ(report.find("cycles")->array.size(), 2u);
   const JsonValue& first = report.find("cycles")->array.front();
   ASSERT_NE(first.find("note"), nullptr);
-  EXPECT_EQ(first.find("note")->string.rfind("Loop elements: " + said[1].str() + "% of the estimate lies on", 0), 0u)
-      << first.find("note")->string;
+  const std::string& first_note = first.find("note")->string;
+  const std::string opening = "Loop elements: " + said[1].str() + "% of the estimate lies on";
+  EXPECT_EQ(first_note.rfind(opening, 0), 0u) << first_note;
   for (const std::string& quiet : {"adapt --mesh " + rgbmesh::testing::public_data("rotor.off") +
                                        " --element loop --cycles 2 --out " + path("rotor"),
                                    "adapt --mesh " + wing + " --element p2 --cycles 2 --out " + path("p2")}) {

@@ -443,7 +443,8 @@ TEST(LoopBasis, DefaultRuleIsExactToDegreeSix) {
   fine_options.points_per_direction = 7;
   const auto fine = fem::loop_quadrature(middle, fine_options);
   const auto products = [](const fem::LoopQuadrature& r) {
-    const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(r.weight.data(), static_cast<Eigen::Index>(r.size()));
+    const Eigen::VectorXd w =
+        Eigen::Map<const Eigen::VectorXd>(r.weight.data(), static_cast<Eigen::Index>(r.size()));
     const Eigen::MatrixXd gradients = r.du * w.asDiagonal() * r.du.transpose() +
                                       r.dv * w.asDiagonal() * r.dv.transpose(),
                           curvature = r.value * w.asDiagonal() * (r.duu + r.dvv).transpose();

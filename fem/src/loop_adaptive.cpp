@@ -411,7 +411,9 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
           for (const auto& o : c.kid[k]->origin) {
             std::int32_t at = -1;
             if (o[1] >= 0)
-              at = index.try_emplace({std::min(o[0], o[1]), std::max(o[0], o[1])}, static_cast<std::int32_t>(index.size()))
+              at = index
+                       .try_emplace({std::min(o[0], o[1]), std::max(o[0], o[1])},
+                                    static_cast<std::int32_t>(index.size()))
                        .first->second;
             c.odd[k].push_back(at);
           }
@@ -426,7 +428,8 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
         std::int32_t& m = odd_rgb[static_cast<std::size_t>(children.odd[k][i])];
         if (m == -2) {
           const auto o = kids[k]->origin[i];
-          m = rgb_midpoint(cell.vertices[static_cast<std::size_t>(o[0])], cell.vertices[static_cast<std::size_t>(o[1])]);
+          m = rgb_midpoint(cell.vertices[static_cast<std::size_t>(o[0])],
+                           cell.vertices[static_cast<std::size_t>(o[1])]);
         }
         return m;
       };

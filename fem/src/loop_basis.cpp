@@ -809,7 +809,8 @@ std::vector<std::array<double, 3>> reference_rule(int points_per_direction) {
     std::vector<double> x, w;
     gauss_legendre(points_per_direction, x, w);
     for (std::size_t a = 0; a < x.size(); ++a)
-      for (std::size_t b = 0; b < x.size(); ++b) rule.push_back({x[a], x[b] * (1 - x[a]), w[a] * w[b] * (1 - x[a])});
+      for (std::size_t b = 0; b < x.size(); ++b)
+        rule.push_back({x[a], x[b] * (1 - x[a]), w[a] * w[b] * (1 - x[a])});
     return rule;
   }
   struct Orbit {
@@ -821,7 +822,8 @@ std::vector<std::array<double, 3>> reference_rule(int points_per_direction) {
   for (const Orbit& o : orbits) {
     if (o.b < 0) {
       const double c = 1 - 2 * o.a;
-      for (const auto& [s, t] : {std::array<double, 2>{o.a, o.a}, {o.a, c}, {c, o.a}}) rule.push_back({s, t, o.weight});
+      for (const auto& [s, t] : {std::array<double, 2>{o.a, o.a}, {o.a, c}, {c, o.a}})
+        rule.push_back({s, t, o.weight});
       continue;
     }
     const double l[3] = {o.a, o.b, 1 - o.a - o.b};

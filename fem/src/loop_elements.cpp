@@ -6,8 +6,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCore>
-#include <array>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
