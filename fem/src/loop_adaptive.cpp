@@ -380,7 +380,9 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
     std::array<std::vector<std::int32_t>, 4> odd;  // per child vertex: its edge's index, -1 if even
   };
   std::unordered_map<const LoopPatch*, Children> children_of;
-  std::vector<std::int32_t> odd_rgb, odd_control;  // per edge of the cell: -2 until looked up
+  // Per edge of the cell: its RGB midpoint (-2 until looked up, -1 for none) and its control
+  // vertex a level down (-1 until found).
+  std::vector<std::int32_t> odd_rgb, odd_control;
   for (int level = 0; !level_cells.empty(); ++level) {
     std::vector<Cell> next;
     for (Cell& cell : level_cells) {
@@ -423,7 +425,7 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
       const Children& children = found->second;
       const auto& kids = children.kid;
       odd_rgb.assign(children.odd_edges, -2);
-      odd_control.assign(children.odd_edges, -2);
+      odd_control.assign(children.odd_edges, -1);
       const auto rgb_midpoint_of = [&](std::size_t k, std::size_t i) {
         std::int32_t& m = odd_rgb[static_cast<std::size_t>(children.odd[k][i])];
         if (m == -2) {
@@ -470,10 +472,9 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
           const auto o = kid->origin[i];
           const std::int32_t a = cell.vertices[static_cast<std::size_t>(o[0])];
           const std::int32_t b = o[1] < 0 ? -1 : cell.vertices[static_cast<std::size_t>(o[1])];
-          std::int32_t cv = b < 0 ? net.even_child[static_cast<std::size_t>(a)] : -1;
-          std::int32_t* memo = b < 0 ? nullptr : &odd_control[static_cast<std::size_t>(children.odd[k][i])];
-          if (memo != nullptr && *memo >= 0) cv = *memo;
-          if (memo != nullptr && *memo == -2) {
+          std::int32_t* odd = b < 0 ? nullptr : &odd_control[static_cast<std::size_t>(children.odd[k][i])];
+          std::int32_t cv = b < 0 ? net.even_child[static_cast<std::size_t>(a)] : *odd;
+          if (b >= 0 && cv < 0) {
             const auto it = net.odd_child.find(detail::edge_key(a, b));
             if (it != net.odd_child.end()) cv = it->second;
           }
@@ -501,7 +502,7 @@ AdaptiveLoopSpace build_adaptive_loop_space(const RgbMesh& mesh, std::optional<P
             else
               net.odd_child.emplace(detail::edge_key(a, b), cv);
           }
-          if (memo != nullptr) *memo = cv;
+          if (odd != nullptr) *odd = cv;
           child.vertices[i] = cv;
         }
         child.anchors = anchors_of(child.vertices, net, cell.anchors);
