@@ -330,6 +330,139 @@ TEST(LoopDirichlet, LoopsBoundaryRulesConverge) {
   }
 }
 
+// The completed boundary (LoopBoundary::completed): the domain, elements and functions of
+// Loop's boundary rules plus the functions of the ghosts that complete the mesh beyond its
+// boundary. Along the square's sides (boundary vertices of three triangles) the space then
+// holds the cubics up to the boundary; at its corners (one and two triangles) Loop's
+// boundary rules bend the surface's parametrization, and only linear functions are
+// reproduced there, on O(h²) of area: H1 falls as h² and L2 as h³ (measured 2.00 and 2.99),
+// against h^1.5 and h^2.5 with Loop's rules alone, for 4 cells + 6 more unknowns.
+TEST(LoopDirichlet, CompletedBoundaryConverges) {
+  const fem::Problem wave = wave_problem();
+  double previous_l2 = 0, previous_h1 = 0;
+  for (const int cells : {8, 16, 32, 64}) {
+    const TriangleMeshData m = square_lattice(cells, 1, 0);
+    RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);
+    const fem::LoopSpace space = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::completed);
+    // A ghost beyond each boundary edge, and 3 - k more around a corner of k triangles (two
+    // corners of one triangle, two of two).
+    EXPECT_EQ(space.num_dofs(), static_cast<std::size_t>((cells + 1) * (cells + 1) + 4 * cells + 6));
+    EXPECT_EQ(space.boundary.size(), static_cast<std::size_t>(4 * cells));
+    const fem::Solution u = fem::solve_loop(space, wave);
+    const fem::ErrorNorms e = fem::loop_error_norms(space, u.u, *wave.exact);
+    const fem::LoopSpace rules = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::loop_rules);
+    const fem::ErrorNorms by_rules = fem::loop_error_norms(rules, fem::solve_loop(rules, wave).u, *wave.exact);
+    std::printf("  completed boundary, %2d cells: %zu unknowns, L2 %.2e, H1 %.2e (Loop's rules: %zu, %.2e, %.2e)",
+                cells, space.num_dofs(), e.l2, e.h1, rules.num_dofs(), by_rules.l2, by_rules.h1);
+    EXPECT_LT(e.h1, 0.2 * by_rules.h1);
+    if (previous_h1 > 0) {
+      const double rate_l2 = std::log2(previous_l2 / e.l2), rate_h1 = std::log2(previous_h1 / e.h1);
+      std::printf(", rates %.2f, %.2f", rate_l2, rate_h1);
+      EXPECT_GT(rate_l2, 2.9);
+      EXPECT_GT(rate_h1, 1.9);
+    }
+    std::printf("\n");
+    previous_l2 = e.l2, previous_h1 = e.h1;
+  }
+}
+
+// The surface is Loop's boundary rules' (the ghosts add functions, not geometry): the pictures
+// of both spaces have the same points; a linear function is in the space (its values at the
+// vertices' control points, 0 at the ghosts), and the Galerkin solution of a linear problem is
+// it up to the quadrature's error at the corners, as with Loop's rules alone; the ghosts have
+// no value at a vertex (NaN).
+TEST(LoopDirichlet, CompletedBoundaryKeepsTheSurface) {
+  const auto linear_at = [](const Vec3& x) { return 2 * x.x - x.y + 1; };
+  const fem::Problem linear = plane_problem(
+      "linear", [](double x, double y) { return 2 * x - y + 1; }, [](double, double) { return Vec3{2, -1, 0}; },
+      [](double, double) { return 0.0; });
+  const TriangleMeshData m = square_lattice(6, 1, 0);
+  RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);
+  const fem::LoopSpace space = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::completed);
+  const fem::LoopSpace rules = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::loop_rules);
+  Eigen::VectorXd interpolant = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(space.num_dofs()));
+  for (std::size_t d = 0; d < space.num_dofs(); ++d)
+    if (space.vertex[d].valid()) interpolant(static_cast<Eigen::Index>(d)) = linear_at(space.control[d]);
+  const fem::ErrorNorms in_space = fem::loop_error_norms(space, interpolant, *linear.exact);
+  const fem::ErrorNorms e = fem::loop_error_norms(space, fem::solve_loop(space, linear).u, *linear.exact);
+  const fem::ErrorNorms by_rules = fem::loop_error_norms(rules, fem::solve_loop(rules, linear).u, *linear.exact);
+  std::printf("  a linear function: in the space to L2 %.1e, H1 %.1e; solved: L2 %.1e, H1 %.1e (Loop's rules: %.1e, "
+              "%.1e)\n",
+              in_space.l2, in_space.h1, e.l2, e.h1, by_rules.l2, by_rules.h1);
+  EXPECT_LT(in_space.l2, 1e-13);
+  EXPECT_LT(in_space.h1, 1e-12);
+  EXPECT_LT(e.l2, 1e-8);
+  EXPECT_LT(e.h1, 1e-7);
+  const MeshSnapshot ours = fem::loop_refined_view(space, interpolant, 2);
+  const MeshSnapshot theirs = fem::loop_refined_view(rules, Eigen::VectorXd::Zero(rules.num_dofs()), 2);
+  ASSERT_EQ(ours.points.size(), theirs.points.size());
+  double apart = 0, off = 0;
+  for (std::size_t i = 0; i < ours.points.size(); ++i) {
+    apart = std::max(apart, norm(ours.points[i] - theirs.points[i]));
+    off = std::max(off, std::abs(ours.point_data[0].values[i] - linear_at(ours.points[i])));
+  }
+  EXPECT_LT(apart, 1e-14);
+  EXPECT_LT(off, 1e-13);
+  const Eigen::VectorXd at_vertices = fem::loop_vertex_values(space, interpolant);
+  for (std::size_t d = 0; d < space.num_dofs(); ++d) {
+    const double value = at_vertices(static_cast<Eigen::Index>(d));
+    EXPECT_EQ(std::isnan(value), !space.vertex[d].valid()) << d;
+    if (space.vertex[d].valid())
+      EXPECT_NEAR(value, linear_at(mesh.limit_position(space.vertex[d])), 1e-13) << d;
+  }
+}
+
+// A curved surface with a jagged boundary: a spherical cap cut from the icosphere at level 2
+// (boundary vertices of two to four triangles), refined uniformly, on the sphere itself. The
+// irregular boundary vertices stay where they are and the new ones are regular, so their share
+// of the domain falls as h²: the completed boundary's H1 error tends to h², slowly, where Loop's
+// rules alone keep h^1.5. Measured: H1 5.9 to 6.5 times smaller from level 1 on, for 1% to 11%
+// more unknowns (24,851 against 24,497 at level 4); rates 2.19, 1.30, 1.50, 1.63 against
+// 0.90, 1.40, 1.47, 1.50.
+TEST(LoopDirichlet, CompletedBoundaryOnACap) {
+  fem::Problem cap;
+  cap.name = "cap";
+  cap.source = [](const Vec3& x) { return 2 * x.z; };
+  cap.dirichlet = [](const Vec3& x) { return x.z; };
+  cap.exact = fem::ExactSolution{[](const Vec3& x) { return x.z; },
+                                 [](const Vec3& x) {
+                                   return Vec3{0, 0, 1} - x.z * x;
+                                 }};
+  const TriangleMeshData ico = icosahedron();
+  RgbMesh sphere = RgbMesh::from_triangles(ico.points, ico.triangles);
+  selective_refinement(sphere, UniformLevel(2));
+  const MeshSnapshot snap = sphere.snapshot();
+  std::vector<Vec3> points;
+  for (const Vec3& p : snap.points) points.push_back(fem::project_to_unit_sphere(p));
+  PolygonSoup cap_soup{points, {}, true};
+  for (const auto& t : snap.triangles)
+    if (points[static_cast<std::size_t>(t[0])].z > -0.3 && points[static_cast<std::size_t>(t[1])].z > -0.3 &&
+        points[static_cast<std::size_t>(t[2])].z > -0.3)
+      cap_soup.faces.push_back({t[0], t[1], t[2]});
+  const TriangleMeshData cut = prepare_triangle_mesh(cap_soup);
+  double previous[2] = {0, 0};
+  for (const int level : {0, 1, 2, 3, 4}) {
+    RgbMesh mesh = RgbMesh::from_triangles(cut.points, cut.triangles);
+    selective_refinement(mesh, UniformLevel(level));
+    std::printf("  level %d:", level);
+    double h1[2] = {0, 0};
+    std::size_t dofs[2] = {0, 0};
+    for (const int k : {0, 1}) {
+      const fem::LoopSpace space =
+          fem::build_loop_space(mesh, fem::Projection(fem::project_to_unit_sphere), {},
+                                k == 0 ? fem::LoopBoundary::loop_rules : fem::LoopBoundary::completed);
+      h1[k] = fem::loop_error_norms(space, fem::solve_loop(space, cap).u, *cap.exact).h1;
+      dofs[k] = space.num_dofs();
+      std::printf(" %s %zu unknowns, H1 %.2e", k == 0 ? "Loop's rules" : "; completed", dofs[k], h1[k]);
+      if (previous[k] > 0) std::printf(" (rate %.2f)", std::log2(previous[k] / h1[k]));
+    }
+    std::printf("\n");
+    if (level >= 1) EXPECT_LT(h1[1], 0.25 * h1[0]);
+    if (level == 4) EXPECT_GT(std::log2(previous[1] / h1[1]), 1.55);
+    previous[0] = h1[0], previous[1] = h1[1];
+  }
+}
+
 TEST(LoopDirichlet, WhatCannotBeSolvedIsRefusedWithAdvice) {
   fem::Problem p;
   p.name = "one";
@@ -453,6 +586,28 @@ TEST(LoopPlate, RefusesWhatIsNoPlate) {
   EXPECT_THROW(fem::solve_loop_biharmonic(flat_space, biharmonic), InputError);
   // And by default a mesh with boundary is refused, as before.
   EXPECT_THROW(fem::build_loop_space(flat_mesh), InputError);
+  // The completed boundary is not clamped (its ghosts are functions, not a ring of the mesh),
+  // and takes no sharp features (a crease would need its own completion).
+  const TriangleMeshData open = square_lattice(4, 1, 0);
+  RgbMesh open_mesh = RgbMesh::from_triangles(open.points, open.triangles);
+  const fem::LoopSpace completed =
+      fem::build_loop_space(open_mesh, std::nullopt, {}, fem::LoopBoundary::completed);
+  try {
+    fem::solve_clamped_plate(completed, fem::clamped_square_plate());
+    FAIL() << "a completed boundary was clamped";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("ghost_ring"), std::string::npos) << e.what();
+  }
+  SharpFeatures crease;
+  crease.edges.push_back({open.triangles[10][0], open.triangles[10][1], kInfiniteSharpness});
+  RgbMesh creased = RgbMesh::from_triangles(open.points, open.triangles, crease);
+  ASSERT_TRUE(creased.has_sharp_features());
+  try {
+    fem::build_loop_space(creased, std::nullopt, {}, fem::LoopBoundary::completed);
+    FAIL() << "sharp features were taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("loop_rules"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -25,6 +25,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include "loop_patch.hpp"
 #include "rgbmesh/errors.hpp"
@@ -641,55 +642,79 @@ void set_from(LoopBasisAt& out, const LoopBasisAt& local, const Eigen::MatrixXd&
 struct RuleBuilder {
   const LoopQuadratureOptions& options;
   std::vector<std::array<double, 3>> reference;  // (s, t, weight) on the parameter triangle
-  std::vector<LoopBasisAt> basis;
+  std::vector<LoopBasisAt> basis, second_basis;  // second_basis: the second track's, if any
   std::vector<double> u, v, weight;
 
+  // One patch followed down the levels: where it is and how its vertices' values come from
+  // the root's.
+  struct Track {
+    LoopPatch patch;
+    Eigen::MatrixXd to_local;
+  };
+
   // The reference rule's points on a sub-triangle `levels` steps down, given the map of its
-  // parameters to the root's (`place`).
-  template <class Place>
-  void add_points(int levels, const Place& place) {
+  // parameters to the root's (`place`), with each track's basis (`at`).
+  template <class Place, class At>
+  void add_points(int levels, const Place& place, const At& at) {
     const double area = std::ldexp(1.0, -2 * levels);
     for (const auto& [s, t, w] : reference) {
       double ru = s, rv = t;
-      basis.push_back(place(s, t, ru, rv));
+      place(ru, rv);
+      basis.push_back(at(0, s, t));
+      if (second) second_basis.push_back(at(1, s, t));
       u.push_back(ru);
       v.push_back(rv);
       weight.push_back(area * w);
     }
   }
 
-  // path: the children taken from the root, to map points back.
-  void build(const LoopPatch& patch, const Eigen::MatrixXd& to_local, double factor, std::vector<int>& path) {
+  // path: the children taken from the root, to map points back. With two tracks (a patch and
+  // the patch it is extended by, LoopQuadrature::extension) both are subdivided together until
+  // both are regular, so that one set of points serves both.
+  void build(const std::array<Track, 2>& tracks, double factor, std::vector<int>& path) {
     const int levels = static_cast<int>(path.size());
     const auto root_params = [&path](double& s, double& t) {
       for (auto it = path.rbegin(); it != path.rend(); ++it) to_parent(*it, s, t);
     };
-    if (patch.regular()) {
-      const Eigen::MatrixXd lattice = to_lattice(patch, to_local);
-      add_points(levels, [&](double s, double t, double& ru, double& rv) {
+    const int count = second ? 2 : 1;
+    bool regular = true;
+    for (int k = 0; k < count; ++k) regular = regular && tracks[static_cast<std::size_t>(k)].patch.regular();
+    if (regular) {
+      std::array<Eigen::MatrixXd, 2> lattice;
+      for (int k = 0; k < count; ++k) {
+        const Track& track = tracks[static_cast<std::size_t>(k)];
+        lattice[static_cast<std::size_t>(k)] = to_lattice(track.patch, track.to_local);
+      }
+      add_points(levels, root_params, [&](int k, double s, double t) {
         LoopBasisAt at;
-        set_from(at, regular_basis(s, t), lattice, factor);
-        root_params(ru, rv);
+        set_from(at, regular_basis(s, t), lattice[static_cast<std::size_t>(k)], factor);
         return at;
       });
       return;
     }
     if (levels >= options.extraordinary_depth) {
-      add_points(levels, [&](double s, double t, double& ru, double& rv) {
+      add_points(levels, root_params, [&](int k, double s, double t) {
+        const Track& track = tracks[static_cast<std::size_t>(k)];
         LoopBasisAt at;
-        set_from(at, evaluate_loop_basis(patch, s, t), to_local, factor);
-        root_params(ru, rv);
+        set_from(at, evaluate_loop_basis(track.patch, s, t), track.to_local, factor);
         return at;
       });
       return;
     }
     for (int c = 0; c < 4; ++c) {
-      const Child child = subdivide(patch, c);
+      std::array<Track, 2> children;
+      for (int k = 0; k < count; ++k) {
+        const Track& track = tracks[static_cast<std::size_t>(k)];
+        Child child = subdivide(track.patch, c);
+        children[static_cast<std::size_t>(k)] = {std::move(child.patch), child.from_parent * track.to_local};
+      }
       path.push_back(c);
-      build(child.patch, child.from_parent * to_local, factor * child_derivative_factor(c), path);
+      build(children, factor * child_derivative_factor(c), path);
       path.pop_back();
     }
   }
+
+  bool second = false;
 };
 
 // What a patch's rules and rules' caches are keyed by: its triangles and, where it has any,
@@ -836,12 +861,45 @@ std::vector<std::array<double, 3>> reference_rule(int points_per_direction) {
 
 }  // namespace
 
-std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
-                                                      const LoopQuadratureOptions& options) {
+namespace {
+
+LoopPatch numbered_locally(const LoopPatch& patch) {
+  LoopPatch local = patch;
+  for (std::size_t i = 0; i < local.vertices.size(); ++i) local.vertices[i] = static_cast<std::int32_t>(i);
+  return local;
+}
+
+// A rule's tables from the builder's bases at its points: the first track's functions, then
+// rows `extra` of the second's.
+void fill_tables(LoopQuadrature& rule, const std::vector<LoopBasisAt>& basis,
+                 const std::vector<LoopBasisAt>& second, const std::vector<int>& extra) {
+  const Eigen::Index own = static_cast<Eigen::Index>(rule.patch.vertices.size());
+  const Eigen::Index n = own + static_cast<Eigen::Index>(extra.size());
+  const Eigen::Index q = static_cast<Eigen::Index>(basis.size());
+  for (Eigen::MatrixXd* m : {&rule.value, &rule.du, &rule.dv, &rule.duu, &rule.duv, &rule.dvv}) m->resize(n, q);
+  const auto put = [&](Eigen::Index p, const LoopBasisAt& at, Eigen::Index from, Eigen::Index row) {
+    rule.value(row, p) = at.value(from);
+    rule.du(row, p) = at.du(from);
+    rule.dv(row, p) = at.dv(from);
+    rule.duu(row, p) = at.duu(from);
+    rule.duv(row, p) = at.duv(from);
+    rule.dvv(row, p) = at.dvv(from);
+  };
+  for (Eigen::Index p = 0; p < q; ++p) {
+    const LoopBasisAt& at = basis[static_cast<std::size_t>(p)];
+    for (Eigen::Index i = 0; i < own; ++i) put(p, at, i, i);
+    for (std::size_t k = 0; k < extra.size(); ++k)
+      put(p, second[static_cast<std::size_t>(p)], extra[k], own + static_cast<Eigen::Index>(k));
+  }
+}
+
+std::shared_ptr<const LoopQuadrature> cached_quadrature(const LoopPatch& patch, const LoopPatch* extension,
+                                                        const std::vector<int>& rows,
+                                                        const LoopQuadratureOptions& options) {
   if (options.points_per_direction < 0 || options.points_per_direction > 20 ||
       options.extraordinary_depth < 0 || options.extraordinary_depth > 20)
     throw std::invalid_argument("loop_quadrature: points per direction in [0, 20], depth in [0, 20]");
-  using Key = std::pair<std::array<int, 2>, PatchKey>;
+  using Key = std::tuple<std::array<int, 2>, PatchKey, std::optional<PatchKey>, std::vector<int>>;
   // The rules of a closed mesh refined once are few (one extraordinary corner each, a handful
   // of valences); an irregular base mesh has one per distinct neighbourhood of its triangles
   // (the cow: about a hundred, 0.5 MB each). The cache is emptied when it passes 256 MB, so
@@ -849,36 +907,38 @@ std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
   static std::mutex mutex;
   static std::map<Key, std::shared_ptr<const LoopQuadrature>> cache;
   static std::size_t cached_bytes = 0;
-  const Key key{{options.points_per_direction, options.extraordinary_depth}, patch_key(patch)};
+  const Key key{{options.points_per_direction, options.extraordinary_depth},
+                patch_key(patch),
+                extension != nullptr ? std::optional<PatchKey>(patch_key(*extension)) : std::nullopt,
+                rows};
   {
     const std::lock_guard<std::mutex> lock(mutex);
     const auto it = cache.find(key);
     if (it != cache.end()) return it->second;
   }
-  RuleBuilder builder{options, reference_rule(options.points_per_direction), {}, {}, {}, {}};
-  LoopPatch local = patch;
-  for (std::size_t i = 0; i < local.vertices.size(); ++i) local.vertices[i] = static_cast<std::int32_t>(i);
-  const Eigen::Index n = static_cast<Eigen::Index>(local.vertices.size());
+  RuleBuilder builder{options, reference_rule(options.points_per_direction), {}, {}, {}, {}, {}, false};
+  std::array<RuleBuilder::Track, 2> tracks;
+  tracks[0].patch = numbered_locally(patch);
+  tracks[0].to_local = Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(patch.vertices.size()),
+                                                 static_cast<Eigen::Index>(patch.vertices.size()));
+  if (extension != nullptr) {
+    builder.second = true;
+    tracks[1].patch = numbered_locally(*extension);
+    tracks[1].to_local = Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(extension->vertices.size()),
+                                                   static_cast<Eigen::Index>(extension->vertices.size()));
+  }
   std::vector<int> path;
-  builder.build(local, Eigen::MatrixXd::Identity(n, n), 1.0, path);
+  builder.build(tracks, 1.0, path);
 
   auto rule = std::make_shared<LoopQuadrature>();
-  rule->patch = local;
-  const Eigen::Index q = static_cast<Eigen::Index>(builder.basis.size());
+  rule->patch = std::move(tracks[0].patch);
   rule->u = std::move(builder.u);
   rule->v = std::move(builder.v);
   rule->weight = std::move(builder.weight);
-  for (Eigen::MatrixXd* m : {&rule->value, &rule->du, &rule->dv, &rule->duu, &rule->duv, &rule->dvv})
-    m->resize(n, q);
-  for (Eigen::Index p = 0; p < q; ++p) {
-    const LoopBasisAt& at = builder.basis[static_cast<std::size_t>(p)];
-    rule->value.col(p) = at.value;
-    rule->du.col(p) = at.du;
-    rule->dv.col(p) = at.dv;
-    rule->duu.col(p) = at.duu;
-    rule->duv.col(p) = at.duv;
-    rule->dvv.col(p) = at.dvv;
-  }
+  fill_tables(*rule, builder.basis, builder.second_basis, rows);
+  if (extension != nullptr)
+    rule->extension = std::make_shared<const LoopQuadrature::Extension>(
+        LoopQuadrature::Extension{std::move(tracks[1].patch), rows});
   const std::size_t bytes = sizeof(double) * static_cast<std::size_t>(rule->value.size()) * 6;
   const std::lock_guard<std::mutex> lock(mutex);
   if (cached_bytes + bytes > (std::size_t{256} << 20)) {
@@ -888,6 +948,54 @@ std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
   const auto [it, inserted] = cache.emplace(key, std::move(rule));
   if (inserted) cached_bytes += bytes;
   return it->second;
+}
+
+}  // namespace
+
+std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
+                                                      const LoopQuadratureOptions& options) {
+  return cached_quadrature(patch, nullptr, {}, options);
+}
+
+std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch, const LoopPatch& extension,
+                                                      const std::vector<int>& rows,
+                                                      const LoopQuadratureOptions& options) {
+  if (patch.vertices.size() < 3 || extension.vertices.size() < 3 ||
+      !std::equal(patch.vertices.begin(), patch.vertices.begin() + 3, extension.vertices.begin()))
+    throw std::invalid_argument("loop_quadrature: the two patches are not of one triangle");
+  for (const int r : rows)
+    if (r < 0 || static_cast<std::size_t>(r) >= extension.vertices.size())
+      throw std::invalid_argument("loop_quadrature: an extension row outside its patch");
+  return cached_quadrature(patch, &extension, rows, options);
+}
+
+namespace {
+
+Eigen::VectorXd extended(const LoopQuadrature& rule, const Eigen::VectorXd& own, const Eigen::VectorXd& other) {
+  const std::vector<int>& rows = rule.extension->rows;
+  Eigen::VectorXd out(own.size() + static_cast<Eigen::Index>(rows.size()));
+  out.head(own.size()) = own;
+  for (std::size_t k = 0; k < rows.size(); ++k) out(own.size() + static_cast<Eigen::Index>(k)) = other(rows[k]);
+  return out;
+}
+
+}  // namespace
+
+LoopBasisAt loop_rule_basis(const LoopQuadrature& rule, double u, double v) {
+  LoopBasisAt at = evaluate_loop_basis(rule.patch, u, v);
+  if (!rule.extension) return at;
+  const LoopBasisAt other = evaluate_loop_basis(rule.extension->patch, u, v);
+  for (auto [mine, theirs] : {std::pair{&at.value, &other.value}, {&at.du, &other.du}, {&at.dv, &other.dv},
+                              {&at.duu, &other.duu}, {&at.duv, &other.duv}, {&at.dvv, &other.dvv},
+                              {&at.duuu, &other.duuu}, {&at.duuv, &other.duuv}, {&at.duvv, &other.duvv},
+                              {&at.dvvv, &other.dvvv}})
+    if (mine->size() > 0) *mine = extended(rule, *mine, *theirs);
+  return at;
+}
+
+Eigen::VectorXd loop_rule_corner_limit(const LoopQuadrature& rule, int corner) {
+  const Eigen::VectorXd own = loop_corner_limit(rule.patch, corner);
+  return rule.extension ? extended(rule, own, loop_corner_limit(rule.extension->patch, corner)) : own;
 }
 
 std::shared_ptr<const LoopChildPatch> loop_child_patch(const LoopPatch& parent, int child) {

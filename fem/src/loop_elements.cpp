@@ -15,7 +15,9 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 
+#include "edge_key.hpp"
 #include "for_each_index.hpp"
 #include "loop_assembly.hpp"
 #include "loop_points.hpp"
@@ -46,11 +48,12 @@ using detail::SidePoint;
 // tables (each control point read once: a point's geometry is most of the assembly's and the
 // estimator's time).
 std::array<Vec3, 3> patch_sums(const std::array<const Eigen::MatrixXd*, 3>& weights, Eigen::Index point,
-                               const std::vector<std::int32_t>& dofs, const std::vector<Vec3>& control) {
+                               const LoopSpace::Element& e, const std::vector<Vec3>& control) {
   const double *w0 = weights[0]->col(point).data(), *w1 = weights[1]->col(point).data(),
                *w2 = weights[2]->col(point).data();
+  const std::vector<std::int32_t>& dofs = e.dofs;
   std::array<Vec3, 3> sum;
-  for (std::size_t i = 0; i < dofs.size(); ++i) {
+  for (std::size_t i = 0, n = e.surface_dofs(); i < n; ++i) {
     const Vec3& c = control[static_cast<std::size_t>(dofs[i])];
     sum[0] += w0[i] * c;
     sum[1] += w1[i] * c;
@@ -102,7 +105,7 @@ Vec3 detail::projection_hessian(const Projection& p, const Vec3& x, const Vec3& 
 detail::Frame detail::frame_at(const LoopSpace& space, const LoopSpace::Element& e, Eigen::Index p) {
   const LoopQuadrature& r = *e.rule;
   Frame f;
-  const auto [x, xu, xv] = patch_sums({&r.value, &r.du, &r.dv}, p, e.dofs, space.control);
+  const auto [x, xu, xv] = patch_sums({&r.value, &r.du, &r.dv}, p, e, space.control);
   f.x = x, f.xu = xu, f.xv = xv;
   f.y = f.x, f.yu = f.xu, f.yv = f.xv;
   if (space.projection) {
@@ -130,7 +133,7 @@ detail::LaplacianWeights detail::laplacian_weights(const LoopSpace& space, const
   const LoopQuadrature& r = *el.rule;
   // Second derivatives of the surface: those of the limit surface, and through the projection
   // y = P(x): y_ab = D²P[x_a, x_b] + DP x_ab.
-  auto [yuu, yuv, yvv] = patch_sums({&r.duu, &r.duv, &r.dvv}, p, el.dofs, space.control);
+  auto [yuu, yuv, yvv] = patch_sums({&r.duu, &r.duv, &r.dvv}, p, el, space.control);
   if (f.inverse_radius > 0) {
     const double s = f.inverse_radius;
     yuu = sphere_hessian(f.y, s, f.xu, f.xu) + sphere_tangent(f.y, s, yuu);
@@ -304,6 +307,76 @@ detail::PointSource detail::point_source(const LoopSpace& space, const PointValu
   return s;
 }
 
+namespace {
+
+// The mesh completed beyond its boundary by ghost triangles (LoopBoundary::completed), as a
+// ring oracle over the mesh's: ghost ids follow the vertex slots. A boundary vertex v whose
+// ring runs n_0 ... n_k (k triangles, n_0 before n_k in canonical rank) gets the closed ring
+// n_0 ... n_k, g(v n_k), x_1 ... x_m, g(v n_0): g(a b) the ghost beyond boundary edge ab (in
+// the rings of a and b both: the ghost triangle a b g), and m = max(0, 3 - k) ghosts of v's
+// own, so that the fan has max(6, k + 3) triangles. Subdivided, the fans keep their structure
+// (a new boundary vertex has k = 3 and the ghosts of the next level are the midpoints of the
+// edges from the boundary to the ghosts): the completion of the finer mesh is the finer
+// completion. Where k = 3 along the way, Loop's boundary rules are the interior rules with
+// ghosts at a + b - t (loop_basis.cpp's boundary_completion), which is why the surface's
+// functions and the ghosts' together hold the completion's there.
+class Completion {
+ public:
+  Completion() = default;
+  Completion(const RgbMesh& mesh, const RingOracle& ring, const std::vector<std::int32_t>& rank)
+      : first_(mesh.vertex_slots()), rank_(&rank) {
+    std::vector<std::int32_t> path;
+    std::vector<VertexHandle> order;
+    for (const VertexHandle v : mesh.vertices())
+      if (mesh.is_boundary(v)) order.push_back(v);
+    std::sort(order.begin(), order.end(), [&rank](VertexHandle a, VertexHandle b) {
+      return rank[static_cast<std::size_t>(a.idx)] < rank[static_cast<std::size_t>(b.idx)];
+    });
+    std::int32_t next = first_;
+    for (const VertexHandle v : order) {
+      oriented(ring, v.idx, path);
+      for (const std::int32_t end : {path.front(), path.back()})
+        if (across_.emplace(detail::edge_key(v.idx, end), next).second) ++next;
+      const std::size_t k = path.size() - 1;
+      own_.emplace(v.idx, next);
+      if (k < 3) next += static_cast<std::int32_t>(3 - k);
+    }
+    count_ = static_cast<std::size_t>(next - first_);
+  }
+
+  std::size_t count() const { return count_; }
+
+  bool ring(const RingOracle& mesh_ring, std::int32_t v, std::vector<std::int32_t>& out) const {
+    if (mesh_ring(v, out)) return true;
+    if (v >= first_) throw std::logic_error("Completion: a ghost's ring was asked for");
+    oriented(mesh_ring, v, out);
+    const std::int32_t front = out.front(), back = out.back();
+    const std::size_t k = out.size() - 1;
+    out.push_back(across_.at(detail::edge_key(v, back)));
+    const std::int32_t own = own_.at(v);
+    for (std::size_t i = 0; i + k < 3; ++i) out.push_back(own + static_cast<std::int32_t>(i));
+    out.push_back(across_.at(detail::edge_key(v, front)));
+    return true;
+  }
+
+ private:
+  // A boundary vertex's ring as the mesh gives it, turned so that it starts at the boundary
+  // neighbour of lower canonical rank (the ghosts' numbers then do not depend on handles).
+  void oriented(const RingOracle& mesh_ring, std::int32_t v, std::vector<std::int32_t>& out) const {
+    if (mesh_ring(v, out)) throw std::logic_error("Completion: an interior vertex taken for a boundary one");
+    const auto r = [this](std::int32_t w) { return (*rank_)[static_cast<std::size_t>(w)]; };
+    if (r(out.back()) < r(out.front())) std::reverse(out.begin(), out.end());
+  }
+
+  std::int32_t first_ = 0;
+  std::size_t count_ = 0;
+  const std::vector<std::int32_t>* rank_ = nullptr;
+  std::unordered_map<std::uint64_t, std::int32_t> across_;  // boundary edge -> its ghost
+  std::unordered_map<std::int32_t, std::int32_t> own_;      // boundary vertex -> its first own ghost
+};
+
+}  // namespace
+
 LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
                            const LoopQuadratureOptions& quadrature, LoopBoundary boundary) {
   LoopSpace space;
@@ -337,6 +410,15 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
     return !star.boundary;
   };
   const LoopFeatures features = loop_mesh_features(mesh, space.level);
+  const bool completed = boundary == LoopBoundary::completed;
+  if (completed && mesh.has_sharp_features())
+    throw InputError(
+        "Loop elements: the completed boundary (LoopBoundary::completed) does not take sharp features; "
+        "use LoopBoundary::loop_rules");
+  const Completion completion = completed ? Completion(mesh, ring, rank) : Completion();
+  const RingOracle completed_ring = [&ring, &completion](std::int32_t v, std::vector<std::int32_t>& out) {
+    return completion.ring(ring, v, out);
+  };
   const bool ghosts = boundary == LoopBoundary::ghost_ring;
   const bool sides = boundary != LoopBoundary::refuse;
   std::vector<std::array<VertexHandle, 3>> element_corners;
@@ -362,13 +444,29 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
   // Each patch and its rule on every core (the rules' cache is shared); a refusal names the
   // first triangle in canonical order, whatever the number of threads.
   std::vector<LoopPatch> patches(element_triangles.size());
+  std::vector<std::vector<std::int32_t>> ghosts_of(element_triangles.size());
   std::vector<std::shared_ptr<const LoopQuadrature>> rules(element_triangles.size());
   std::vector<std::string> refused(element_triangles.size());
+  const std::int32_t first_ghost = mesh.vertex_slots();
   detail::for_each_index(element_triangles.size(), [&](std::size_t e) {
     const auto& c = element_corners[e];
     try {
       patches[e] = gather_loop_patch({c[0].idx, c[1].idx, c[2].idx}, ring, features);
-      rules[e] = loop_quadrature(patches[e], quadrature);
+      // Ghost functions reach only the triangles with a corner on the boundary (a ghost is in
+      // no other corner's ring, and the other vertices of the completed patch enter the
+      // triangle's subdivision through the interior edge rule alone).
+      if (completed && !patches[e].closed()) {
+        const LoopPatch whole = gather_loop_patch({c[0].idx, c[1].idx, c[2].idx}, completed_ring);
+        std::vector<int> rows;
+        for (std::size_t i = 0; i < whole.vertices.size(); ++i)
+          if (whole.vertices[i] >= first_ghost) {
+            rows.push_back(static_cast<int>(i));
+            ghosts_of[e].push_back(whole.vertices[i]);
+          }
+        rules[e] = loop_quadrature(patches[e], whole, rows, quadrature);
+      } else {
+        rules[e] = loop_quadrature(patches[e], quadrature);
+      }
     } catch (const InputError& error) {
       refused[e] = error.what();
     }
@@ -380,16 +478,28 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
         "Loop elements: no triangle has its three corners inside the mesh (the elements need a "
         "ring of triangles around them whose vertices carry control values only)");
   // The DOFs: the vertices of some patch (on a closed mesh, every vertex), in canonical order.
-  std::vector<char> used(static_cast<std::size_t>(mesh.vertex_slots()), 0);
-  for (const LoopPatch& patch : patches)
-    for (const std::int32_t v : patch.vertices) used[static_cast<std::size_t>(v)] = 1;
-  space.dof_of_vertex.assign(static_cast<std::size_t>(mesh.vertex_slots()), -1);
+  const std::size_t slots = static_cast<std::size_t>(mesh.vertex_slots());
+  std::vector<char> used(slots + completion.count(), 0);
+  for (std::size_t e = 0; e < patches.size(); ++e) {
+    for (const std::int32_t v : patches[e].vertices) used[static_cast<std::size_t>(v)] = 1;
+    for (const std::int32_t g : ghosts_of[e]) used[static_cast<std::size_t>(g)] = 1;
+  }
+  std::vector<std::int32_t> dof_of_id(used.size(), -1);
   for (const VertexHandle v : vertex_order) {
     if (!used[static_cast<std::size_t>(v.idx)]) continue;
-    space.dof_of_vertex[static_cast<std::size_t>(v.idx)] = static_cast<std::int32_t>(space.vertex.size());
+    dof_of_id[static_cast<std::size_t>(v.idx)] = static_cast<std::int32_t>(space.vertex.size());
     space.vertex.push_back(v);
     space.control.push_back(mesh.control_point(v, space.level));
   }
+  // The ghosts after the vertices, in the order the completion numbered them (canonical).
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t id = slots; id < used.size(); ++id) {
+    if (!used[id]) continue;
+    dof_of_id[id] = static_cast<std::int32_t>(space.vertex.size());
+    space.vertex.push_back(VertexHandle());
+    space.control.push_back(Vec3{nan, nan, nan});
+  }
+  space.dof_of_vertex.assign(dof_of_id.begin(), dof_of_id.begin() + static_cast<std::ptrdiff_t>(slots));
   for (std::size_t e = 0; e < patches.size(); ++e) {
     LoopPatch& patch = patches[e];
     const TriangleHandle t = element_triangles[e];
@@ -406,8 +516,10 @@ LoopSpace build_loop_space(RgbMesh& mesh, std::optional<Projection> projection,
         }
       }
     }
-    for (std::int32_t& v : patch.vertices) v = space.dof_of_vertex[static_cast<std::size_t>(v)];
-    space.elements.push_back({t, patch.vertices, std::move(rules[e])});
+    std::vector<std::int32_t> dofs;
+    for (const std::int32_t v : patch.vertices) dofs.push_back(dof_of_id[static_cast<std::size_t>(v)]);
+    for (const std::int32_t g : ghosts_of[e]) dofs.push_back(dof_of_id[static_cast<std::size_t>(g)]);
+    space.elements.push_back({t, std::move(dofs), std::move(rules[e])});
   }
   // The seams: elements meeting along an infinitely sharp edge, each side running the other way.
   if (mesh.has_sharp_features()) {
@@ -691,9 +803,9 @@ std::vector<detail::SidePoint> detail::side_points(const LoopSpace& space, const
   std::vector<SidePoint> out;
   for (const double t : gauss_t) {
     const detail::SideParameters at = detail::side_parameters(side.edge, t);
-    const LoopBasisAt basis = evaluate_loop_basis(e.rule->patch, at.u, at.v);
+    const LoopBasisAt basis = loop_rule_basis(*e.rule, at.u, at.v);
     Vec3 x, xu, xv;
-    for (std::size_t i = 0; i < e.dofs.size(); ++i) {
+    for (std::size_t i = 0; i < e.surface_dofs(); ++i) {
       const Vec3& c = space.control[static_cast<std::size_t>(e.dofs[i])];
       const Eigen::Index k = static_cast<Eigen::Index>(i);
       x += basis.value(k) * c, xu += basis.du(k) * c, xv += basis.dv(k) * c;

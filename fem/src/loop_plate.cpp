@@ -161,6 +161,11 @@ Solution solve_clamped_plate(const LoopSpace& space, const PlateProblem& problem
     throw InputError("problem '" + problem.name +
                      "': the plate's space has no boundary to clamp (build it with LoopBoundary::ghost_ring "
                      "on a mesh with a ring of ghost triangles)");
+  for (const LoopSpace::Element& element : space.elements)
+    if (element.rule->extension)
+      throw InputError("problem '" + problem.name +
+                       "': the plate is clamped on a ghost ring (LoopBoundary::ghost_ring), not on a "
+                       "completed boundary");
   detail::require_smooth(space, problem.name);
   detail::check_nitsche_options(problem.name, options.penalty, 2, "PlateOptions::penalty, 3 by default",
                                 options.edge_points);

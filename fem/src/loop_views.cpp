@@ -39,7 +39,7 @@ MeshSnapshot loop_refined_view(const LoopSpace& space, const Eigen::VectorXd& u,
       w.resize(static_cast<Eigen::Index>(el.dofs.size()), static_cast<Eigen::Index>(per_element));
       for (std::size_t g = 0; g < per_element; ++g)
         w.col(static_cast<Eigen::Index>(g)) =
-            evaluate_loop_basis(el.rule->patch, grid[g][0] / double(m), grid[g][1] / double(m)).value;
+            loop_rule_basis(*el.rule, grid[g][0] / double(m), grid[g][1] / double(m)).value;
     }
     weights_of[e] = &w;
   }
@@ -93,11 +93,9 @@ MeshSnapshot loop_refined_view(const LoopSpace& space, const Eigen::VectorXd& u,
     const Eigen::MatrixXd& w = *weights_of[static_cast<std::size_t>(e)];
     Vec3 x;
     double value = 0;
-    for (std::size_t i = 0; i < el.dofs.size(); ++i) {
-      const double wi = w(static_cast<Eigen::Index>(i), g);
-      x += wi * space.control[static_cast<std::size_t>(el.dofs[i])];
-      value += wi * u(el.dofs[i]);
-    }
+    for (std::size_t i = 0; i < el.dofs.size(); ++i) value += w(static_cast<Eigen::Index>(i), g) * u(el.dofs[i]);
+    for (std::size_t i = 0; i < el.surface_dofs(); ++i)
+      x += w(static_cast<Eigen::Index>(i), g) * space.control[static_cast<std::size_t>(el.dofs[i])];
     view.points[k] = space.projection ? (*space.projection)(x) : x;
     values[k] = value;
   });
@@ -131,7 +129,7 @@ Eigen::VectorXd loop_vertex_values(const LoopSpace& space, const Eigen::VectorXd
     for (int corner = 0; corner < 3; ++corner) {
       const std::int32_t dof = e.dofs[static_cast<std::size_t>(corner)];
       if (done[static_cast<std::size_t>(dof)]) continue;
-      const Eigen::VectorXd w = loop_corner_limit(e.rule->patch, corner);
+      const Eigen::VectorXd w = loop_rule_corner_limit(*e.rule, corner);
       double value = 0;
       for (std::size_t i = 0; i < e.dofs.size(); ++i) value += w(static_cast<Eigen::Index>(i)) * u(e.dofs[i]);
       out(dof) = value;
@@ -142,12 +140,16 @@ Eigen::VectorXd loop_vertex_values(const LoopSpace& space, const Eigen::VectorXd
 }
 
 Eigen::VectorXd loop_values_on(const LoopSpace& space, const Eigen::VectorXd& u, const SurfaceMesh& p1) {
-  if (p1.order != 1 || p1.num_dofs() != space.num_dofs())
+  // The ghosts of LoopBoundary::completed are DOFs without a vertex.
+  const std::size_t at_vertices_count = static_cast<std::size_t>(
+      std::count_if(space.vertex.begin(), space.vertex.end(), [](VertexHandle v) { return v.valid(); }));
+  if (p1.order != 1 || p1.num_dofs() != at_vertices_count)
     throw std::invalid_argument("loop_values_on: the P1 mesh of the Loop space's triangles is needed");
   const Eigen::VectorXd at_vertices = loop_vertex_values(space, u);
   Eigen::VectorXd out = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(p1.num_dofs()),
                                                   std::numeric_limits<double>::quiet_NaN());
   for (std::size_t d = 0; d < space.num_dofs(); ++d) {
+    if (!space.vertex[d].valid()) continue;
     const std::size_t slot = static_cast<std::size_t>(space.vertex[d].idx);
     const std::int32_t to = slot < p1.dof_of_vertex.size() ? p1.dof_of_vertex[slot] : -1;
     if (to < 0 || static_cast<std::size_t>(to) >= p1.num_dofs())

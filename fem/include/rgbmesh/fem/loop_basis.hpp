@@ -170,8 +170,23 @@ struct LoopQuadrature {
   LoopPatch patch;
   std::vector<double> u, v, weight;
   Eigen::MatrixXd value, du, dv, duu, duv, dvv;
+  /// Functions beyond the patch's own (LoopBoundary::completed next to the boundary): rows
+  /// patch.vertices.size() and on are the functions of vertices `rows` of another patch of the
+  /// same triangle (the mesh completed by ghosts), subdivided by its rules. Null elsewhere.
+  struct Extension {
+    LoopPatch patch;
+    std::vector<int> rows;
+  };
+  std::shared_ptr<const Extension> extension;
   std::size_t size() const { return weight.size(); }
 };
+
+/// The basis of a rule's functions at (u, v): the patch's, then its extension's (if any).
+LoopBasisAt loop_rule_basis(const LoopQuadrature& rule, double u, double v);
+
+/// The limit value of a rule's functions at corner k of its triangle (loop_corner_limit of the
+/// patch, then of the extension's rows).
+Eigen::VectorXd loop_rule_corner_limit(const LoopQuadrature& rule, int corner);
 
 /// How a patch's triangle is integrated. A triangle whose corners are regular gets, with
 /// `points_per_direction` = 0 (the default), the symmetric rule of 12 points exact for
@@ -189,6 +204,14 @@ struct LoopQuadratureOptions {
 
 /// The rule for a patch's connectivity, built once per connectivity and kept (thread-safe).
 std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch,
+                                                      const LoopQuadratureOptions& options = {});
+
+/// The rule of a patch extended by the functions of vertices `rows` of another patch of the
+/// same triangle (corners in the same order; LoopQuadrature::extension): both patches are
+/// subdivided together towards the corners where either is irregular, so that the points
+/// serve both.
+std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch, const LoopPatch& extension,
+                                                      const std::vector<int>& rows,
                                                       const LoopQuadratureOptions& options = {});
 
 /// One Loop step of a patch, kept to the patch of child `child` (0-3) of its central triangle:

@@ -12,8 +12,9 @@
 /// features round them as they round the surface.
 ///
 /// This first space is that of a uniformly refined mesh: every triangle green at one level L,
-/// the unknowns the level-L control values of its vertices; a boundary takes a ghost ring or
-/// Loop's boundary rules (LoopBoundary). (The adaptive space of an RGB mesh, where each
+/// the unknowns the level-L control values of its vertices; a boundary takes a ghost ring,
+/// Loop's boundary rules, or those and the functions of ghosts beyond them (LoopBoundary).
+/// (The adaptive space of an RGB mesh, where each
 /// inserted vertex carries a detail, builds on it: loop_adaptive.hpp.)
 
 #include <Eigen/Core>
@@ -41,6 +42,9 @@ struct LoopSpace {
     TriangleHandle triangle;
     std::vector<std::int32_t> dofs;              ///< the patch's vertices, in the patch's canonical order
     std::shared_ptr<const LoopQuadrature> rule;  ///< shared by the elements of one connectivity
+    /// How many of `dofs` (the first) the surface sums: the patch's vertices; the rule's
+    /// extension (LoopBoundary::completed) adds functions, not surface.
+    std::size_t surface_dofs() const { return rule->patch.vertices.size(); }
   };
   std::vector<Element> elements;
   std::optional<Projection> projection;  ///< the exact surface the limit surface is mapped onto, if any
@@ -82,8 +86,20 @@ enum class LoopBoundary {
   /// (loop_basis.hpp): the domain is the RGB mesh's limit surface, whose boundary is the cubic
   /// B-spline of the boundary vertices, and the functions are subdivided as the surface is.
   /// Boundary conditions are imposed weakly on LoopSpace::boundary, the mesh's boundary edges.
-  /// A corner of one triangle is rounded off, as the surface is there.
+  /// A corner of one triangle is rounded off, as the surface is there. Next to the boundary
+  /// these functions reproduce linear ones only (H1 errors fall as h^1.5).
   loop_rules,
+  /// The domain, elements and functions of loop_rules, and more functions: those of the ghost
+  /// vertices of the mesh completed beyond its boundary by a ring of ghost triangles and
+  /// subdivided by the interior rules (one ghost vertex beyond each boundary edge, and around
+  /// a boundary vertex of k triangles max(1, 4 - k) triangles closing its fan, so that k <= 3
+  /// is a regular vertex of the completion). Where the boundary is regular, Loop's boundary
+  /// rules are the completion's with the ghosts at a + b - t, so the space holds the
+  /// completion's functions there and reproduces cubics up to the boundary; at other boundary
+  /// vertices it still holds the surface's own (linear functions reproduced). The ghosts are
+  /// DOFs after the vertices (LoopSpace::vertex holds no vertex for them, `control` NaN). Not
+  /// with sharp features.
+  completed,
 };
 
 /// The Loop space of a mesh refined uniformly (every triangle green at one level). The limits
