@@ -331,12 +331,13 @@ TEST(LoopDirichlet, LoopsBoundaryRulesConverge) {
 }
 
 // The completed boundary (LoopBoundary::completed): the domain, elements and functions of
-// Loop's boundary rules plus the functions of the ghosts that complete the mesh beyond its
+// Loop's boundary rules plus the functions of ghosts that complete the mesh beyond its
 // boundary. Along the square's sides (boundary vertices of three triangles) the space then
 // holds the cubics up to the boundary; at its corners (one and two triangles) Loop's
 // boundary rules bend the surface's parametrization, and only linear functions are
-// reproduced there, on O(h²) of area: H1 falls as h² and L2 as h³ (measured 2.00 and 2.99),
-// against h^1.5 and h^2.5 with Loop's rules alone, for 4 cells + 6 more unknowns.
+// reproduced there, on O(h²) of area: H1 falls as h² and L2 as h³ (measured 1.98 and 2.98),
+// against h^1.5 and h^2.5 with Loop's rules alone (at 64 cells 9.5 times smaller in H1 for 6%
+// more unknowns). The residual estimate stays 5 times the H1 error, as with Loop's rules.
 TEST(LoopDirichlet, CompletedBoundaryConverges) {
   const fem::Problem wave = wave_problem();
   double previous_l2 = 0, previous_h1 = 0;
@@ -344,17 +345,28 @@ TEST(LoopDirichlet, CompletedBoundaryConverges) {
     const TriangleMeshData m = square_lattice(cells, 1, 0);
     RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);
     const fem::LoopSpace space = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::completed);
-    // A ghost beyond each boundary edge, and 3 - k more around a corner of k triangles (two
-    // corners of one triangle, two of two).
-    EXPECT_EQ(space.num_dofs(), static_cast<std::size_t>((cells + 1) * (cells + 1) + 4 * cells + 6));
+    // The functions of the ghosts beyond the boundary edges, but for the four next to the two
+    // corners of two triangles.
+    EXPECT_EQ(space.num_dofs(), static_cast<std::size_t>((cells + 1) * (cells + 1) + 4 * cells - 4));
     EXPECT_EQ(space.boundary.size(), static_cast<std::size_t>(4 * cells));
     const fem::Solution u = fem::solve_loop(space, wave);
     const fem::ErrorNorms e = fem::loop_error_norms(space, u.u, *wave.exact);
     const fem::LoopSpace rules = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::loop_rules);
-    const fem::ErrorNorms by_rules = fem::loop_error_norms(rules, fem::solve_loop(rules, wave).u, *wave.exact);
-    std::printf("  completed boundary, %2d cells: %zu unknowns, L2 %.2e, H1 %.2e (Loop's rules: %zu, %.2e, %.2e)",
-                cells, space.num_dofs(), e.l2, e.h1, rules.num_dofs(), by_rules.l2, by_rules.h1);
-    EXPECT_LT(e.h1, 0.2 * by_rules.h1);
+    const Eigen::VectorXd u_rules = fem::solve_loop(rules, wave).u;
+    const fem::ErrorNorms by_rules = fem::loop_error_norms(rules, u_rules, *wave.exact);
+    const auto total = [](const fem::Estimate& estimate) {
+      double sum = 0;
+      for (const double eta : estimate.eta) sum += eta * eta;
+      return std::sqrt(sum);
+    };
+    const double estimate = total(fem::loop_residual_estimate(space, wave, u.u));
+    const double estimate_rules = total(fem::loop_residual_estimate(rules, wave, u_rules));
+    std::printf("  completed boundary, %2d cells: %zu unknowns, L2 %.2e, H1 %.2e, estimate / H1 %.1f (Loop's rules: "
+                "%zu, %.2e, %.2e, %.1f)",
+                cells, space.num_dofs(), e.l2, e.h1, estimate / e.h1, rules.num_dofs(), by_rules.l2, by_rules.h1,
+                estimate_rules / by_rules.h1);
+    EXPECT_LT(e.h1, (cells < 64 ? 0.3 : 0.15) * by_rules.h1);  // h² against h^1.5
+    EXPECT_LT(estimate, 8 * e.h1);  // as reliable and efficient as with Loop's rules
     if (previous_h1 > 0) {
       const double rate_l2 = std::log2(previous_l2 / e.l2), rate_h1 = std::log2(previous_h1 / e.h1);
       std::printf(", rates %.2f, %.2f", rate_l2, rate_h1);
@@ -363,6 +375,22 @@ TEST(LoopDirichlet, CompletedBoundaryConverges) {
     }
     std::printf("\n");
     previous_l2 = e.l2, previous_h1 = e.h1;
+  }
+}
+
+// A side given its flux (Neumann) instead: the ghosts' functions take it as well.
+TEST(LoopDirichlet, CompletedBoundaryTakesFluxes) {
+  fem::Problem mixed = wave_problem();
+  mixed.is_neumann = [](const Vec3& x) { return x.x > 1 - 1e-9; };
+  mixed.neumann_flux = [](const Vec3& x) { return 2 * std::cos(2 * x.x + x.y) + x.y * x.y; };
+  double previous = 0;
+  for (const int cells : {16, 32}) {
+    const TriangleMeshData m = square_lattice(cells, 1, 0);
+    RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);
+    const fem::LoopSpace space = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::completed);
+    const fem::ErrorNorms e = fem::loop_error_norms(space, fem::solve_loop(space, mixed).u, *mixed.exact);
+    std::printf("  one side Neumann, %d cells: H1 %.2e", cells, e.h1);
+    rate_row(previous, e.h1, 1.8);
   }
 }
 
@@ -407,8 +435,9 @@ TEST(LoopDirichlet, CompletedBoundaryKeepsTheSurface) {
   for (std::size_t d = 0; d < space.num_dofs(); ++d) {
     const double value = at_vertices(static_cast<Eigen::Index>(d));
     EXPECT_EQ(std::isnan(value), !space.vertex[d].valid()) << d;
-    if (space.vertex[d].valid())
+    if (space.vertex[d].valid()) {
       EXPECT_NEAR(value, linear_at(mesh.limit_position(space.vertex[d])), 1e-13) << d;
+    }
   }
 }
 
@@ -416,8 +445,8 @@ TEST(LoopDirichlet, CompletedBoundaryKeepsTheSurface) {
 // (boundary vertices of two to four triangles), refined uniformly, on the sphere itself. The
 // irregular boundary vertices stay where they are and the new ones are regular, so their share
 // of the domain falls as h²: the completed boundary's H1 error tends to h², slowly, where Loop's
-// rules alone keep h^1.5. Measured: H1 5.9 to 6.5 times smaller from level 1 on, for 1% to 11%
-// more unknowns (24,851 against 24,497 at level 4); rates 2.19, 1.30, 1.50, 1.63 against
+// rules alone keep h^1.5. Measured: H1 3.6 to 6.4 times smaller from level 1 on, for 1% to 10%
+// more unknowns (24,845 against 24,497 at level 4); rates 2.03, 1.90, 1.64, 1.66 against
 // 0.90, 1.40, 1.47, 1.50.
 TEST(LoopDirichlet, CompletedBoundaryOnACap) {
   fem::Problem cap;
@@ -457,8 +486,12 @@ TEST(LoopDirichlet, CompletedBoundaryOnACap) {
       if (previous[k] > 0) std::printf(" (rate %.2f)", std::log2(previous[k] / h1[k]));
     }
     std::printf("\n");
-    if (level >= 1) EXPECT_LT(h1[1], 0.25 * h1[0]);
-    if (level == 4) EXPECT_GT(std::log2(previous[1] / h1[1]), 1.55);
+    if (level >= 1) {
+      EXPECT_LT(h1[1], 0.3 * h1[0]);
+    }
+    if (level == 4) {
+      EXPECT_GT(std::log2(previous[1] / h1[1]), 1.55);
+    }
     previous[0] = h1[0], previous[1] = h1[1];
   }
 }

@@ -89,16 +89,17 @@ enum class LoopBoundary {
   /// A corner of one triangle is rounded off, as the surface is there. Next to the boundary
   /// these functions reproduce linear ones only (H1 errors fall as h^1.5).
   loop_rules,
-  /// The domain, elements and functions of loop_rules, and more functions: those of the ghost
+  /// The domain, elements and functions of loop_rules, and more functions: those of ghost
   /// vertices of the mesh completed beyond its boundary by a ring of ghost triangles and
   /// subdivided by the interior rules (one ghost vertex beyond each boundary edge, and around
-  /// a boundary vertex of k triangles max(1, 4 - k) triangles closing its fan, so that k <= 3
-  /// is a regular vertex of the completion). Where the boundary is regular, Loop's boundary
-  /// rules are the completion's with the ghosts at a + b - t, so the space holds the
-  /// completion's functions there and reproduces cubics up to the boundary; at other boundary
-  /// vertices it still holds the surface's own (linear functions reproduced). The ghosts are
-  /// DOFs after the vertices (LoopSpace::vertex holds no vertex for them, `control` NaN). Not
-  /// with sharp features.
+  /// a boundary vertex of k triangles max(1, 4 - k) triangles closing its fan). Where the
+  /// boundary is regular, Loop's boundary rules are the completion's with the ghosts at
+  /// a + b - t, so the space holds the completion's functions there and reproduces cubics up to
+  /// the boundary; it always holds the surface's own (linear functions reproduced). The
+  /// ghosts taken are those beyond an edge with an end of three triangles and none of two (the
+  /// others' functions have large Laplacians where the boundary rules bend the surface's
+  /// parameters: see build_loop_space). They are DOFs after the vertices (LoopSpace::vertex
+  /// holds no vertex for them, `control` NaN). Not with sharp features, not for the plate.
   completed,
 };
 
