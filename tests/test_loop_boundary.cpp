@@ -431,6 +431,28 @@ TEST(LoopDirichlet, CompletedBoundaryKeepsTheSurface) {
   }
   EXPECT_LT(apart, 1e-14);
   EXPECT_LT(off, 1e-13);
+  // The elements' tables (both patches subdivided together) against the basis evaluated point
+  // by point, each patch on its own, and the weights' sum (the parameter triangle's area).
+  std::size_t extended = 0;
+  double table_gap = 0;
+  for (const fem::LoopSpace::Element& el : space.elements) {
+    if (!el.rule->extension) continue;
+    ++extended;
+    const fem::LoopQuadrature& r = *el.rule;
+    double area = 0;
+    for (std::size_t p = 0; p < r.size(); ++p) {
+      area += r.weight[p];
+      const fem::LoopBasisAt at = fem::loop_rule_basis(r, r.u[p], r.v[p]);
+      const auto pi = static_cast<Eigen::Index>(p);
+      table_gap = std::max({table_gap, (at.value - r.value.col(pi)).lpNorm<Eigen::Infinity>(),
+                            (at.du - r.du.col(pi)).lpNorm<Eigen::Infinity>(),
+                            (at.dvv - r.dvv.col(pi)).lpNorm<Eigen::Infinity>()});
+    }
+    EXPECT_NEAR(area, 0.5, 1e-14);
+    EXPECT_EQ(static_cast<std::size_t>(r.value.rows()), el.dofs.size());
+  }
+  EXPECT_EQ(extended, std::size_t{2 * 6 * 6 - 2 * 4 * 4});  // the triangles with a corner on the boundary
+  EXPECT_LT(table_gap, 1e-9);
   const Eigen::VectorXd at_vertices = fem::loop_vertex_values(space, interpolant);
   for (std::size_t d = 0; d < space.num_dofs(); ++d) {
     const double value = at_vertices(static_cast<Eigen::Index>(d));
