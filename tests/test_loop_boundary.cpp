@@ -361,10 +361,10 @@ TEST(LoopDirichlet, CompletedBoundaryConverges) {
     };
     const double estimate = total(fem::loop_residual_estimate(space, wave, u.u));
     const double estimate_rules = total(fem::loop_residual_estimate(rules, wave, u_rules));
-    std::printf("  completed boundary, %2d cells: %zu unknowns, L2 %.2e, H1 %.2e, estimate / H1 %.1f (Loop's rules: "
-                "%zu, %.2e, %.2e, %.1f)",
-                cells, space.num_dofs(), e.l2, e.h1, estimate / e.h1, rules.num_dofs(), by_rules.l2, by_rules.h1,
-                estimate_rules / by_rules.h1);
+    std::printf("  completed boundary, %2d cells: %zu unknowns, L2 %.2e, H1 %.2e, estimate / H1 %.1f "
+                "(Loop's rules: %zu, %.2e, %.2e, %.1f)",
+                cells, space.num_dofs(), e.l2, e.h1, estimate / e.h1, rules.num_dofs(), by_rules.l2,
+                by_rules.h1, estimate_rules / by_rules.h1);
     EXPECT_LT(e.h1, (cells < 64 ? 0.3 : 0.15) * by_rules.h1);  // h² against h^1.5
     EXPECT_LT(estimate, 8 * e.h1);  // as reliable and efficient as with Loop's rules
     if (previous_h1 > 0) {
@@ -402,8 +402,8 @@ TEST(LoopDirichlet, CompletedBoundaryTakesFluxes) {
 TEST(LoopDirichlet, CompletedBoundaryKeepsTheSurface) {
   const auto linear_at = [](const Vec3& x) { return 2 * x.x - x.y + 1; };
   const fem::Problem linear = plane_problem(
-      "linear", [](double x, double y) { return 2 * x - y + 1; }, [](double, double) { return Vec3{2, -1, 0}; },
-      [](double, double) { return 0.0; });
+      "linear", [](double x, double y) { return 2 * x - y + 1; },
+      [](double, double) { return Vec3{2, -1, 0}; }, [](double, double) { return 0.0; });
   const TriangleMeshData m = square_lattice(6, 1, 0);
   RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);
   const fem::LoopSpace space = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::completed);
@@ -413,9 +413,10 @@ TEST(LoopDirichlet, CompletedBoundaryKeepsTheSurface) {
     if (space.vertex[d].valid()) interpolant(static_cast<Eigen::Index>(d)) = linear_at(space.control[d]);
   const fem::ErrorNorms in_space = fem::loop_error_norms(space, interpolant, *linear.exact);
   const fem::ErrorNorms e = fem::loop_error_norms(space, fem::solve_loop(space, linear).u, *linear.exact);
-  const fem::ErrorNorms by_rules = fem::loop_error_norms(rules, fem::solve_loop(rules, linear).u, *linear.exact);
-  std::printf("  a linear function: in the space to L2 %.1e, H1 %.1e; solved: L2 %.1e, H1 %.1e (Loop's rules: %.1e, "
-              "%.1e)\n",
+  const fem::ErrorNorms by_rules =
+      fem::loop_error_norms(rules, fem::solve_loop(rules, linear).u, *linear.exact);
+  std::printf("  a linear function: in the space to L2 %.1e, H1 %.1e; solved: L2 %.1e, H1 %.1e "
+              "(Loop's rules: %.1e, %.1e)\n",
               in_space.l2, in_space.h1, e.l2, e.h1, by_rules.l2, by_rules.h1);
   EXPECT_LT(in_space.l2, 1e-13);
   EXPECT_LT(in_space.h1, 1e-12);

@@ -876,7 +876,8 @@ void fill_tables(LoopQuadrature& rule, const std::vector<LoopBasisAt>& basis,
   const Eigen::Index own = static_cast<Eigen::Index>(rule.patch.vertices.size());
   const Eigen::Index n = own + static_cast<Eigen::Index>(extra.size());
   const Eigen::Index q = static_cast<Eigen::Index>(basis.size());
-  for (Eigen::MatrixXd* m : {&rule.value, &rule.du, &rule.dv, &rule.duu, &rule.duv, &rule.dvv}) m->resize(n, q);
+  for (Eigen::MatrixXd* m : {&rule.value, &rule.du, &rule.dv, &rule.duu, &rule.duv, &rule.dvv})
+    m->resize(n, q);
   const auto put = [&](Eigen::Index p, const LoopBasisAt& at, Eigen::Index from, Eigen::Index row) {
     rule.value(row, p) = at.value(from);
     rule.du(row, p) = at.du(from);
@@ -971,11 +972,13 @@ std::shared_ptr<const LoopQuadrature> loop_quadrature(const LoopPatch& patch, co
 
 namespace {
 
-Eigen::VectorXd extended(const LoopQuadrature& rule, const Eigen::VectorXd& own, const Eigen::VectorXd& other) {
+Eigen::VectorXd extended(const LoopQuadrature& rule, const Eigen::VectorXd& own,
+                         const Eigen::VectorXd& other) {
   const std::vector<int>& rows = rule.extension->rows;
   Eigen::VectorXd out(own.size() + static_cast<Eigen::Index>(rows.size()));
   out.head(own.size()) = own;
-  for (std::size_t k = 0; k < rows.size(); ++k) out(own.size() + static_cast<Eigen::Index>(k)) = other(rows[k]);
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    out(own.size() + static_cast<Eigen::Index>(k)) = other(rows[k]);
   return out;
 }
 

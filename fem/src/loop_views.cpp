@@ -93,7 +93,8 @@ MeshSnapshot loop_refined_view(const LoopSpace& space, const Eigen::VectorXd& u,
     const Eigen::MatrixXd& w = *weights_of[static_cast<std::size_t>(e)];
     Vec3 x;
     double value = 0;
-    for (std::size_t i = 0; i < el.dofs.size(); ++i) value += w(static_cast<Eigen::Index>(i), g) * u(el.dofs[i]);
+    for (std::size_t i = 0; i < el.dofs.size(); ++i)
+      value += w(static_cast<Eigen::Index>(i), g) * u(el.dofs[i]);
     for (std::size_t i = 0; i < el.surface_dofs(); ++i)
       x += w(static_cast<Eigen::Index>(i), g) * space.control[static_cast<std::size_t>(el.dofs[i])];
     view.points[k] = space.projection ? (*space.projection)(x) : x;
