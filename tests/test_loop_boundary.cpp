@@ -18,6 +18,8 @@
 #include "rgbmesh/refinement.hpp"
 #include "rgbmesh/shapes.hpp"
 #include "rgbmesh/soup.hpp"
+#include "rgbmesh/vtk_io.hpp"
+#include "public_data.hpp"
 #include "test_meshes.hpp"
 
 namespace rgbmesh {
@@ -517,6 +519,44 @@ TEST(LoopDirichlet, CompletedBoundaryOnACap) {
     }
     previous[0] = h1[0], previous[1] = h1[1];
   }
+}
+
+// A public open mesh (f = 1, u = 0 on the boundary), refined once: the completed boundary
+// solves what Loop's rules solve on the same domain, with few more unknowns, and its estimate
+// is not inflated by ghosts whose Laplacians are large where the boundary rules bend the
+// surface's parameters (taking every ghost made it 32 against Loop's rules' 0.74 here).
+// Measured: 21,288 unknowns against 20,686, estimate 0.60 against 0.74. (On
+// elephant-with-holes, whose many holes have mostly irregular boundary vertices, the estimate
+// is 1.8 times Loop's rules'; docs/finite-elements.md.)
+TEST(LoopDirichlet, CompletedBoundaryOnAPublicMesh) {
+  fem::Problem p;
+  p.name = "unit source";
+  p.source = [](const Vec3&) { return 1.0; };
+  const auto total = [](const fem::Estimate& estimate) {
+    double sum = 0;
+    for (const double eta : estimate.eta) sum += eta * eta;
+    return std::sqrt(sum);
+  };
+  const std::string name = "mech-holes-shark.off";
+  const TriangleMeshData m = read_mesh(testing::public_data(name));
+  RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);
+  selective_refinement(mesh, UniformLevel(1));
+  double estimate[2] = {0, 0}, largest[2] = {0, 0};
+  std::size_t dofs[2] = {0, 0};
+  for (const int k : {0, 1}) {
+    const fem::LoopSpace space = fem::build_loop_space(
+        mesh, std::nullopt, {}, k == 0 ? fem::LoopBoundary::loop_rules : fem::LoopBoundary::completed);
+    const fem::Solution u = fem::solve_loop(space, p);
+    estimate[k] = total(fem::loop_residual_estimate(space, p, u.u));
+    const Eigen::VectorXd at_vertices = fem::loop_vertex_values(space, u.u);
+    largest[k] = at_vertices.head(static_cast<Eigen::Index>(mesh.num_vertices())).maxCoeff();
+    dofs[k] = space.num_dofs();
+  }
+  std::printf("  %s: %zu unknowns, estimate %.2e, largest value %.5e (Loop's rules: %zu, %.2e, %.5e)\n",
+              name.c_str(), dofs[1], estimate[1], largest[1], dofs[0], estimate[0], largest[0]);
+  EXPECT_LT(dofs[1], dofs[0] + dofs[0] / 10);
+  EXPECT_LT(estimate[1], 1.2 * estimate[0]);
+  EXPECT_NEAR(largest[1], largest[0], 2e-3 * largest[0]);  // the same solution, up to the error
 }
 
 TEST(LoopDirichlet, WhatCannotBeSolvedIsRefusedWithAdvice) {
