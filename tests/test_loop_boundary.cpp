@@ -205,6 +205,67 @@ fem::Problem wave_problem() {
       [](double x, double y) { return 5 * std::sin(2 * x + y) - 2 * x; });
 }
 
+// The same with the side x = 1 given its flux instead (Neumann).
+fem::Problem with_flux_at_x1(fem::Problem p) {
+  p.is_neumann = [](const Vec3& x) { return x.x > 1 - 1e-9; };
+  p.neumann_flux = [](const Vec3& x) { return 2 * std::cos(2 * x.x + x.y) + x.y * x.y; };
+  return p;
+}
+
+// u = z on the unit sphere (-Δ_Γ z = 2 z), whatever the cap's shape.
+fem::Problem cap_problem() {
+  fem::Problem cap;
+  cap.name = "cap";
+  cap.source = [](const Vec3& x) { return 2 * x.z; };
+  cap.dirichlet = [](const Vec3& x) { return x.z; };
+  cap.exact = fem::ExactSolution{[](const Vec3& x) { return x.z; },
+                                 [](const Vec3& x) {
+                                   return Vec3{0, 0, 1} - x.z * x;
+                                 }};
+  return cap;
+}
+
+// The cap z > -0.3 cut from the icosphere refined `level` times, its points on the sphere
+// (valence-5 vertices inside, boundary vertices of two to four triangles).
+TriangleMeshData cap_cut(int level) {
+  const TriangleMeshData ico = icosahedron();
+  RgbMesh sphere = RgbMesh::from_triangles(ico.points, ico.triangles);
+  selective_refinement(sphere, UniformLevel(level));
+  const MeshSnapshot snap = sphere.snapshot();
+  std::vector<Vec3> points;
+  for (const Vec3& p : snap.points) points.push_back(fem::project_to_unit_sphere(p));
+  PolygonSoup cap_soup{points, {}, true};
+  for (const auto& t : snap.triangles)
+    if (points[static_cast<std::size_t>(t[0])].z > -0.3 && points[static_cast<std::size_t>(t[1])].z > -0.3 &&
+        points[static_cast<std::size_t>(t[2])].z > -0.3)
+      cap_soup.faces.push_back({t[0], t[1], t[2]});
+  return prepare_triangle_mesh(cap_soup);  // drops the vertices left out
+}
+
+// The estimate's total, (Σ η²)^½.
+double total(const fem::Estimate& estimate) {
+  double sum = 0;
+  for (const double eta : estimate.eta) sum += eta * eta;
+  return std::sqrt(sum);
+}
+
+// The wave problem on the square meshed without ghost cells, with a boundary of Loop's rules
+// or completed: unknowns, boundary sides, errors and the estimate's total.
+struct OpenSquareRun {
+  std::size_t dofs = 0, sides = 0;
+  fem::ErrorNorms error;
+  double estimate = 0;
+};
+OpenSquareRun open_square(int cells, fem::LoopBoundary boundary) {
+  const fem::Problem wave = wave_problem();
+  const TriangleMeshData m = square_lattice(cells, 1, 0);
+  RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);
+  const fem::LoopSpace space = fem::build_loop_space(mesh, std::nullopt, {}, boundary);
+  const fem::Solution u = fem::solve_loop(space, wave);
+  return {space.num_dofs(), space.boundary.size(), fem::loop_error_norms(space, u.u, *wave.exact),
+          total(fem::loop_residual_estimate(space, wave, u.u))};
+}
+
 TEST(LoopDirichlet, HarmonicCubicIsReproducedExactly) {
   const fem::Problem cubic = plane_problem(
       "harmonic-cubic", [](double x, double y) { return x * x * x - 3 * x * y * y + 2 * x - y + 1; },
@@ -222,10 +283,7 @@ TEST(LoopDirichlet, HarmonicCubicIsReproducedExactly) {
 
 TEST(LoopDirichlet, SmoothSolutionConvergesAtTheCubicsRates) {
   const fem::Problem wave = wave_problem();
-  // The same with the side x = 1 given its flux instead (Neumann).
-  fem::Problem mixed = wave;
-  mixed.is_neumann = [](const Vec3& x) { return x.x > 1 - 1e-9; };
-  mixed.neumann_flux = [](const Vec3& x) { return 2 * std::cos(2 * x.x + x.y) + x.y * x.y; };
+  const fem::Problem mixed = with_flux_at_x1(wave);
   for (const fem::Problem* problem : std::vector<const fem::Problem*>{&wave, &mixed}) {
     double l2 = 0, h1 = 0;
     for (const int cells : {8, 16, 32}) {
@@ -268,28 +326,10 @@ TEST(LoopDirichlet, ExtraordinaryVerticesOnTheBoundaryConverge) {
 // On a curved surface with its exact geometry: a spherical cap cut from an icosphere, u = z
 // (-Δ_Γ z = 2 z on the unit sphere, whatever the cap's shape), extraordinary vertices inside.
 TEST(LoopDirichlet, SphericalCapConverges) {
-  fem::Problem cap;
-  cap.name = "cap";
-  cap.source = [](const Vec3& x) { return 2 * x.z; };
-  cap.dirichlet = [](const Vec3& x) { return x.z; };
-  cap.exact = fem::ExactSolution{[](const Vec3& x) { return x.z; },
-                                 [](const Vec3& x) {
-                                   return Vec3{0, 0, 1} - x.z * x;
-                                 }};
+  const fem::Problem cap = cap_problem();
   double previous = 0;
   for (const int level : {2, 3, 4}) {
-    const TriangleMeshData ico = icosahedron();
-    RgbMesh sphere = RgbMesh::from_triangles(ico.points, ico.triangles);
-    selective_refinement(sphere, UniformLevel(level));
-    const MeshSnapshot snap = sphere.snapshot();
-    std::vector<Vec3> points;
-    for (const Vec3& p : snap.points) points.push_back(fem::project_to_unit_sphere(p));
-    PolygonSoup cap_soup{points, {}, true};
-    for (const auto& t : snap.triangles)
-      if (points[static_cast<std::size_t>(t[0])].z > -0.3 &&
-          points[static_cast<std::size_t>(t[1])].z > -0.3 && points[static_cast<std::size_t>(t[2])].z > -0.3)
-        cap_soup.faces.push_back({t[0], t[1], t[2]});
-    const TriangleMeshData cut = prepare_triangle_mesh(cap_soup);  // drops the vertices left out
+    const TriangleMeshData cut = cap_cut(level);
     RgbMesh mesh = RgbMesh::from_triangles(cut.points, cut.triangles);
     const fem::LoopSpace space = fem::build_loop_space(mesh, fem::Projection(fem::project_to_unit_sphere), {},
                                                        fem::LoopBoundary::ghost_ring);
@@ -310,25 +350,21 @@ TEST(LoopDirichlet, SphericalCapConverges) {
 // and 2.48), between P1's and P2's, against the cubics' h^3 and h^4 of the ghost ring above;
 // adaptive refinement grades towards the boundary (Adapt.LoopElementsOnAnOpenMesh).
 TEST(LoopDirichlet, LoopsBoundaryRulesConverge) {
-  const fem::Problem wave = wave_problem();
   double previous_l2 = 0, previous_h1 = 0;
   for (const int cells : {8, 16, 32, 64}) {
-    const TriangleMeshData m = square_lattice(cells, 1, 0);
-    RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);
-    const fem::LoopSpace space = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::loop_rules);
-    EXPECT_EQ(space.num_dofs(), static_cast<std::size_t>((cells + 1) * (cells + 1)));
-    EXPECT_EQ(space.boundary.size(), static_cast<std::size_t>(4 * cells));
-    const fem::Solution u = fem::solve_loop(space, wave);
-    const fem::ErrorNorms e = fem::loop_error_norms(space, u.u, *wave.exact);
-    std::printf("  Loop's boundary rules, %2d cells: L2 %.2e, H1 %.2e", cells, e.l2, e.h1);
+    const OpenSquareRun run = open_square(cells, fem::LoopBoundary::loop_rules);
+    EXPECT_EQ(run.dofs, static_cast<std::size_t>((cells + 1) * (cells + 1)));
+    EXPECT_EQ(run.sides, static_cast<std::size_t>(4 * cells));
+    std::printf("  Loop's boundary rules, %2d cells: L2 %.2e, H1 %.2e", cells, run.error.l2, run.error.h1);
     if (previous_h1 > 0) {
-      const double rate_l2 = std::log2(previous_l2 / e.l2), rate_h1 = std::log2(previous_h1 / e.h1);
+      const double rate_l2 = std::log2(previous_l2 / run.error.l2);
+      const double rate_h1 = std::log2(previous_h1 / run.error.h1);
       std::printf(", rates %.2f, %.2f", rate_l2, rate_h1);
       EXPECT_NEAR(rate_l2, 2.5, 0.1);
       EXPECT_NEAR(rate_h1, 1.5, 0.1);
     }
     std::printf("\n");
-    previous_l2 = e.l2, previous_h1 = e.h1;
+    previous_l2 = run.error.l2, previous_h1 = run.error.h1;
   }
 }
 
@@ -341,34 +377,21 @@ TEST(LoopDirichlet, LoopsBoundaryRulesConverge) {
 // against h^1.5 and h^2.5 with Loop's rules alone (at 64 cells 9.5 times smaller in H1 for 6%
 // more unknowns). The residual estimate stays 5 times the H1 error, as with Loop's rules.
 TEST(LoopDirichlet, CompletedBoundaryConverges) {
-  const fem::Problem wave = wave_problem();
   double previous_l2 = 0, previous_h1 = 0;
   for (const int cells : {8, 16, 32, 64}) {
-    const TriangleMeshData m = square_lattice(cells, 1, 0);
-    RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);
-    const fem::LoopSpace space = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::completed);
+    const OpenSquareRun run = open_square(cells, fem::LoopBoundary::completed);
+    const OpenSquareRun rules = open_square(cells, fem::LoopBoundary::loop_rules);
+    const fem::ErrorNorms& e = run.error;
     // The functions of the ghosts beyond the boundary edges, but for the four next to the two
     // corners of two triangles.
-    EXPECT_EQ(space.num_dofs(), static_cast<std::size_t>((cells + 1) * (cells + 1) + 4 * cells - 4));
-    EXPECT_EQ(space.boundary.size(), static_cast<std::size_t>(4 * cells));
-    const fem::Solution u = fem::solve_loop(space, wave);
-    const fem::ErrorNorms e = fem::loop_error_norms(space, u.u, *wave.exact);
-    const fem::LoopSpace rules = fem::build_loop_space(mesh, std::nullopt, {}, fem::LoopBoundary::loop_rules);
-    const Eigen::VectorXd u_rules = fem::solve_loop(rules, wave).u;
-    const fem::ErrorNorms by_rules = fem::loop_error_norms(rules, u_rules, *wave.exact);
-    const auto total = [](const fem::Estimate& estimate) {
-      double sum = 0;
-      for (const double eta : estimate.eta) sum += eta * eta;
-      return std::sqrt(sum);
-    };
-    const double estimate = total(fem::loop_residual_estimate(space, wave, u.u));
-    const double estimate_rules = total(fem::loop_residual_estimate(rules, wave, u_rules));
+    EXPECT_EQ(run.dofs, static_cast<std::size_t>((cells + 1) * (cells + 1) + 4 * cells - 4));
+    EXPECT_EQ(run.sides, static_cast<std::size_t>(4 * cells));
     std::printf("  completed boundary, %2d cells: %zu unknowns, L2 %.2e, H1 %.2e, estimate / H1 %.1f "
                 "(Loop's rules: %zu, %.2e, %.2e, %.1f)",
-                cells, space.num_dofs(), e.l2, e.h1, estimate / e.h1, rules.num_dofs(), by_rules.l2,
-                by_rules.h1, estimate_rules / by_rules.h1);
-    EXPECT_LT(e.h1, (cells < 64 ? 0.3 : 0.15) * by_rules.h1);  // h² against h^1.5
-    EXPECT_LT(estimate, 8 * e.h1);  // as reliable and efficient as with Loop's rules
+                cells, run.dofs, e.l2, e.h1, run.estimate / e.h1, rules.dofs, rules.error.l2, rules.error.h1,
+                rules.estimate / rules.error.h1);
+    EXPECT_LT(e.h1, (cells < 64 ? 0.3 : 0.15) * rules.error.h1);  // h² against h^1.5
+    EXPECT_LT(run.estimate, 8 * e.h1);  // as reliable and efficient as with Loop's rules
     if (previous_h1 > 0) {
       const double rate_l2 = std::log2(previous_l2 / e.l2), rate_h1 = std::log2(previous_h1 / e.h1);
       std::printf(", rates %.2f, %.2f", rate_l2, rate_h1);
@@ -382,9 +405,7 @@ TEST(LoopDirichlet, CompletedBoundaryConverges) {
 
 // A side given its flux (Neumann) instead: the ghosts' functions take it as well.
 TEST(LoopDirichlet, CompletedBoundaryTakesFluxes) {
-  fem::Problem mixed = wave_problem();
-  mixed.is_neumann = [](const Vec3& x) { return x.x > 1 - 1e-9; };
-  mixed.neumann_flux = [](const Vec3& x) { return 2 * std::cos(2 * x.x + x.y) + x.y * x.y; };
+  const fem::Problem mixed = with_flux_at_x1(wave_problem());
   double previous = 0;
   for (const int cells : {16, 32}) {
     const TriangleMeshData m = square_lattice(cells, 1, 0);
@@ -474,26 +495,8 @@ TEST(LoopDirichlet, CompletedBoundaryKeepsTheSurface) {
 // more unknowns (24,845 against 24,497 at level 4); rates 2.03, 1.90, 1.64, 1.66 against
 // 0.90, 1.40, 1.47, 1.50.
 TEST(LoopDirichlet, CompletedBoundaryOnACap) {
-  fem::Problem cap;
-  cap.name = "cap";
-  cap.source = [](const Vec3& x) { return 2 * x.z; };
-  cap.dirichlet = [](const Vec3& x) { return x.z; };
-  cap.exact = fem::ExactSolution{[](const Vec3& x) { return x.z; },
-                                 [](const Vec3& x) {
-                                   return Vec3{0, 0, 1} - x.z * x;
-                                 }};
-  const TriangleMeshData ico = icosahedron();
-  RgbMesh sphere = RgbMesh::from_triangles(ico.points, ico.triangles);
-  selective_refinement(sphere, UniformLevel(2));
-  const MeshSnapshot snap = sphere.snapshot();
-  std::vector<Vec3> points;
-  for (const Vec3& p : snap.points) points.push_back(fem::project_to_unit_sphere(p));
-  PolygonSoup cap_soup{points, {}, true};
-  for (const auto& t : snap.triangles)
-    if (points[static_cast<std::size_t>(t[0])].z > -0.3 && points[static_cast<std::size_t>(t[1])].z > -0.3 &&
-        points[static_cast<std::size_t>(t[2])].z > -0.3)
-      cap_soup.faces.push_back({t[0], t[1], t[2]});
-  const TriangleMeshData cut = prepare_triangle_mesh(cap_soup);
+  const fem::Problem cap = cap_problem();
+  const TriangleMeshData cut = cap_cut(2);
   double previous[2] = {0, 0};
   for (const int level : {0, 1, 2, 3, 4}) {
     RgbMesh mesh = RgbMesh::from_triangles(cut.points, cut.triangles);
@@ -532,11 +535,6 @@ TEST(LoopDirichlet, CompletedBoundaryOnAPublicMesh) {
   fem::Problem p;
   p.name = "unit source";
   p.source = [](const Vec3&) { return 1.0; };
-  const auto total = [](const fem::Estimate& estimate) {
-    double sum = 0;
-    for (const double eta : estimate.eta) sum += eta * eta;
-    return std::sqrt(sum);
-  };
   const std::string name = "mech-holes-shark.off";
   const TriangleMeshData m = read_mesh(testing::public_data(name));
   RgbMesh mesh = RgbMesh::from_triangles(m.points, m.triangles);

@@ -1015,9 +1015,7 @@ std::shared_ptr<const LoopChildPatch> loop_child_patch(const LoopPatch& parent, 
     const auto it = cache.find(key);
     if (it != cache.end()) return it->second;
   }
-  LoopPatch local = parent;
-  for (std::size_t i = 0; i < local.vertices.size(); ++i) local.vertices[i] = static_cast<std::int32_t>(i);
-  Child c = subdivide(local, child);
+  Child c = subdivide(numbered_locally(parent), child);
   auto out = std::make_shared<LoopChildPatch>();
   out->patch = std::move(c.patch);
   out->from_parent = std::move(c.from_parent);

@@ -338,15 +338,14 @@ class Completion {
       for (const std::int32_t end : {path.front(), path.back()})
         if (across_.emplace(detail::edge_key(v.idx, end), next).second) ++next;
       const std::size_t k = path.size() - 1;
-      triangles_.emplace(v.idx, k);
-      own_.emplace(v.idx, next);
+      boundary_.emplace(v.idx, BoundaryVertex{next, k});
       if (k < 3) next += static_cast<std::int32_t>(3 - k);
     }
     count_ = static_cast<std::size_t>(next - first_);
     free_.assign(count_, 0);
     for (const auto& [key, ghost] : across_) {
       const auto a = static_cast<std::int32_t>(key >> 32), b = static_cast<std::int32_t>(key & 0xffffffffu);
-      const std::size_t ka = triangles_.at(a), kb = triangles_.at(b);
+      const std::size_t ka = boundary_.at(a).triangles, kb = boundary_.at(b).triangles;
       free_[static_cast<std::size_t>(ghost - first_)] = (ka == 3 || kb == 3) && ka != 2 && kb != 2;
     }
   }
@@ -371,7 +370,7 @@ class Completion {
     const std::int32_t front = out.front(), back = out.back();
     const std::size_t k = out.size() - 1;
     out.push_back(across_.at(detail::edge_key(v, back)));
-    const std::int32_t own = own_.at(v);
+    const std::int32_t own = boundary_.at(v).first_own;
     for (std::size_t i = 0; i + k < 3; ++i) out.push_back(own + static_cast<std::int32_t>(i));
     out.push_back(across_.at(detail::edge_key(v, front)));
     return true;
@@ -390,9 +389,12 @@ class Completion {
   std::size_t count_ = 0;
   const std::vector<std::int32_t>* rank_ = nullptr;
   std::unordered_map<std::uint64_t, std::int32_t> across_;  // boundary edge -> its ghost
-  std::unordered_map<std::int32_t, std::int32_t> own_;      // boundary vertex -> its first own ghost
-  std::unordered_map<std::int32_t, std::size_t> triangles_;  // boundary vertex -> its triangles
-  std::vector<char> free_;                                   // per ghost
+  struct BoundaryVertex {
+    std::int32_t first_own = 0;  // its own ghosts' first id
+    std::size_t triangles = 0;
+  };
+  std::unordered_map<std::int32_t, BoundaryVertex> boundary_;
+  std::vector<char> free_;  // per ghost
 };
 
 }  // namespace
